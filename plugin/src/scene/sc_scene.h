@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file sc_scene.h
+ * @brief The CPU scene model: what a glTF 2.0 file becomes before it goes to the GPU.
+ *
+ * Everything is flattened into arrays owned by ::sc_scene and freed by ::sc_scene_destroy.
+ * Geometry: one ::sc_mesh per glTF mesh primitive (triangles only), vertices and indices in
+ * one shared array each. Instances: one ::sc_instance per (node, primitive) pair, with the
+ * node's world transform at the time last evaluated by ::sc_scene_evaluate.
+ * Coordinates are glTF's (right-handed, +Y up, metres) which equal OpenXR's.
+ */
+#pragma once
+
+#include "xrsc/result.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SC_NO_TEXTURE UINT32_MAX
+
+typedef struct sc_vertex {
+    float position[3];
+    float normal[3]; /**< unit; generated (flat) when the file has none */
+    float uv[2];     /**< TEXCOORD_0, (0,0) when absent */
+} sc_vertex;
+
+typedef struct sc_mesh {
+    uint32_t first_vertex, vertex_count; /**< range in sc_scene.vertices */
+    uint32_t first_index, index_count;   /**< range in sc_scene.indices; index_count % 3 == 0 */
+    uint32_t material;                   /**< index in sc_scene.materials (a default is added) */
+} sc_mesh;
+
+typedef struct sc_material {
+    float base_color[4];        /**< linear RGBA factor */
+    uint32_t base_color_tex;    /**< texture index (sRGB) or SC_NO_TEXTURE */
+    float metallic, roughness;  /**< factors (perceptual roughness, GGX alpha = roughness^2) */
+    uint32_t metal_rough_tex;   /**< texture index (linear, G = roughness, B = metallic) */
+    float emission[3];          /**< linear emissive factor x KHR_materials_emissive_strength */
+    uint32_t emission_tex;      /**< texture index (sRGB) or SC_NO_TEXTURE */
+    float transmission;         /**< KHR_materials_transmission factor, 0 = opaque */
+    float ior;                  /**< KHR_materials_ior, default 1.5 */
+    bool double_sided;
+    char name[64];
+} sc_material;
+
+typedef struct sc_texture {
+    uint32_t width, height;
+    uint8_t *rgba8; /**< width*height*4 bytes, rows top to bottom */
+    bool srgb;      /**< true for base colour and emission */
+} sc_texture;
+
+typedef struct sc_node {
+    int32_t parent;          /**< -1 for roots */
+    float translation[3];    /**< local TRS (as in the file, updated by animation) */
+    float rotation[4];       /**< quaternion x, y, z, w */
+    float scale[3];
+    float world[16];         /**< column-major local → world, from ::sc_scene_evaluate */
+    char name[64];
+} sc_node;
+
+typedef struct sc_instance {
+    uint32_t mesh;      /**< index in sc_scene.meshes */
+    uint32_t node;      /**< index in sc_scene.nodes */
+    float world[16];    /**< node world transform (column-major), from ::sc_scene_evaluate */
+    bool animated;      /**< the node or one of its ancestors is animated */
+} sc_instance;
+
+/** One emissive triangle: an area light. */
+typedef struct sc_emitter {
+    uint32_t instance, primitive; /**< primitive = triangle index within the mesh */
+    float power;                  /**< luminance(emission) x world area at load time */
+} sc_emitter;
+
+typedef enum sc_anim_path { SC_ANIM_TRANSLATION, SC_ANIM_ROTATION, SC_ANIM_SCALE } sc_anim_path;
+typedef enum sc_anim_interp { SC_INTERP_LINEAR, SC_INTERP_STEP, SC_INTERP_CUBICSPLINE } sc_anim_interp;
+
+typedef struct sc_anim_channel {
+    uint32_t node;
+    sc_anim_path path;
+    sc_anim_interp interp;
+    uint32_t key_count;
+    float *times;  /**< seconds, key_count entries, increasing */
+    float *values; /**< key_count x (3 or 4) floats (x3 again for CUBICSPLINE: in, value, out) */
+} sc_anim_channel;
+
+typedef struct sc_sun {
+    bool present;
+    float direction[3]; /**< unit, pointing FROM the scene TOWARDS the sun (world space) */
+    float radiance[3];  /**< irradiance on a surface facing the sun: color x intensity */
+} sc_sun;
+
+typedef struct sc_scene {
+    char path[512];
+    sc_vertex *vertices;   uint32_t vertex_count;
+    uint32_t *indices;     uint32_t index_count;
+    sc_mesh *meshes;       uint32_t mesh_count;
+    sc_material *materials; uint32_t material_count;
+    sc_texture *textures;  uint32_t texture_count;
+    sc_node *nodes;        uint32_t node_count;
+    sc_instance *instances; uint32_t instance_count;
+    sc_emitter *emitters;  uint32_t emitter_count;
+    sc_anim_channel *channels; uint32_t channel_count;
+    float animation_duration_s; /**< max key time over all channels, 0 when static */
+    sc_sun sun;
+    float environment[3]; /**< constant environment radiance (see sc_load_options) */
+    /** Viewpoint: the first perspective camera's node when has_camera; otherwise, looking
+     *  down -Z from (cx, cy, max_z + 1.2 * max(half_x, half_y)) of the world bounds. */
+    bool has_camera;
+    float viewpoint_position[3];
+    float viewpoint_orientation[4]; /**< x, y, z, w */
+    float bounds_min[3], bounds_max[3]; /**< world AABB at time 0 */
+    uint64_t triangle_count; /**< over all instances */
+} sc_scene;
+
+/**
+ * Load options. Zero means the documented default.
+ * environment: when env_set is false, the scene's `extras.xrsc_environment` [r,g,b] if present,
+ * else 1.0 grey when the scene has no sun and no emissive material, else 0.
+ */
+typedef struct sc_load_options {
+    bool env_set;
+    float environment[3];
+} sc_load_options;
+
+/**
+ * Loads a .gltf or .glb file. On error returns a negative ::xrsc_result, fills diag with
+ * file, line (best effort for JSON) and field, and leaves *out NULL. Features that are
+ * ignored are named in ONE warning (logged once per load). A required extension that is not
+ * supported, a missing buffer or image file, or indices out of range are errors.
+ * Supported: meshes (TRIANGLES; other modes error), node hierarchy, materials (baseColor factor
+ * and texture, metallicRoughness factor and texture, emissive factor and texture,
+ * KHR_materials_emissive_strength, KHR_materials_transmission, KHR_materials_ior), cameras
+ * (first perspective camera's node = viewpoint), KHR_lights_punctual directional (first one
+ * = sun), node animation (T/R/S; LINEAR, STEP, CUBICSPLINE).
+ */
+xrsc_result sc_scene_load(const char *path, const sc_load_options *opt, sc_scene **out,
+                          xrsc_diag *diag);
+/** Frees the scene; accepts NULL and sets *scene to NULL. */
+void sc_scene_destroy(sc_scene **scene);
+/**
+ * Evaluates the animation at time_s (looping over animation_duration_s) and updates
+ * nodes[].world and instances[].world. Called once at load with time 0.
+ */
+void sc_scene_evaluate(sc_scene *scene, double time_s);
+
+#ifdef __cplusplus
+}
+#endif

@@ -1,0 +1,153 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file xrsc_shared.h
+ * @brief GPU data layouts, binding numbers and limits shared by C and GLSL (std430/std140).
+ *
+ * Included by C (struct definitions, checked with _Static_assert) and by GLSL (compiled with
+ * -DXRSC_GLSL). Change a layout here only; never retype a binding number elsewhere.
+ */
+#ifndef XRSC_SHARED_H
+#define XRSC_SHARED_H
+
+#ifdef XRSC_GLSL
+#define XS_STRUCT(name) struct name
+#define XS_END(name)
+#define xs_uint uint
+#define xs_float float
+#define xs_vec4 vec4
+#define xs_uvec4 uvec4
+#define xs_mat4 mat4
+#else
+#include <stdint.h>
+#define XS_STRUCT(name) typedef struct name
+#define XS_END(name) name
+typedef uint32_t xs_uint;
+typedef float xs_float;
+typedef struct xs_vec4 { float x, y, z, w; } xs_vec4;
+typedef struct xs_uvec4 { uint32_t x, y, z, w; } xs_uvec4;
+typedef struct xs_mat4 { float m[16]; } xs_mat4; /* column-major */
+#endif
+
+/* ---- descriptor set 0: scene and frame (bindings shared by every ray-tracing method) ---- */
+#define XS_BIND_TLAS 0       /* accelerationStructureEXT */
+#define XS_BIND_FRAME 1      /* uniform xs_frame */
+#define XS_BIND_VERTICES 2   /* readonly buffer xs_vertex[] */
+#define XS_BIND_INDICES 3    /* readonly buffer uint[] (3 per triangle, absolute vertex index) */
+#define XS_BIND_INSTANCES 4  /* readonly buffer xs_instance[] (TLAS instance i = entry i) */
+#define XS_BIND_MATERIALS 5  /* readonly buffer xs_material[] */
+#define XS_BIND_EMITTERS 6   /* readonly buffer xs_emitter[] */
+#define XS_BIND_TEXTURES 7   /* sampler2D[] (variable count, partially bound) */
+/* per-eye outputs, image2DArray with layer = eye */
+#define XS_BIND_OUT_COLOR 8  /* rgba32f: linear HDR radiance */
+#define XS_BIND_OUT_ALBEDO 9 /* rgba32f: demodulated albedo of the first hit (1 for background) */
+#define XS_BIND_OUT_DEPTH 10 /* r32f: view-space distance along -Z in metres, 0 = background */
+#define XS_BIND_OUT_HITID 11 /* rgba32ui: instance, primitive, bary.u bits, bary.v bits */
+#define XS_BIND_ACCUM 12     /* rgba32f: progressive sum (rgb) and sample count (a) */
+#define XS_BIND_RAY_COUNTER 13 /* buffer uint64 (as uvec2 lo/hi or atomic uint): rays traced */
+
+#define XS_MAX_TEXTURES 256
+#define XS_NO_TEXTURE 0xFFFFFFFFu
+#define XS_NO_EMITTER 0xFFFFFFFFu
+#define XS_MISS_INSTANCE 0xFFFFFFFFu
+
+/* ray payload locations and SBT layout */
+#define XS_PAYLOAD_PRIMARY 0 /* rayPayloadEXT xs_hit */
+#define XS_PAYLOAD_SHADOW 1  /* rayPayloadEXT uint: 1 = unoccluded (set by the shadow miss) */
+#define XS_MISS_INDEX_PRIMARY 0
+#define XS_MISS_INDEX_SHADOW 1
+
+/* material flags */
+#define XS_MAT_DOUBLE_SIDED 1u
+
+/* path tracer defaults (seed 000 §5.1: three bounces, Russian roulette from the second) */
+#define XS_DEFAULT_MAX_BOUNCES 3u
+#define XS_RR_START_BOUNCE 2u
+
+XS_STRUCT(xs_vertex)
+{
+    xs_vec4 position_u; /* xyz position (object space), w = uv.x */
+    xs_vec4 normal_v;   /* xyz normal (object space), w = uv.y */
+} XS_END(xs_vertex);
+
+XS_STRUCT(xs_instance)
+{
+    xs_mat4 object_to_world;
+    xs_mat4 normal_to_world;      /* inverse transpose of object_to_world */
+    xs_mat4 prev_object_to_world; /* last frame's, for reprojection (seed 000 App. D) */
+    xs_uint first_index;          /* into indices[], triangle t uses first_index + 3t .. +2 */
+    xs_uint material;
+    xs_uint emitter_base; /* emitter of triangle t is emitter_base + t, or XS_NO_EMITTER */
+    xs_uint triangle_count;
+} XS_END(xs_instance);
+
+XS_STRUCT(xs_material)
+{
+    xs_vec4 base_color; /* linear RGBA factor */
+    xs_vec4 emission;   /* rgb linear emissive (strength applied), w unused */
+    xs_float metallic;
+    xs_float roughness; /* perceptual; GGX alpha = roughness^2 */
+    xs_float transmission;
+    xs_float ior;
+    xs_uint base_color_tex; /* index into textures[] or XS_NO_TEXTURE */
+    xs_uint metal_rough_tex;
+    xs_uint emission_tex;
+    xs_uint flags; /* XS_MAT_* */
+} XS_END(xs_material);
+
+XS_STRUCT(xs_emitter)
+{
+    xs_uint instance;
+    xs_uint primitive;
+    xs_float pmf; /* probability of choosing this emitter */
+    xs_float cdf; /* inclusive prefix sum of pmf, for binary search */
+} XS_END(xs_emitter);
+
+XS_STRUCT(xs_eye)
+{
+    xs_mat4 view;     /* world → eye */
+    xs_mat4 view_inv; /* eye → world */
+    xs_mat4 proj;     /* Vulkan clip space, from XrFovf */
+    xs_vec4 tan_fov;  /* tan(angleLeft), tan(angleRight), tan(angleUp), tan(angleDown) */
+} XS_END(xs_eye);
+
+XS_STRUCT(xs_frame)
+{
+    xs_eye eyes[2];
+    xs_vec4 environment;   /* rgb constant environment radiance */
+    xs_vec4 sun_direction; /* xyz towards the sun (unit), w = 1 if present */
+    xs_vec4 sun_radiance;  /* rgb irradiance normal to the sun */
+    xs_uint width, height; /* per eye, pixels */
+    xs_uint frame_index;   /* RNG stream */
+    xs_uint samples_per_pixel;
+    xs_uint max_bounces;
+    xs_uint emitter_count;
+    xs_uint accumulate; /* 1: add to XS_BIND_ACCUM and write its mean; 0: this frame only */
+    xs_uint jitter;     /* 1: random sub-pixel positions; 0: every sample at the pixel centre */
+    xs_uint seed;
+    xs_uint pad0, pad1, pad2;
+} XS_END(xs_frame);
+
+/* The primary payload: what the closest-hit shader reports. */
+XS_STRUCT(xs_hit)
+{
+    xs_uint instance; /* XS_MISS_INSTANCE on a miss */
+    xs_uint primitive;
+    xs_float bary_u, bary_v; /* barycentrics of vertices 1 and 2 */
+    xs_float t;              /* ray distance */
+    xs_uint front_face;      /* 1 if the ray hit the triangle's front (CCW) side */
+    xs_uint pad0, pad1;
+} XS_END(xs_hit);
+
+#ifndef XRSC_GLSL
+#include <stddef.h>
+_Static_assert(sizeof(xs_vertex) == 32, "xs_vertex layout");
+_Static_assert(sizeof(xs_instance) == 208, "xs_instance layout");
+_Static_assert(sizeof(xs_material) == 64, "xs_material layout");
+_Static_assert(sizeof(xs_emitter) == 16, "xs_emitter layout");
+_Static_assert(sizeof(xs_eye) == 208, "xs_eye layout");
+_Static_assert(offsetof(xs_frame, width) == 464, "xs_frame layout");
+_Static_assert(sizeof(xs_frame) % 16 == 0, "xs_frame layout");
+_Static_assert(sizeof(xs_hit) == 32, "xs_hit layout");
+#endif
+
+#endif /* XRSC_SHARED_H */

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file testing.c
+ * @brief The tiny test harness behind testing.h.
+ */
+#include "testing.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+t_state t_g;
+
+void t_run(const char *name, void (*fn)(void))
+{
+    int before = t_g.failures;
+    fn();
+    if (t_g.failures == before) {
+        t_g.cases_passed++;
+        fprintf(stderr, "[ ok ] %s\n", name);
+    } else {
+        t_g.cases_failed++;
+        fprintf(stderr, "[FAIL] %s\n", name);
+    }
+}
+
+int t_finish(void)
+{
+    printf("%d passed, %d failed\n", t_g.cases_passed, t_g.cases_failed);
+    return t_g.cases_failed == 0 && t_g.failures == 0 ? 0 : 1;
+}
+
+static const char *join(const char *dir, const char *rel)
+{
+    static char buf[4][1024];
+    static int next;
+    char *b = buf[next++ % 4];
+    snprintf(b, sizeof(buf[0]), "%s/%s", dir, rel);
+    return b;
+}
+
+const char *t_source_path(const char *rel) { return join(XRSC_SOURCE_DIR, rel); }
+const char *t_shared_path(const char *rel) { return join(XRSC_SHARED_DIR, rel); }
+
+const char *t_temp_file(const char *name, const char *contents)
+{
+    static char path[4][1024];
+    static int next;
+    char *p = path[next++ % 4];
+    const char *tmp = getenv("TMPDIR");
+    snprintf(p, sizeof(path[0]), "%s/xrsc-test-%ld-%s", tmp ? tmp : "/tmp", (long)getpid(),
+             name);
+    FILE *f = fopen(p, "wb");
+    if (f) {
+        fwrite(contents, 1, strlen(contents), f);
+        fclose(f);
+    }
+    return p;
+}
