@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_pose_stream.h
+ * @brief Head-pose streams: the canonical format (poses/README.md), importers for real
+ *        captures, interpolation at display times, and anchoring into a scene.
+ *
+ * All poses are in OpenXR axes (right-handed, +Y up, -Z forward, metres) with timestamps in
+ * nanoseconds relative to the stream's first sample (which is at t = 0).
+ */
+#pragma once
+
+#include "xrsc/result.h"
+#include "xrsc/xrsc_math.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Files larger than this are rejected with XRSC_ERROR_FILE_TOO_LARGE. */
+#define HS_POSE_MAX_FILE_BYTES (256ull * 1024 * 1024)
+
+typedef enum hs_pose_format {
+    HS_POSE_FORMAT_AUTO = 0, /**< by header line / extension */
+    HS_POSE_FORMAT_XRSC,     /**< canonical "xrsc-poses 1" text */
+    HS_POSE_FORMAT_PRED6DOF, /**< HoloLens CSV: timestamp(.NET ticks),x,y,z,qx,qy,qz,qw; LH +Z fwd */
+    HS_POSE_FORMAT_360VIDEO, /**< "timestamp viewpoint w x y z": seconds, orientation only */
+} hs_pose_format;
+
+typedef struct hs_pose_sample {
+    int64_t time_ns;
+    XrPosef pose;
+} hs_pose_sample;
+
+typedef struct hs_pose_stream {
+    hs_pose_sample *samples;
+    size_t count;
+    bool orientation_only; /**< positions carry no information (3-DoF capture) */
+    hs_pose_format format; /**< the format it was read from */
+    uint32_t dropped_duplicates; /**< samples dropped because their timestamp repeated */
+} hs_pose_stream;
+
+/** Loads a stream; on error returns a negative result with file/line/field in diag. */
+xrsc_result hs_pose_stream_load(const char *path, hs_pose_format format, hs_pose_stream **out,
+                                xrsc_diag *diag);
+/** Parses from memory (the same rules); name is used in diagnostics. */
+xrsc_result hs_pose_stream_parse(const char *name, const char *data, size_t size,
+                                 hs_pose_format format, hs_pose_stream **out, xrsc_diag *diag);
+/** Writes the canonical format. */
+xrsc_result hs_pose_stream_save(const hs_pose_stream *stream, const char *path, xrsc_diag *diag);
+void hs_pose_stream_destroy(hs_pose_stream **stream);
+
+/** Duration (last sample time) in ns. */
+int64_t hs_pose_stream_duration_ns(const hs_pose_stream *stream);
+
+/** How a lookup was answered (as Monado's relation history). */
+typedef enum hs_lookup {
+    HS_LOOKUP_EXACT,        /**< a sample at exactly that time */
+    HS_LOOKUP_INTERPOLATED, /**< between two samples (lerp + slerp with hemisphere check) */
+    HS_LOOKUP_CLAMPED,      /**< before the first or after the last sample: held */
+} hs_lookup;
+
+/** Head pose at time_ns. */
+hs_lookup hs_pose_stream_sample(const hs_pose_stream *stream, int64_t time_ns, XrPosef *out_pose);
+
+/**
+ * Re-anchors the stream in place so that its first pose becomes `viewpoint`:
+ * every pose p becomes viewpoint * inverse(first) * p. For orientation-only streams the
+ * position of every sample is set to viewpoint's position.
+ */
+void hs_pose_stream_anchor(hs_pose_stream *stream, XrPosef viewpoint);
+
+#ifdef __cplusplus
+}
+#endif
