@@ -94,7 +94,9 @@ xrsc_result xrsc_method_from_name(const char *name, xrsc_method *out_method);
  * - accumulate: progressive accumulation over frames while the views stay the same (for
  *   references); any change of view or scene time restarts it.
  * - no_jitter: every sample through the pixel centre (for exact primary-hit tests).
+ * - max_bounces: 0 means the default 3; XRSC_BOUNCES_NONE asks for direct lighting only.
  */
+#define XRSC_BOUNCES_NONE UINT32_MAX
 typedef struct xrsc_spp_options {
     uint32_t samples_per_pixel;
     uint32_t max_bounces;

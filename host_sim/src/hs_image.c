@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_image.c
+ * @brief PNG (libpng) and PFM writers, and the display tone mapping.
+ */
+#include "hs_image.h"
+
+#include "u_diag.h"
+
+#include <errno.h>
+#include <math.h>
+#include <png.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ACES filmic tone curve, rational fit by K. Narkowicz, "ACES Filmic Tone Mapping Curve"
+ * (2015): f(x) = x(ax + b) / (x(cx + d) + e). */
+#define ACES_A 2.51f
+#define ACES_B 0.03f
+#define ACES_C 2.43f
+#define ACES_D 0.59f
+#define ACES_E 0.14f
+
+static float aces(float x)
+{
+    if (!(x > 0.0f)) /* also maps NaN to 0 */
+        return 0.0f;
+    float y = (x * (ACES_A * x + ACES_B)) / (x * (ACES_C * x + ACES_D) + ACES_E);
+    return y < 1.0f ? y : 1.0f;
+}
+
+/* sRGB transfer function (IEC 61966-2-1). */
+static float srgb_oetf(float x)
+{
+    return x <= 0.0031308f ? 12.92f * x : 1.055f * powf(x, 1.0f / 2.4f) - 0.055f;
+}
+
+void hs_tonemap_rgba(const hs_tonemap *tm, const float *rgba, uint32_t w, uint32_t h,
+                     uint8_t *out_rgb)
+{
+    float exposure = (tm && tm->exposure > 0.0f) ? tm->exposure : 1.0f;
+    size_t n = (size_t)w * h;
+    for (size_t i = 0; i < n; i++) {
+        for (int c = 0; c < 3; c++) {
+            float v = srgb_oetf(aces(rgba[i * 4 + c] * exposure));
+            out_rgb[i * 3 + c] = (uint8_t)lrintf(v * 255.0f);
+        }
+    }
+}
+
+xrsc_result hs_write_png(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h,
+                         xrsc_diag *diag)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    if (!png || !info) {
+        png_destroy_write_struct(&png, &info);
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "libpng setup failed");
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "libpng write failed");
+    }
+    png_init_io(png, f);
+    png_set_IHDR(png, info, w, h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+    png_set_compression_level(png, 3);
+    png_write_info(png, info);
+    for (uint32_t y = 0; y < h; y++)
+        png_write_row(png, (png_const_bytep)(rgb + (size_t)y * w * 3));
+    png_write_end(png, NULL);
+    png_destroy_write_struct(&png, &info);
+    if (fclose(f) != 0)
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "close failed: %s", strerror(errno));
+    return XRSC_OK;
+}
+
+xrsc_result hs_write_pfm(const char *path, const float *rgba, uint32_t w, uint32_t h,
+                         xrsc_diag *diag)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
+    /* A negative scale marks little-endian data; PFM rows run bottom to top. */
+    fprintf(f, "PF\n%u %u\n-1.0\n", w, h);
+    float *row = malloc((size_t)w * 3 * sizeof(float));
+    if (!row) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "out of memory");
+    }
+    int ok = 1;
+    for (uint32_t y = h; y-- > 0 && ok;) {
+        const float *src = rgba + (size_t)y * w * 4;
+        for (uint32_t x = 0; x < w; x++)
+            memcpy(row + x * 3, src + x * 4, 3 * sizeof(float));
+        ok = fwrite(row, sizeof(float) * 3, w, f) == w;
+    }
+    free(row);
+    if (fclose(f) != 0 || !ok)
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "write failed");
+    return XRSC_OK;
+}
+
+xrsc_result hs_read_pfm(const char *path, float **out_rgba, uint32_t *out_w, uint32_t *out_h,
+                        xrsc_diag *diag)
+{
+    *out_rgba = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot open: %s", strerror(errno));
+    char magic[3] = {0};
+    unsigned w = 0, h = 0;
+    float scale = 0.0f;
+    if (fscanf(f, "%2s %u %u %f", magic, &w, &h, &scale) != 4 || strcmp(magic, "PF") != 0 ||
+        w == 0 || h == 0 || w > 65536 || h > 65536 || scale >= 0.0f || fgetc(f) == EOF) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_BAD_HEADER, path, 1, "header",
+                          "not a little-endian colour PFM");
+    }
+    float *rgba = malloc((size_t)w * h * 4 * sizeof(float));
+    float *row = malloc((size_t)w * 3 * sizeof(float));
+    if (!rgba || !row) {
+        free(rgba);
+        free(row);
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "out of memory");
+    }
+    for (uint32_t y = h; y-- > 0;) {
+        if (fread(row, sizeof(float) * 3, w, f) != w) {
+            free(rgba);
+            free(row);
+            fclose(f);
+            return u_diag_set(diag, XRSC_ERROR_TRUNCATED_LINE, path, 0, "pixels",
+                              "file ends before %u x %u pixels", w, h);
+        }
+        for (uint32_t x = 0; x < w; x++) {
+            float *d = rgba + ((size_t)y * w + x) * 4;
+            memcpy(d, row + x * 3, 3 * sizeof(float));
+            d[3] = 1.0f;
+        }
+    }
+    free(row);
+    fclose(f);
+    *out_rgba = rgba;
+    *out_w = w;
+    *out_h = h;
+    return XRSC_OK;
+}
+
+void hs_side_by_side(const uint8_t *left, const uint8_t *right, uint32_t w, uint32_t h,
+                     uint8_t *out_rgb)
+{
+    size_t row = (size_t)w * 3;
+    for (uint32_t y = 0; y < h; y++) {
+        memcpy(out_rgb + y * row * 2, left + y * row, row);
+        memcpy(out_rgb + y * row * 2 + row, right + y * row, row);
+    }
+}

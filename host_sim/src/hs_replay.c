@@ -1,0 +1,254 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_replay.c
+ * @brief Pose-stream replay: simulated display clock, interpolation, render, write.
+ */
+#include "hs_replay.h"
+
+#include "hs_image.h"
+#include "u_diag.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#define NS_PER_S 1000000000.0
+/** Progress appears only on runs that take longer than this. */
+#define PROGRESS_AFTER_S 2.0
+/** Without a terminal, one progress line per this many seconds. */
+#define PROGRESS_LOG_PERIOD_S 10.0
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static xrsc_result make_dirs(const char *path, xrsc_diag *diag)
+{
+    char buf[1024];
+    snprintf(buf, sizeof(buf), "%s", path);
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return u_diag_set(diag, XRSC_ERROR_IO, buf, 0, "--out", "cannot create folder: %s",
+                              strerror(errno));
+        *p = '/';
+    }
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        return u_diag_set(diag, XRSC_ERROR_IO, buf, 0, "--out", "cannot create folder: %s",
+                          strerror(errno));
+    return XRSC_OK;
+}
+
+typedef struct replay_buffers {
+    float *color[2];
+    uint8_t *ldr[2];
+    uint8_t *sbs;
+} replay_buffers;
+
+static void buffers_free(replay_buffers *b)
+{
+    for (int e = 0; e < 2; e++) {
+        free(b->color[e]);
+        free(b->ldr[e]);
+    }
+    free(b->sbs);
+    memset(b, 0, sizeof(*b));
+}
+
+static xrsc_result write_frame(const hs_replay_options *opt, xrsc_renderer *r, uint32_t frame,
+                               uint32_t w, uint32_t h, replay_buffers *b, xrsc_diag *diag)
+{
+    static const char *const eye_name[2] = {"left", "right"};
+    size_t bytes = xrsc_renderer_output_size(r, XRSC_OUTPUT_COLOR);
+    hs_tonemap tm = {.exposure = opt->exposure};
+    char path[1200];
+    for (int e = 0; e < 2; e++) {
+        xrsc_result res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, b->color[e], bytes);
+        if (res != XRSC_OK)
+            return u_diag_set(diag, res, "", 0, "output", "reading eye %d failed", e);
+        hs_tonemap_rgba(&tm, b->color[e], w, h, b->ldr[e]);
+        if (opt->write_eyes) {
+            snprintf(path, sizeof(path), "%s/frame_%05u_%s.png", opt->out_dir, frame, eye_name[e]);
+            if ((res = hs_write_png(path, b->ldr[e], w, h, diag)) != XRSC_OK)
+                return res;
+        }
+        if (opt->write_linear) {
+            snprintf(path, sizeof(path), "%s/frame_%05u_%s.pfm", opt->out_dir, frame, eye_name[e]);
+            if ((res = hs_write_pfm(path, b->color[e], w, h, diag)) != XRSC_OK)
+                return res;
+        }
+    }
+    if (opt->write_sbs) {
+        hs_side_by_side(b->ldr[0], b->ldr[1], w, h, b->sbs);
+        snprintf(path, sizeof(path), "%s/frame_%05u_sbs.png", opt->out_dir, frame);
+        return hs_write_png(path, b->sbs, 2 * w, h, diag);
+    }
+    return XRSC_OK;
+}
+
+static void show_progress(const hs_replay_options *opt, uint32_t done, uint32_t total,
+                          double started, double *last_print, bool final)
+{
+    if (!opt->progress)
+        return;
+    double t = now_s(), elapsed = t - started;
+    if (elapsed < PROGRESS_AFTER_S && !(final && *last_print > 0.0))
+        return;
+    bool tty = isatty(STDERR_FILENO);
+    if (!final && !tty && t - *last_print < PROGRESS_LOG_PERIOD_S && *last_print > 0.0)
+        return;
+    if (!final && tty && t - *last_print < 0.1)
+        return;
+    *last_print = t;
+    double per = done ? elapsed / done : 0.0;
+    double eta = per * (total - done);
+    fprintf(stderr, "%sframe %u/%u  %.0f%%  %.2f s/frame  elapsed %.0f s  left ~%.0f s%s",
+            tty ? "\r" : "", done, total, 100.0 * done / (total ? total : 1), per, elapsed, eta,
+            tty ? (final ? "\n" : "   ") : "\n");
+    fflush(stderr);
+}
+
+xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *st, xrsc_diag *diag)
+{
+    double t_start = now_s();
+    memset(st, 0, sizeof(*st));
+    xrsc_context *ctx = NULL;
+    xrsc_scene *scene = NULL;
+    xrsc_renderer *r = NULL;
+    hs_pose_stream *stream = NULL;
+    replay_buffers buf = {0};
+    FILE *csv = NULL;
+    xrsc_result res;
+
+    if ((res = hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag)) != XRSC_OK)
+        goto done;
+    if ((res = xrsc_context_create(&opt->context, &ctx, diag)) != XRSC_OK)
+        goto done;
+    snprintf(st->device, sizeof(st->device), "%s", xrsc_context_device_name(ctx));
+    if ((res = xrsc_scene_load(ctx, opt->scene_path, &opt->scene, &scene, diag)) != XRSC_OK)
+        goto done;
+    xrsc_scene_info info;
+    xrsc_scene_get_info(scene, &info);
+    if (!opt->no_anchor)
+        hs_pose_stream_anchor(stream, info.viewpoint);
+    if ((res = xrsc_renderer_create(ctx, scene, &opt->renderer, &r, diag)) != XRSC_OK)
+        goto done;
+    st->load_s = now_s() - t_start;
+
+    uint32_t w = opt->renderer.width, h = opt->renderer.height;
+    size_t n = (size_t)w * h;
+    for (int e = 0; e < 2; e++) {
+        buf.color[e] = malloc(n * 4 * sizeof(float));
+        buf.ldr[e] = malloc(n * 3);
+    }
+    buf.sbs = malloc(n * 6);
+    if (!buf.color[0] || !buf.color[1] || !buf.ldr[0] || !buf.ldr[1] || !buf.sbs) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "image buffers");
+        goto done;
+    }
+
+    double period_ns = NS_PER_S / (opt->headset.refresh_hz > 0 ? opt->headset.refresh_hz : 90.0);
+    int64_t start_ns = (int64_t)(opt->start_s * NS_PER_S);
+    int64_t span_ns = hs_pose_stream_duration_ns(stream) - start_ns;
+    uint32_t frames = opt->frames;
+    if (frames == 0)
+        frames = span_ns > 0 ? (uint32_t)(span_ns / period_ns) + 1 : 1;
+
+    if (opt->out_dir) {
+        if ((res = make_dirs(opt->out_dir, diag)) != XRSC_OK)
+            goto done;
+        char path[1100];
+        snprintf(path, sizeof(path), "%s/frames.csv", opt->out_dir);
+        csv = fopen(path, "w");
+        if (!csv) {
+            res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s",
+                             strerror(errno));
+            goto done;
+        }
+        fprintf(csv, "frame,display_time_ns,lookup,render_wall_ms,rays");
+    }
+
+    double started = now_s(), last_print = 0.0;
+    for (uint32_t k = 0; k < frames; k++) {
+        /* Predicted display time of frame k on the simulated clock. */
+        int64_t t_ns = start_ns + (int64_t)(k * period_ns + 0.5);
+        XrPosef head;
+        hs_lookup lookup = hs_pose_stream_sample(stream, t_ns, &head);
+        XrPosef eyes[2];
+        xrsc_headset_eye_poses(&opt->headset, head, eyes);
+        xrsc_frame frame = {.display_time_ns = t_ns - start_ns, .frame_index = k};
+        for (int e = 0; e < 2; e++) {
+            frame.views[e].pose = eyes[e];
+            frame.views[e].fov = opt->headset.fov[e];
+        }
+        double t0 = now_s();
+        if ((res = xrsc_renderer_render(r, &frame)) != XRSC_OK) {
+            u_diag_set(diag, res, opt->poses_path, 0, "", "rendering frame %u failed", k);
+            goto done;
+        }
+        double ms = (now_s() - t0) * 1e3;
+        st->render_ms_mean += ms;
+        if (ms > st->render_ms_max)
+            st->render_ms_max = ms;
+        xrsc_pass_timing passes[XRSC_MAX_PASSES];
+        uint32_t np = xrsc_renderer_timings(r, passes, XRSC_MAX_PASSES);
+        uint64_t rays = xrsc_renderer_rays_last_frame(r);
+        st->rays_per_frame += (double)rays;
+        if (k == 0) {
+            st->pass_count = np;
+            for (uint32_t p = 0; p < np; p++) {
+                st->pass_mean[p].name = passes[p].name;
+                if (csv)
+                    fprintf(csv, ",%s_gpu_ms", passes[p].name);
+            }
+            if (csv)
+                fputc('\n', csv);
+        }
+        for (uint32_t p = 0; p < np && p < st->pass_count; p++)
+            st->pass_mean[p].gpu_ms += passes[p].gpu_ms;
+        if (csv) {
+            static const char *const lookup_name[] = {"exact", "interpolated", "clamped"};
+            fprintf(csv, "%u,%lld,%s,%.3f,%llu", k, (long long)t_ns, lookup_name[lookup], ms,
+                    (unsigned long long)rays);
+            for (uint32_t p = 0; p < np; p++)
+                fprintf(csv, ",%.4f", passes[p].gpu_ms);
+            fputc('\n', csv);
+        }
+        if (opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear)) {
+            if ((res = write_frame(opt, r, k, w, h, &buf, diag)) != XRSC_OK)
+                goto done;
+        }
+        st->frames = k + 1;
+        show_progress(opt, k + 1, frames, started, &last_print, k + 1 == frames);
+    }
+    if (st->frames) {
+        st->render_ms_mean /= st->frames;
+        st->rays_per_frame /= st->frames;
+        for (uint32_t p = 0; p < st->pass_count; p++)
+            st->pass_mean[p].gpu_ms /= st->frames;
+    }
+    if (ctx && xrsc_context_validation_errors(ctx) > 0)
+        U_LOG_W("the Vulkan validation layer reported %u errors",
+                xrsc_context_validation_errors(ctx));
+    res = XRSC_OK;
+
+done:
+    if (csv && fclose(csv) != 0 && res == XRSC_OK)
+        res = u_diag_set(diag, XRSC_ERROR_IO, opt->out_dir, 0, "", "writing frames.csv failed");
+    buffers_free(&buf);
+    xrsc_renderer_destroy(&r);
+    xrsc_scene_destroy(&scene);
+    xrsc_context_destroy(&ctx);
+    hs_pose_stream_destroy(&stream);
+    st->total_s = now_s() - t_start;
+    return res;
+}

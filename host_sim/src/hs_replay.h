@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_replay.h
+ * @brief The host's frame loop: replays a pose stream through the plugin's public C API.
+ *
+ * Frame k is predicted to be displayed at t_k = start + k / refresh_hz (a simulated clock).
+ * The head pose is interpolated from the stream at t_k, the eye poses follow from the
+ * simulated headset's IPD, and both eyes are rendered and written.
+ */
+#pragma once
+
+#include "hs_pose_stream.h"
+#include "xrsc/xrsc.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct hs_replay_options {
+    const char *scene_path;
+    const char *poses_path;
+    hs_pose_format pose_format;
+    const char *out_dir;          /**< created if missing; NULL writes nothing */
+    xrsc_context_options context;
+    xrsc_renderer_options renderer;
+    xrsc_scene_options scene;
+    xrsc_headset headset;         /**< fill with xrsc_headset_default first */
+    double start_s;               /**< offset into the stream */
+    uint32_t frames;              /**< 0: until the stream ends */
+    bool no_anchor;               /**< keep the stream's own coordinates */
+    bool write_eyes;              /**< frame_NNNNN_left.png / _right.png */
+    bool write_sbs;               /**< frame_NNNNN_sbs.png */
+    bool write_linear;            /**< frame_NNNNN_left.pfm / _right.pfm (linear HDR) */
+    float exposure;               /**< 0 means 1 */
+    bool progress;                /**< show progress on stderr after a few seconds */
+} hs_replay_options;
+
+typedef struct hs_replay_stats {
+    uint32_t frames;
+    double render_ms_mean, render_ms_max; /**< wall time of xrsc_renderer_render per frame */
+    double total_s;                       /**< whole run including loading and writing */
+    double load_s;                        /**< context + scene + stream */
+    uint32_t pass_count;
+    xrsc_pass_timing pass_mean[XRSC_MAX_PASSES]; /**< GPU ms per pass, mean over frames */
+    double rays_per_frame;
+    char device[256];
+} hs_replay_stats;
+
+/** Runs the replay. Writes frames.csv (one row per frame: timing) into out_dir. */
+xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_stats,
+                          xrsc_diag *diag);
+
+#ifdef __cplusplus
+}
+#endif

@@ -1,0 +1,256 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file main.c
+ * @brief The `xrsc` program: replays a head-pose stream over a glTF scene and writes the
+ *        stereo result (per-eye and side-by-side PNG, linear PFM, per-frame timing).
+ */
+#include "hs_replay.h"
+#include "u_diag.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifndef XRSC_SOURCE_DIR
+#define XRSC_SOURCE_DIR "."
+#endif
+
+/* Defaults of the main job: sized so the bundled replay finishes in about a minute on lavapipe
+ * with two CPU cores (DESIGN.md: benchmarks at 2 x 256 x 256). */
+#define DEFAULT_SCENE XRSC_SOURCE_DIR "/scenes/cornell.gltf"
+#define DEFAULT_POSES XRSC_SOURCE_DIR "/poses/orbit_cornell.xrpose"
+#define DEFAULT_OUT "out/replay"
+#define DEFAULT_WIDTH 256
+#define DEFAULT_HEIGHT 256
+#define DEFAULT_SPP 2
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+"usage: xrsc [replay] [options]\n"
+"\n"
+"Replays a recorded head-pose stream over a glTF 2.0 scene, ray traces both eyes with\n"
+"Vulkan and writes the stereo result: per-eye and side-by-side PNG (tone-mapped), linear\n"
+"PFM (optional) and frames.csv with per-frame timing.\n"
+"\n"
+"Input:\n"
+"  --scene PATH        glTF scene (.gltf/.glb)        [scenes/cornell.gltf]\n"
+"  --poses PATH        pose stream                    [poses/orbit_cornell.xrpose]\n"
+"  --pose-format F     auto | xrsc | pred6dof | 360video   [auto]\n"
+"  --no-anchor         use the stream's coordinates as they are (default: its first pose\n"
+"                      is placed at the scene's viewpoint)\n"
+"  --start S           start S seconds into the stream [0]\n"
+"  --frames N          render N frames (0 = until the stream ends) [0]\n"
+"\n"
+"Rendering:\n"
+"  --method M          spp | primary                  [spp]\n"
+"  --spp N             samples per pixel per frame    [%d]\n"
+"  --bounces N         bounces after the first hit    [3]\n"
+"  --resolution WxH    render size per eye            [%dx%d]\n"
+"  --seed N            random seed                    [0]\n"
+"  --env R,G,B         constant environment radiance (default: the scene's)\n"
+"  --device D          cpu | gpu | index | name part  [$XRSC_DEVICE, else a GPU, else lavapipe]\n"
+"  --validation        enable the Vulkan validation layer\n"
+"\n"
+"Simulated headset:\n"
+"  --ipd MM            interpupillary distance in mm  [63]\n"
+"  --refresh HZ        display refresh rate           [90]\n"
+"\n"
+"Output:\n"
+"  --out DIR           output folder                  [out/replay]\n"
+"  --write LIST        any of eyes,sbs,linear,none    [eyes,sbs]\n"
+"  --exposure X        tone-mapping exposure          [1]\n"
+"  --quiet             no progress or summary\n"
+"  -h, --help          this help\n",
+            DEFAULT_SPP, DEFAULT_WIDTH, DEFAULT_HEIGHT);
+}
+
+static int bad_arg(const char *flag, const char *value, const char *why)
+{
+    fprintf(stderr, "xrsc: error: %s %s: %s (see xrsc --help)\n", flag, value ? value : "", why);
+    return 2;
+}
+
+static bool parse_u32(const char *s, uint32_t *out)
+{
+    char *end;
+    errno = 0;
+    unsigned long v = strtoul(s, &end, 10);
+    if (errno || end == s || *end || v > 0xFFFFFFFFul || s[0] == '-')
+        return false;
+    *out = (uint32_t)v;
+    return true;
+}
+
+static bool parse_f(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || end == s || *end || v != v)
+        return false;
+    *out = v;
+    return true;
+}
+
+int main(int argc, char **argv)
+{
+    hs_replay_options opt = {
+        .scene_path = DEFAULT_SCENE,
+        .poses_path = DEFAULT_POSES,
+        .out_dir = DEFAULT_OUT,
+        .write_eyes = true,
+        .write_sbs = true,
+        .progress = true,
+        .renderer = {.method = XRSC_METHOD_SPP, .width = DEFAULT_WIDTH, .height = DEFAULT_HEIGHT,
+                     .spp = {.samples_per_pixel = DEFAULT_SPP}},
+    };
+    xrsc_headset_default(&opt.headset);
+    bool quiet = false;
+
+    int i = 1;
+    if (i < argc && strcmp(argv[i], "replay") == 0)
+        i++;
+    for (; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        }
+        if (!strcmp(a, "--no-anchor")) {
+            opt.no_anchor = true;
+            continue;
+        }
+        if (!strcmp(a, "--validation")) {
+            opt.context.validation = true;
+            continue;
+        }
+        if (!strcmp(a, "--quiet")) {
+            quiet = true;
+            opt.progress = false;
+            continue;
+        }
+        if (a[0] != '-' || a[1] != '-')
+            return bad_arg(a, NULL, "unexpected argument");
+        if (i + 1 >= argc)
+            return bad_arg(a, NULL, "needs a value");
+        const char *v = argv[++i];
+        uint32_t u;
+        double d;
+        if (!strcmp(a, "--scene")) {
+            opt.scene_path = v;
+        } else if (!strcmp(a, "--poses")) {
+            opt.poses_path = v;
+        } else if (!strcmp(a, "--pose-format")) {
+            if (!strcmp(v, "auto"))
+                opt.pose_format = HS_POSE_FORMAT_AUTO;
+            else if (!strcmp(v, "xrsc"))
+                opt.pose_format = HS_POSE_FORMAT_XRSC;
+            else if (!strcmp(v, "pred6dof"))
+                opt.pose_format = HS_POSE_FORMAT_PRED6DOF;
+            else if (!strcmp(v, "360video"))
+                opt.pose_format = HS_POSE_FORMAT_360VIDEO;
+            else
+                return bad_arg(a, v, "expected auto, xrsc, pred6dof or 360video");
+        } else if (!strcmp(a, "--start")) {
+            if (!parse_f(v, &d) || d < 0)
+                return bad_arg(a, v, "expected seconds >= 0");
+            opt.start_s = d;
+        } else if (!strcmp(a, "--frames")) {
+            if (!parse_u32(v, &opt.frames))
+                return bad_arg(a, v, "expected a count");
+        } else if (!strcmp(a, "--method")) {
+            if (xrsc_method_from_name(v, &opt.renderer.method) != XRSC_OK)
+                return bad_arg(a, v, "unknown method (spp, primary)");
+        } else if (!strcmp(a, "--spp")) {
+            if (!parse_u32(v, &u) || u == 0 || u > 4096)
+                return bad_arg(a, v, "expected 1..4096");
+            opt.renderer.spp.samples_per_pixel = u;
+        } else if (!strcmp(a, "--bounces")) {
+            if (!parse_u32(v, &u) || u > 16)
+                return bad_arg(a, v, "expected 0..16");
+            opt.renderer.spp.max_bounces = u ? u : XRSC_BOUNCES_NONE;
+        } else if (!strcmp(a, "--resolution")) {
+            unsigned w = 0, h = 0;
+            char tail;
+            if (sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 8 || h < 8 || w > 8192 ||
+                h > 8192)
+                return bad_arg(a, v, "expected WxH, each 8..8192");
+            opt.renderer.width = w;
+            opt.renderer.height = h;
+        } else if (!strcmp(a, "--seed")) {
+            if (!parse_u32(v, &opt.renderer.seed))
+                return bad_arg(a, v, "expected an unsigned integer");
+        } else if (!strcmp(a, "--env")) {
+            float r, g, b;
+            char tail;
+            if (sscanf(v, "%f,%f,%f%c", &r, &g, &b, &tail) != 3 || r < 0 || g < 0 || b < 0)
+                return bad_arg(a, v, "expected R,G,B >= 0");
+            opt.scene.env_set = true;
+            opt.scene.environment[0] = r;
+            opt.scene.environment[1] = g;
+            opt.scene.environment[2] = b;
+        } else if (!strcmp(a, "--device")) {
+            opt.context.device = v;
+        } else if (!strcmp(a, "--ipd")) {
+            if (!parse_f(v, &d) || d < 0 || d > 200)
+                return bad_arg(a, v, "expected millimetres 0..200");
+            opt.headset.ipd_m = (float)(d * 1e-3);
+        } else if (!strcmp(a, "--refresh")) {
+            if (!parse_f(v, &d) || d < 1 || d > 1000)
+                return bad_arg(a, v, "expected 1..1000 Hz");
+            opt.headset.refresh_hz = (float)d;
+        } else if (!strcmp(a, "--out")) {
+            opt.out_dir = v;
+        } else if (!strcmp(a, "--write")) {
+            opt.write_eyes = opt.write_sbs = opt.write_linear = false;
+            char list[256];
+            snprintf(list, sizeof(list), "%s", v);
+            for (char *tok = strtok(list, ","); tok; tok = strtok(NULL, ",")) {
+                if (!strcmp(tok, "eyes"))
+                    opt.write_eyes = true;
+                else if (!strcmp(tok, "sbs"))
+                    opt.write_sbs = true;
+                else if (!strcmp(tok, "linear"))
+                    opt.write_linear = true;
+                else if (strcmp(tok, "none") != 0)
+                    return bad_arg(a, v, "expected eyes, sbs, linear or none");
+            }
+        } else if (!strcmp(a, "--exposure")) {
+            if (!parse_f(v, &d) || d <= 0)
+                return bad_arg(a, v, "expected a positive number");
+            opt.exposure = (float)d;
+        } else {
+            return bad_arg(a, NULL, "unknown option");
+        }
+    }
+
+    if (!quiet)
+        fprintf(stderr, "xrsc: replaying %s over %s (%s, %ux%u per eye)\n", opt.poses_path,
+                opt.scene_path, xrsc_method_name(opt.renderer.method), opt.renderer.width,
+                opt.renderer.height);
+    hs_replay_stats st;
+    xrsc_diag diag = {0};
+    xrsc_result res = hs_replay_run(&opt, &st, &diag);
+    if (res != XRSC_OK) {
+        char msg[1400];
+        fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
+        return 1;
+    }
+    if (!quiet) {
+        printf("device: %s\n", st.device);
+        printf("frames: %u  load %.2f s  total %.2f s\n", st.frames, st.load_s, st.total_s);
+        printf("render wall time per stereo frame: mean %.2f ms, max %.2f ms\n",
+               st.render_ms_mean, st.render_ms_max);
+        for (uint32_t p = 0; p < st.pass_count; p++)
+            printf("  pass %-12s %.3f ms (GPU timestamps, mean)\n", st.pass_mean[p].name,
+                   st.pass_mean[p].gpu_ms);
+        if (st.rays_per_frame > 0 && st.render_ms_mean > 0)
+            printf("rays per frame: %.0f  (%.2f Mrays/s of wall time)\n", st.rays_per_frame,
+                   st.rays_per_frame / (st.render_ms_mean * 1e3));
+        if (opt.out_dir)
+            printf("output: %s/\n", opt.out_dir);
+    }
+    return 0;
+}
