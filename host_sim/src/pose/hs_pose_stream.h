@@ -43,6 +43,9 @@ typedef struct hs_pose_stream {
     uint32_t dropped_duplicates; /**< samples dropped because their timestamp repeated */
 } hs_pose_stream;
 
+/** A short lower-case name of the format ("auto", "xrsc", "pred6dof", "360video"). */
+const char *hs_pose_format_name(hs_pose_format format);
+
 /** Loads a stream; on error returns a negative result with file/line/field in diag. */
 xrsc_result hs_pose_stream_load(const char *path, hs_pose_format format, hs_pose_stream **out,
                                 xrsc_diag *diag);

@@ -1,0 +1,851 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_pose_stream.c
+ * @brief Pose-stream parsing (canonical format and importers), saving, lookup and anchoring.
+ *
+ * The formats, the axis conversions and every rule applied here are specified in
+ * poses/README.md; keep the two in step.
+ */
+#include "hs_pose_stream.h"
+
+#include "u_diag.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+/** |(|q| - 1)| above this is XRSC_ERROR_QUAT_NOT_UNIT (poses/README.md, "Quaternions"). */
+#define HS_QUAT_UNIT_TOLERANCE 1e-3
+/** Quaternions off unit length by more than this (but within tolerance) are renormalised;
+ *  below it they are kept bit for bit, so save -> load round trips exactly. */
+#define HS_QUAT_RENORMALIZE_ABOVE 1e-6
+/** Longest accepted field, in bytes (a double needs at most ~25 characters). */
+#define HS_MAX_FIELD_CHARS 64
+/** First sample array capacity; it doubles as needed. */
+#define HS_INITIAL_CAPACITY 256
+/** .NET ticks are 100 ns (System.DateTime.Ticks). */
+#define HS_NS_PER_DOTNET_TICK 100
+#define HS_NS_PER_SECOND 1e9
+/** Largest ns span representable in int64 (as a double it rounds up to 2^63, so compare <). */
+#define HS_MAX_SPAN_NS_DOUBLE 9223372036854775807.0
+
+#define HS_CANONICAL_MAGIC "xrsc-poses"
+#define HS_CANONICAL_VERSION 1
+#define HS_PRED6DOF_HEADER "timestamp,x,y,z,qx,qy,qz,qw"
+#define HS_360VIDEO_HEADER "timestamp viewpoint w x y z"
+
+/** Canonical v1 columns; the order here is the semantic slot, not the file order. */
+enum hs_col {
+    HS_COL_T,
+    HS_COL_PX,
+    HS_COL_PY,
+    HS_COL_PZ,
+    HS_COL_QX,
+    HS_COL_QY,
+    HS_COL_QZ,
+    HS_COL_QW,
+    HS_COL_COUNT
+};
+static const char *const hs_col_names[HS_COL_COUNT] = {"t_ns", "px", "py", "pz",
+                                                       "qx",   "qy", "qz", "qw"};
+static const char *const hs_pred6dof_names[8] = {"timestamp", "x",  "y",  "z",
+                                                 "qx",        "qy", "qz", "qw"};
+static const char *const hs_360video_names[6] = {"timestamp", "viewpoint", "w", "x", "y", "z"};
+
+/** Parser state over one in-memory buffer (which need not be NUL-terminated). */
+typedef struct hs_parser {
+    const char *name;
+    const char *data;
+    size_t size;
+    size_t pos;
+    int line; /**< 1-based number of the line last returned by next_line */
+    xrsc_diag *diag;
+    hs_pose_stream *stream;
+    size_t capacity;
+    int64_t first_raw;                  /**< first timestamp in the file's own integer unit */
+    int64_t last_raw;                   /**< previous sample's timestamp in that unit */
+    double first_seconds, last_seconds; /**< the same for timestamps in seconds */
+} hs_parser;
+
+/** A field inside the current line: [begin, begin + len). */
+typedef struct hs_field {
+    const char *begin;
+    size_t len;
+} hs_field;
+
+/* ---- lines and fields ------------------------------------------------------------------- */
+
+/** Returns false at end of data. Strips a trailing '\r'. */
+static bool next_line(hs_parser *p, const char **out_begin, size_t *out_len)
+{
+    if (p->pos >= p->size)
+        return false;
+    const char *begin = p->data + p->pos;
+    const char *nl = memchr(begin, '\n', p->size - p->pos);
+    size_t len = nl ? (size_t)(nl - begin) : p->size - p->pos;
+    p->pos += len + (nl ? 1 : 0);
+    if (len > 0 && begin[len - 1] == '\r')
+        len--;
+    p->line++;
+    *out_begin = begin;
+    *out_len = len;
+    return true;
+}
+
+static bool is_space(char c)
+{
+    return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
+
+static void trim(const char **begin, size_t *len)
+{
+    while (*len > 0 && is_space(**begin)) {
+        (*begin)++;
+        (*len)--;
+    }
+    while (*len > 0 && is_space((*begin)[*len - 1]))
+        (*len)--;
+}
+
+static bool is_blank_or_comment(const char *begin, size_t len)
+{
+    trim(&begin, &len);
+    return len == 0 || begin[0] == '#';
+}
+
+static bool line_equals(const char *begin, size_t len, const char *text)
+{
+    trim(&begin, &len);
+    return len == strlen(text) && memcmp(begin, text, len) == 0;
+}
+
+/**
+ * Splits a line on whitespace (sep == 0) or on commas (sep == ','), filling up to max fields.
+ * Returns the number of fields found, which may exceed max (the extra ones are not stored).
+ * With commas, fields are trimmed and one empty trailing field (a line ending in ", ") is
+ * not counted.
+ */
+static size_t split_fields(const char *begin, size_t len, char sep, hs_field *out, size_t max)
+{
+    size_t n = 0;
+    if (sep == 0) {
+        size_t i = 0;
+        while (i < len) {
+            while (i < len && is_space(begin[i]))
+                i++;
+            if (i >= len)
+                break;
+            size_t start = i;
+            while (i < len && !is_space(begin[i]))
+                i++;
+            if (n < max) {
+                out[n].begin = begin + start;
+                out[n].len = i - start;
+            }
+            n++;
+        }
+        return n;
+    }
+    size_t start = 0;
+    for (size_t i = 0; i <= len; i++) {
+        if (i < len && begin[i] != sep)
+            continue;
+        const char *fb = begin + start;
+        size_t fl = i - start;
+        trim(&fb, &fl);
+        bool last = i == len;
+        if (!(last && fl == 0 && n > 0)) { /* the quirk: a trailing ", " adds no field */
+            if (n < max) {
+                out[n].begin = fb;
+                out[n].len = fl;
+            }
+            n++;
+        }
+        start = i + 1;
+    }
+    return n;
+}
+
+/** Copies a field into a NUL-terminated buffer; false if it is too long or holds a NUL. */
+static bool field_to_cstr(hs_field f, char buf[HS_MAX_FIELD_CHARS + 1])
+{
+    if (f.len == 0 || f.len > HS_MAX_FIELD_CHARS || memchr(f.begin, '\0', f.len))
+        return false;
+    memcpy(buf, f.begin, f.len);
+    buf[f.len] = '\0';
+    return true;
+}
+
+/* ---- numbers ---------------------------------------------------------------------------- */
+
+/** A number field; as_float: it is stored as a float, so beyond float range counts as inf. */
+static xrsc_result parse_number(hs_parser *p, hs_field f, const char *field, bool as_float,
+                                double *out)
+{
+    char buf[HS_MAX_FIELD_CHARS + 1];
+    if (!field_to_cstr(f, buf))
+        return u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, field,
+                          "empty or over-long field (limit %d characters)", HS_MAX_FIELD_CHARS);
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(buf, &end);
+    if (end == buf || *end != '\0')
+        return u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, field,
+                          "'%s' is not a number", buf);
+    if (!isfinite(v) || (as_float && !isfinite((float)v)))
+        return u_diag_set(p->diag, XRSC_ERROR_NAN, p->name, p->line, field,
+                          "'%s' is NaN, infinite or out of float range", buf);
+    *out = v;
+    return XRSC_OK;
+}
+
+static xrsc_result parse_double(hs_parser *p, hs_field f, const char *field, double *out)
+{
+    return parse_number(p, f, field, true, out);
+}
+
+/** An integer field (timestamps in ns or ticks, viewpoint ids). */
+static xrsc_result parse_int64(hs_parser *p, hs_field f, const char *field, int64_t *out)
+{
+    char buf[HS_MAX_FIELD_CHARS + 1];
+    if (!field_to_cstr(f, buf))
+        return u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, field,
+                          "empty or over-long field (limit %d characters)", HS_MAX_FIELD_CHARS);
+    char *end = NULL;
+    errno = 0;
+    long long v = strtoll(buf, &end, 10);
+    if (end == buf || *end != '\0' || errno == ERANGE) {
+        /* Say NaN/inf when it is one, so the error class matches the float fields. */
+        char *fend = NULL;
+        double d = strtod(buf, &fend);
+        if (fend != buf && *fend == '\0' && !isfinite(d))
+            return u_diag_set(p->diag, XRSC_ERROR_NAN, p->name, p->line, field,
+                              "'%s' is NaN or infinite", buf);
+        return u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, field,
+                          "'%s' is not an integer in the int64 range", buf);
+    }
+    *out = (int64_t)v;
+    return XRSC_OK;
+}
+
+/** out = a - b; false on int64 overflow. */
+static bool sub_i64(int64_t a, int64_t b, int64_t *out)
+{
+    if ((b < 0 && a > INT64_MAX + b) || (b > 0 && a < INT64_MIN + b))
+        return false;
+    *out = a - b;
+    return true;
+}
+
+/** A sample line with more fields than columns: the field is named "field N" (1-based). */
+static xrsc_result extra_field(hs_parser *p, size_t ncols, size_t n)
+{
+    char field[32];
+    snprintf(field, sizeof(field), "field %zu", ncols + 1);
+    return u_diag_set(p->diag, XRSC_ERROR_UNKNOWN_COLUMN, p->name, p->line, field,
+                      "%zu or more fields but %zu columns", n, ncols);
+}
+
+/* ---- samples ---------------------------------------------------------------------------- */
+
+/** Checks |q| and renormalises within tolerance (poses/README.md, "Quaternions"). */
+static xrsc_result check_quat(hs_parser *p, XrQuaternionf *q, const char *field)
+{
+    double n =
+        sqrt((double)q->x * q->x + (double)q->y * q->y + (double)q->z * q->z + (double)q->w * q->w);
+    double dev = fabs(n - 1.0);
+    if (!(dev <= HS_QUAT_UNIT_TOLERANCE))
+        return u_diag_set(p->diag, XRSC_ERROR_QUAT_NOT_UNIT, p->name, p->line, field,
+                          "|q| = %.9g differs from 1 by more than %g", n, HS_QUAT_UNIT_TOLERANCE);
+    if (dev > HS_QUAT_RENORMALIZE_ABOVE)
+        *q = xrsc_quat_normalize(*q);
+    return XRSC_OK;
+}
+
+/**
+ * Appends a sample whose time (relative to the first sample) is time_ns; the caller has
+ * already checked it against the previous sample. Equal times: the later sample replaces the
+ * earlier one.
+ */
+static xrsc_result push_sample(hs_parser *p, int64_t time_ns, XrPosef pose)
+{
+    hs_pose_stream *s = p->stream;
+    if (s->count > 0 && s->samples[s->count - 1].time_ns == time_ns) {
+        s->samples[s->count - 1].pose = pose;
+        s->dropped_duplicates++;
+        return XRSC_OK;
+    }
+    if (s->count == p->capacity) {
+        size_t cap = p->capacity ? p->capacity * 2 : HS_INITIAL_CAPACITY;
+        hs_pose_sample *n = realloc(s->samples, cap * sizeof(*n));
+        if (!n)
+            return u_diag_set(p->diag, XRSC_ERROR_OUT_OF_MEMORY, p->name, p->line, "",
+                              "cannot grow the sample array to %zu samples", cap);
+        s->samples = n;
+        p->capacity = cap;
+    }
+    s->samples[s->count].time_ns = time_ns;
+    s->samples[s->count].pose = pose;
+    s->count++;
+    return XRSC_OK;
+}
+
+/**
+ * Converts a timestamp in the file's integer unit (ns_per_unit nanoseconds) into ns since the
+ * first sample, rejecting times earlier than the previous sample's.
+ */
+static xrsc_result time_from_raw(hs_parser *p, int64_t raw, int64_t ns_per_unit, const char *field,
+                                 int64_t *out_ns)
+{
+    if (p->stream->count == 0) {
+        p->first_raw = raw;
+        p->last_raw = raw;
+        *out_ns = 0;
+        return XRSC_OK;
+    }
+    if (raw < p->last_raw)
+        return u_diag_set(p->diag, XRSC_ERROR_TIME_BACKWARDS, p->name, p->line, field,
+                          "timestamp %" PRId64 " is earlier than the previous sample's %" PRId64,
+                          raw, p->last_raw);
+    int64_t rel;
+    if (!sub_i64(raw, p->first_raw, &rel) || rel > INT64_MAX / ns_per_unit)
+        return u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, field,
+                          "timestamp %" PRId64 " is too far from the first sample's "
+                          "(int64 nanoseconds overflow)",
+                          raw);
+    p->last_raw = raw;
+    *out_ns = rel * ns_per_unit;
+    return XRSC_OK;
+}
+
+/* ---- canonical format ------------------------------------------------------------------- */
+
+/** Reads the `columns` line: col_of_slot[slot] = field index, or -1 when absent. */
+static xrsc_result parse_columns(hs_parser *p, const char *begin, size_t len,
+                                 int col_of_slot[HS_COL_COUNT], size_t *out_ncols,
+                                 int slot_of_col[HS_COL_COUNT])
+{
+    hs_field f[HS_COL_COUNT + 2];
+    size_t n = split_fields(begin, len, 0, f, HS_COL_COUNT + 2);
+    for (int i = 0; i < HS_COL_COUNT; i++)
+        col_of_slot[i] = -1;
+    /* More than HS_COL_COUNT names always hold an unknown or a repeated one, reported below. */
+    size_t stored = n < HS_COL_COUNT + 2 ? n : HS_COL_COUNT + 2;
+    for (size_t i = 1; i < stored; i++) {
+        int slot = -1;
+        for (int k = 0; k < HS_COL_COUNT; k++) {
+            if (f[i].len == strlen(hs_col_names[k]) &&
+                memcmp(f[i].begin, hs_col_names[k], f[i].len) == 0)
+                slot = k;
+        }
+        char name[HS_MAX_FIELD_CHARS + 1] = "";
+        if (!field_to_cstr(f[i], name))
+            snprintf(name, sizeof(name), "column %zu", i);
+        if (slot < 0)
+            return u_diag_set(p->diag, XRSC_ERROR_UNKNOWN_COLUMN, p->name, p->line, name,
+                              "unknown column (v1 knows t_ns px py pz qx qy qz qw)");
+        if (col_of_slot[slot] >= 0)
+            return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line, name,
+                              "column named twice");
+        if (i - 1 >= HS_COL_COUNT) /* unreachable by the pigeonhole argument above */
+            return u_diag_set(p->diag, XRSC_ERROR_UNKNOWN_COLUMN, p->name, p->line, name,
+                              "more than %d columns", HS_COL_COUNT);
+        col_of_slot[slot] = (int)(i - 1);
+        slot_of_col[i - 1] = slot;
+    }
+    static const int required[] = {HS_COL_T, HS_COL_QX, HS_COL_QY, HS_COL_QZ, HS_COL_QW};
+    for (size_t k = 0; k < sizeof(required) / sizeof(required[0]); k++) {
+        if (col_of_slot[required[k]] < 0)
+            return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line,
+                              hs_col_names[required[k]], "required column is missing");
+    }
+    int npos = (col_of_slot[HS_COL_PX] >= 0) + (col_of_slot[HS_COL_PY] >= 0) +
+               (col_of_slot[HS_COL_PZ] >= 0);
+    if (npos != 0 && npos != 3) {
+        for (int k = HS_COL_PX; k <= HS_COL_PZ; k++) {
+            if (col_of_slot[k] < 0)
+                return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line, hs_col_names[k],
+                                  "px, py and pz must be all present or all absent");
+        }
+    }
+    *out_ncols = n - 1;
+    return XRSC_OK;
+}
+
+static xrsc_result parse_canonical(hs_parser *p)
+{
+    const char *line;
+    size_t len;
+    bool have_header = false, have_columns = false;
+    int col_of_slot[HS_COL_COUNT], slot_of_col[HS_COL_COUNT];
+    size_t ncols = 0;
+    xrsc_result r;
+    while (next_line(p, &line, &len)) {
+        if (is_blank_or_comment(line, len))
+            continue;
+        hs_field f[HS_COL_COUNT + 1];
+        size_t n = split_fields(line, len, 0, f, HS_COL_COUNT + 1);
+        if (!have_header) {
+            if (f[0].len != strlen(HS_CANONICAL_MAGIC) ||
+                memcmp(f[0].begin, HS_CANONICAL_MAGIC, f[0].len) != 0)
+                return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line, "header",
+                                  "expected '%s %d'", HS_CANONICAL_MAGIC, HS_CANONICAL_VERSION);
+            if (n != 2 || f[1].len != 1 || f[1].begin[0] != '0' + HS_CANONICAL_VERSION)
+                return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line, "version",
+                                  "unsupported version (this reader knows version %d)",
+                                  HS_CANONICAL_VERSION);
+            have_header = true;
+            continue;
+        }
+        if (f[0].len == strlen("columns") && memcmp(f[0].begin, "columns", f[0].len) == 0) {
+            if (have_columns)
+                return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line, "columns",
+                                  "a second 'columns' line");
+            r = parse_columns(p, line, len, col_of_slot, &ncols, slot_of_col);
+            if (r != XRSC_OK)
+                return r;
+            p->stream->orientation_only = col_of_slot[HS_COL_PX] < 0;
+            have_columns = true;
+            continue;
+        }
+        if (!have_columns)
+            return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line, "columns",
+                              "a 'columns' line must come before the first sample");
+        if (n < ncols)
+            return u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
+                              hs_col_names[slot_of_col[n]], "%zu of %zu fields", n, ncols);
+        if (n > ncols)
+            return extra_field(p, ncols, n);
+        double v[HS_COL_COUNT] = {0, 0, 0, 0, 0, 0, 0, 1};
+        int64_t t_raw = 0;
+        for (size_t i = 0; i < ncols; i++) {
+            int slot = slot_of_col[i];
+            r = slot == HS_COL_T ? parse_int64(p, f[i], hs_col_names[slot], &t_raw)
+                                 : parse_double(p, f[i], hs_col_names[slot], &v[slot]);
+            if (r != XRSC_OK)
+                return r;
+        }
+        XrPosef pose;
+        pose.position.x = (float)v[HS_COL_PX];
+        pose.position.y = (float)v[HS_COL_PY];
+        pose.position.z = (float)v[HS_COL_PZ];
+        pose.orientation.x = (float)v[HS_COL_QX];
+        pose.orientation.y = (float)v[HS_COL_QY];
+        pose.orientation.z = (float)v[HS_COL_QZ];
+        pose.orientation.w = (float)v[HS_COL_QW];
+        r = check_quat(p, &pose.orientation, "qx qy qz qw");
+        if (r != XRSC_OK)
+            return r;
+        int64_t t_ns;
+        r = time_from_raw(p, t_raw, 1, "t_ns", &t_ns);
+        if (r != XRSC_OK)
+            return r;
+        r = push_sample(p, t_ns, pose);
+        if (r != XRSC_OK)
+            return r;
+    }
+    if (!have_header)
+        return u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "",
+                          "no header and no samples");
+    return XRSC_OK;
+}
+
+/* ---- importers -------------------------------------------------------------------------- */
+
+/** Skips blank lines; returns false at end of data. */
+static bool next_content_line(hs_parser *p, const char **line, size_t *len)
+{
+    while (next_line(p, line, len)) {
+        const char *b = *line;
+        size_t l = *len;
+        trim(&b, &l);
+        if (l > 0)
+            return true;
+    }
+    return false;
+}
+
+/** The pred6dof HoloLens CSV (poses/README.md, "Importer: pred6dof"). */
+static xrsc_result parse_pred6dof(hs_parser *p)
+{
+    const char *line;
+    size_t len;
+    xrsc_result r;
+    if (!next_content_line(p, &line, &len))
+        return u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "", "empty file");
+    if (!line_equals(line, len, HS_PRED6DOF_HEADER))
+        return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line, "header",
+                          "expected '%s'", HS_PRED6DOF_HEADER);
+    while (next_content_line(p, &line, &len)) {
+        hs_field f[9];
+        size_t n = split_fields(line, len, ',', f, 9);
+        if (n < 8)
+            return u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
+                              hs_pred6dof_names[n], "%zu of 8 fields", n);
+        if (n > 8)
+            return extra_field(p, 8, n);
+        int64_t ticks;
+        r = parse_int64(p, f[0], "timestamp", &ticks);
+        if (r != XRSC_OK)
+            return r;
+        double v[8];
+        for (int i = 1; i < 8; i++) {
+            r = parse_double(p, f[i], hs_pred6dof_names[i], &v[i]);
+            if (r != XRSC_OK)
+                return r;
+        }
+        /* Left-handed, +Z forward (Unity) -> OpenXR: mirror z; the rotation's x and y
+         * components change sign (poses/README.md). */
+        XrPosef pose;
+        pose.position.x = (float)v[1];
+        pose.position.y = (float)v[2];
+        pose.position.z = (float)-v[3];
+        pose.orientation.x = (float)-v[4];
+        pose.orientation.y = (float)-v[5];
+        pose.orientation.z = (float)v[6];
+        pose.orientation.w = (float)v[7];
+        r = check_quat(p, &pose.orientation, "qx qy qz qw");
+        if (r != XRSC_OK)
+            return r;
+        int64_t t_ns;
+        r = time_from_raw(p, ticks, HS_NS_PER_DOTNET_TICK, "timestamp", &t_ns);
+        if (r != XRSC_OK)
+            return r;
+        r = push_sample(p, t_ns, pose);
+        if (r != XRSC_OK)
+            return r;
+    }
+    return XRSC_OK;
+}
+
+/** The 360-video orientation trace (poses/README.md, "Importer: 360video"). */
+static xrsc_result parse_360video(hs_parser *p)
+{
+    const char *line;
+    size_t len;
+    xrsc_result r;
+    if (!next_content_line(p, &line, &len))
+        return u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "", "empty file");
+    if (!line_equals(line, len, HS_360VIDEO_HEADER))
+        return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line, "header",
+                          "expected '%s'", HS_360VIDEO_HEADER);
+    p->stream->orientation_only = true;
+    while (next_content_line(p, &line, &len)) {
+        hs_field f[7];
+        size_t n = split_fields(line, len, 0, f, 7);
+        if (n < 6)
+            return u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
+                              hs_360video_names[n], "%zu of 6 fields", n);
+        if (n > 6)
+            return extra_field(p, 6, n);
+        double seconds;
+        r = parse_number(p, f[0], "timestamp", false, &seconds);
+        if (r != XRSC_OK)
+            return r;
+        int64_t viewpoint;
+        r = parse_int64(p, f[1], "viewpoint", &viewpoint);
+        if (r != XRSC_OK)
+            return r;
+        double q[4]; /* w x y z */
+        for (int i = 0; i < 4; i++) {
+            r = parse_double(p, f[2 + i], hs_360video_names[2 + i], &q[i]);
+            if (r != XRSC_OK)
+                return r;
+        }
+        /* The trace is right-handed with x forward, y left, z up; OpenXR's x (right) is -y,
+         * its y (up) is z and its z (back) is -x. A proper rotation of the axes maps the
+         * quaternion's vector part the same way (poses/README.md). */
+        XrPosef pose = xrsc_pose_identity();
+        pose.orientation.x = (float)-q[2];
+        pose.orientation.y = (float)q[3];
+        pose.orientation.z = (float)-q[1];
+        pose.orientation.w = (float)q[0];
+        r = check_quat(p, &pose.orientation, "w x y z");
+        if (r != XRSC_OK)
+            return r;
+        int64_t t_ns = 0;
+        if (p->stream->count == 0) {
+            p->first_seconds = seconds;
+        } else {
+            if (seconds < p->last_seconds)
+                return u_diag_set(p->diag, XRSC_ERROR_TIME_BACKWARDS, p->name, p->line, "timestamp",
+                                  "%.17g s is earlier than the previous %.17g s", seconds,
+                                  p->last_seconds);
+            double rel_ns = (seconds - p->first_seconds) * HS_NS_PER_SECOND;
+            if (!(rel_ns < HS_MAX_SPAN_NS_DOUBLE))
+                return u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, "timestamp",
+                                  "%.17g s is too far from the first sample (int64 ns)", seconds);
+            t_ns = (int64_t)llround(rel_ns);
+        }
+        p->last_seconds = seconds;
+        r = push_sample(p, t_ns, pose);
+        if (r != XRSC_OK)
+            return r;
+    }
+    return XRSC_OK;
+}
+
+/** The first line that is neither blank nor a comment decides the format. */
+static hs_pose_format detect_format(const char *data, size_t size)
+{
+    hs_parser p = {.data = data, .size = size};
+    const char *line;
+    size_t len;
+    while (next_line(&p, &line, &len)) {
+        if (is_blank_or_comment(line, len))
+            continue;
+        trim(&line, &len);
+        size_t magic = strlen(HS_CANONICAL_MAGIC);
+        if (len >= magic && memcmp(line, HS_CANONICAL_MAGIC, magic) == 0 &&
+            (len == magic || is_space(line[magic])))
+            return HS_POSE_FORMAT_XRSC;
+        if (line_equals(line, len, HS_PRED6DOF_HEADER))
+            return HS_POSE_FORMAT_PRED6DOF;
+        if (line_equals(line, len, HS_360VIDEO_HEADER))
+            return HS_POSE_FORMAT_360VIDEO;
+        return HS_POSE_FORMAT_AUTO;
+    }
+    return HS_POSE_FORMAT_AUTO;
+}
+
+/* ---- public API ------------------------------------------------------------------------- */
+
+const char *hs_pose_format_name(hs_pose_format format)
+{
+    switch (format) {
+    case HS_POSE_FORMAT_AUTO:
+        return "auto";
+    case HS_POSE_FORMAT_XRSC:
+        return "xrsc";
+    case HS_POSE_FORMAT_PRED6DOF:
+        return "pred6dof";
+    case HS_POSE_FORMAT_360VIDEO:
+        return "360video";
+    }
+    return "unknown";
+}
+
+xrsc_result hs_pose_stream_parse(const char *name, const char *data, size_t size,
+                                 hs_pose_format format, hs_pose_stream **out, xrsc_diag *diag)
+{
+    if (!name)
+        name = "(memory)";
+    if (!out || (!data && size > 0))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, name, 0, "", "NULL argument");
+    *out = NULL;
+    if (size > HS_POSE_MAX_FILE_BYTES)
+        return u_diag_set(diag, XRSC_ERROR_FILE_TOO_LARGE, name, 0, "",
+                          "%zu bytes, more than the limit of %llu", size,
+                          (unsigned long long)HS_POSE_MAX_FILE_BYTES);
+    /* A UTF-8 byte order mark is ignored. */
+    static const char bom[3] = {'\xEF', '\xBB', '\xBF'};
+    if (size >= 3 && memcmp(data, bom, 3) == 0) {
+        data += 3;
+        size -= 3;
+    }
+    bool content = false;
+    for (size_t i = 0; i < size && !content; i++)
+        content = !is_space(data[i]) && data[i] != '\n';
+    if (!content)
+        return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, name, 0, "", "empty file");
+
+    if (format == HS_POSE_FORMAT_AUTO) {
+        format = detect_format(data, size);
+        if (format == HS_POSE_FORMAT_AUTO) {
+            hs_parser q = {.data = data, .size = size};
+            const char *line = NULL;
+            size_t len = 0;
+            while (next_line(&q, &line, &len) && is_blank_or_comment(line, len)) {
+            }
+            if (is_blank_or_comment(line, len)) /* only comments */
+                return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, name, 0, "",
+                                  "only comments, no header and no samples");
+            return u_diag_set(diag, XRSC_ERROR_BAD_HEADER, name, q.line, "header",
+                              "unknown format: expected '%s %d', '%s' or '%s'", HS_CANONICAL_MAGIC,
+                              HS_CANONICAL_VERSION, HS_PRED6DOF_HEADER, HS_360VIDEO_HEADER);
+        }
+    }
+
+    hs_pose_stream *s = calloc(1, sizeof(*s));
+    if (!s)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, name, 0, "", "out of memory");
+    s->format = format;
+    hs_parser p = {.name = name, .data = data, .size = size, .diag = diag, .stream = s};
+    xrsc_result r;
+    switch (format) {
+    case HS_POSE_FORMAT_XRSC:
+        r = parse_canonical(&p);
+        break;
+    case HS_POSE_FORMAT_PRED6DOF:
+        r = parse_pred6dof(&p);
+        break;
+    case HS_POSE_FORMAT_360VIDEO:
+        r = parse_360video(&p);
+        break;
+    default:
+        r = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, name, 0, "", "unknown format %d",
+                       (int)format);
+        break;
+    }
+    if (r == XRSC_OK && s->count == 0)
+        r = u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, name, 0, "", "no samples");
+    if (r != XRSC_OK) {
+        hs_pose_stream_destroy(&s);
+        return r;
+    }
+    if (s->dropped_duplicates > 0)
+        U_LOG_W("%s: %u samples with a repeated timestamp were replaced by the later one", name,
+                s->dropped_duplicates);
+    *out = s;
+    return XRSC_OK;
+}
+
+xrsc_result hs_pose_stream_load(const char *path, hs_pose_format format, hs_pose_stream **out,
+                                xrsc_diag *diag)
+{
+    if (out)
+        *out = NULL;
+    if (!path || !out)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0, "",
+                          "NULL argument");
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "not a readable regular file");
+    }
+    /* The size is checked before anything is read or allocated. */
+    if ((unsigned long long)st.st_size > HS_POSE_MAX_FILE_BYTES) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_FILE_TOO_LARGE, path, 0, "",
+                          "%lld bytes, more than the limit of %llu", (long long)st.st_size,
+                          (unsigned long long)HS_POSE_MAX_FILE_BYTES);
+    }
+    size_t size = (size_t)st.st_size;
+    if (size == 0) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, path, 0, "", "empty file");
+    }
+    char *data = malloc(size);
+    if (!data) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "cannot read %zu bytes",
+                          size);
+    }
+    size_t got = fread(data, 1, size, f);
+    bool read_error = ferror(f) != 0;
+    fclose(f);
+    if (read_error || got != size) {
+        free(data);
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "read %zu of %zu bytes", got, size);
+    }
+    xrsc_result r = hs_pose_stream_parse(path, data, size, format, out, diag);
+    free(data);
+    return r;
+}
+
+xrsc_result hs_pose_stream_save(const hs_pose_stream *stream, const char *path, xrsc_diag *diag)
+{
+    if (!stream || !path || (stream->count > 0 && !stream->samples))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0, "",
+                          "NULL argument");
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
+    fprintf(f, "%s %d\n", HS_CANONICAL_MAGIC, HS_CANONICAL_VERSION);
+    fprintf(f, "# OpenXR axes (right-handed, +Y up, -Z forward), metres, t_ns in nanoseconds;"
+               " spec: poses/README.md\n");
+    fprintf(f, "# %zu samples%s\n", stream->count,
+            stream->orientation_only ? ", orientation only" : "");
+    fprintf(f, stream->orientation_only ? "columns t_ns qx qy qz qw\n"
+                                        : "columns t_ns px py pz qx qy qz qw\n");
+    for (size_t i = 0; i < stream->count; i++) {
+        const hs_pose_sample *s = &stream->samples[i];
+        const XrQuaternionf *q = &s->pose.orientation;
+        /* %.9g prints every float so that strtod + (float) gives it back bit for bit. */
+        fprintf(f, "%" PRId64, s->time_ns);
+        if (!stream->orientation_only)
+            fprintf(f, " %.9g %.9g %.9g", s->pose.position.x, s->pose.position.y,
+                    s->pose.position.z);
+        fprintf(f, " %.9g %.9g %.9g %.9g\n", q->x, q->y, q->z, q->w);
+    }
+    bool bad = ferror(f) != 0;
+    if (fclose(f) != 0 || bad)
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "write failed");
+    return XRSC_OK;
+}
+
+void hs_pose_stream_destroy(hs_pose_stream **stream)
+{
+    if (!stream || !*stream)
+        return;
+    free((*stream)->samples);
+    free(*stream);
+    *stream = NULL;
+}
+
+int64_t hs_pose_stream_duration_ns(const hs_pose_stream *stream)
+{
+    if (!stream || stream->count == 0)
+        return 0;
+    return stream->samples[stream->count - 1].time_ns;
+}
+
+hs_lookup hs_pose_stream_sample(const hs_pose_stream *stream, int64_t time_ns, XrPosef *out_pose)
+{
+    XrPosef pose = xrsc_pose_identity();
+    hs_lookup kind = HS_LOOKUP_CLAMPED;
+    if (stream && stream->count > 0) {
+        const hs_pose_sample *s = stream->samples;
+        size_t n = stream->count;
+        if (time_ns <= s[0].time_ns) {
+            pose = s[0].pose;
+            kind = time_ns == s[0].time_ns ? HS_LOOKUP_EXACT : HS_LOOKUP_CLAMPED;
+        } else if (time_ns >= s[n - 1].time_ns) {
+            pose = s[n - 1].pose;
+            kind = time_ns == s[n - 1].time_ns ? HS_LOOKUP_EXACT : HS_LOOKUP_CLAMPED;
+        } else {
+            /* Invariant: s[lo].time_ns <= time_ns < s[hi].time_ns. */
+            size_t lo = 0, hi = n - 1;
+            while (hi - lo > 1) {
+                size_t mid = lo + (hi - lo) / 2;
+                if (s[mid].time_ns <= time_ns)
+                    lo = mid;
+                else
+                    hi = mid;
+            }
+            if (s[lo].time_ns == time_ns) {
+                pose = s[lo].pose;
+                kind = HS_LOOKUP_EXACT;
+            } else {
+                double t = ((double)time_ns - (double)s[lo].time_ns) /
+                           ((double)s[hi].time_ns - (double)s[lo].time_ns);
+                pose = xrsc_pose_interpolate(s[lo].pose, s[hi].pose, (float)t);
+                kind = HS_LOOKUP_INTERPOLATED;
+            }
+        }
+    }
+    if (out_pose)
+        *out_pose = pose;
+    return kind;
+}
+
+void hs_pose_stream_anchor(hs_pose_stream *stream, XrPosef viewpoint)
+{
+    if (!stream || stream->count == 0)
+        return;
+    XrPosef delta = xrsc_pose_mul(viewpoint, xrsc_pose_inverse(stream->samples[0].pose));
+    for (size_t i = 0; i < stream->count; i++) {
+        XrPosef *p = &stream->samples[i].pose;
+        *p = xrsc_pose_mul(delta, *p);
+        p->orientation = xrsc_quat_normalize(p->orientation);
+        if (stream->orientation_only)
+            p->position = viewpoint.position;
+    }
+}
