@@ -1,0 +1,293 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file xrsc_core.c
+ * @brief The public API (xrsc.h) on top of the gpu, scene and methods layers.
+ */
+#include "xrsc/xrsc.h"
+
+#include "gpu_scene.h"
+#include "mt_method.h"
+#include "sc_scene.h"
+#include "u_diag.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/** Default per-eye size of a renderer (xrsc.h). */
+#define XRSC_DEFAULT_SIZE_PX 256u
+
+struct xrsc_context {
+    gpu_context *gpu;
+};
+
+struct xrsc_scene {
+    xrsc_context *ctx;
+    sc_scene *cpu;
+    gpu_scene *gpu;
+    bool animated;
+    int64_t time_ns; /**< scene time the instances were last evaluated at */
+    xrsc_scene_info info;
+};
+
+struct xrsc_renderer {
+    xrsc_context *ctx;
+    xrsc_scene *scene;
+    mt_method *method;
+    xrsc_renderer_options opt;
+};
+
+/* ---- context ---- */
+
+xrsc_result xrsc_context_create(const xrsc_context_options *options, xrsc_context **out_ctx,
+                                xrsc_diag *out_diag)
+{
+    if (!out_ctx)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "out_ctx", "NULL");
+    *out_ctx = NULL;
+    xrsc_context *ctx = calloc(1, sizeof(*ctx));
+    if (!ctx)
+        return u_diag_set(out_diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+    gpu_context_options go = {0};
+    if (options) {
+        go.device = options->device;
+        go.validation = options->validation;
+    }
+    xrsc_result res = gpu_context_create(&go, &ctx->gpu, out_diag);
+    if (res != XRSC_OK) {
+        free(ctx);
+        return res;
+    }
+    *out_ctx = ctx;
+    return XRSC_OK;
+}
+
+void xrsc_context_destroy(xrsc_context **ctx)
+{
+    if (!ctx || !*ctx)
+        return;
+    gpu_context_destroy(&(*ctx)->gpu);
+    free(*ctx);
+    *ctx = NULL;
+}
+
+const char *xrsc_context_device_name(const xrsc_context *ctx)
+{
+    return ctx ? ctx->gpu->properties.deviceName : "";
+}
+
+bool xrsc_context_is_cpu(const xrsc_context *ctx) { return ctx && ctx->gpu->is_cpu; }
+
+uint32_t xrsc_context_validation_errors(const xrsc_context *ctx)
+{
+    return ctx ? ctx->gpu->validation_errors : 0;
+}
+
+/* ---- scenes ---- */
+
+xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
+                            const xrsc_scene_options *options, xrsc_scene **out_scene,
+                            xrsc_diag *out_diag)
+{
+    if (!out_scene)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "out_scene", "NULL");
+    *out_scene = NULL;
+    if (!ctx || !path)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0,
+                          ctx ? "path" : "ctx", "NULL");
+    xrsc_scene *s = calloc(1, sizeof(*s));
+    if (!s)
+        return u_diag_set(out_diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "out of memory");
+    s->ctx = ctx;
+    sc_load_options lo = {0};
+    if (options) {
+        lo.env_set = options->env_set;
+        memcpy(lo.environment, options->environment, sizeof(lo.environment));
+    }
+    xrsc_result res = sc_scene_load(path, &lo, &s->cpu, out_diag);
+    if (res != XRSC_OK)
+        goto fail;
+    res = gpu_scene_create(ctx->gpu, s->cpu, &s->gpu, out_diag);
+    if (res != XRSC_OK)
+        goto fail;
+    for (uint32_t i = 0; i < s->cpu->instance_count; i++)
+        s->animated = s->animated || s->cpu->instances[i].animated;
+    s->animated = s->animated && s->cpu->animation_duration_s > 0.0f;
+    s->time_ns = 0; /* sc_scene_load evaluates at time 0 */
+
+    xrsc_scene_info *info = &s->info;
+    const sc_scene *c = s->cpu;
+    info->triangle_count = c->triangle_count;
+    info->instance_count = c->instance_count;
+    info->material_count = c->material_count;
+    info->emitter_count = c->emitter_count;
+    info->animation_duration_s = c->animation_duration_s;
+    info->has_camera = c->has_camera;
+    info->viewpoint.position = (XrVector3f){c->viewpoint_position[0], c->viewpoint_position[1],
+                                            c->viewpoint_position[2]};
+    info->viewpoint.orientation =
+        (XrQuaternionf){c->viewpoint_orientation[0], c->viewpoint_orientation[1],
+                        c->viewpoint_orientation[2], c->viewpoint_orientation[3]};
+    memcpy(info->bounds_min, c->bounds_min, sizeof(info->bounds_min));
+    memcpy(info->bounds_max, c->bounds_max, sizeof(info->bounds_max));
+    info->blas_build_ms = gpu_scene_blas_build_ms(s->gpu);
+    *out_scene = s;
+    return XRSC_OK;
+fail:
+    xrsc_scene_destroy(&s);
+    return res;
+}
+
+void xrsc_scene_destroy(xrsc_scene **scene)
+{
+    if (!scene || !*scene)
+        return;
+    xrsc_scene *s = *scene;
+    gpu_scene_destroy(s->ctx->gpu, &s->gpu);
+    sc_scene_destroy(&s->cpu);
+    free(s);
+    *scene = NULL;
+}
+
+void xrsc_scene_get_info(const xrsc_scene *scene, xrsc_scene_info *out_info)
+{
+    if (!out_info)
+        return;
+    if (!scene) {
+        memset(out_info, 0, sizeof(*out_info));
+        return;
+    }
+    *out_info = scene->info;
+}
+
+/** Moves animated instances to time_ns (prev transforms keep the last evaluated time's). */
+static xrsc_result scene_set_time(xrsc_scene *s, int64_t time_ns, xrsc_diag *diag)
+{
+    if (!s->animated || time_ns == s->time_ns)
+        return XRSC_OK;
+    sc_scene_evaluate(s->cpu, (double)time_ns * 1e-9);
+    s->time_ns = time_ns;
+    return gpu_scene_update_instances(s->ctx->gpu, s->gpu, s->cpu, diag);
+}
+
+/* ---- methods ---- */
+
+const char *xrsc_method_name(xrsc_method method)
+{
+    switch (method) {
+    case XRSC_METHOD_SPP:
+        return "spp";
+    case XRSC_METHOD_PRIMARY:
+        return "primary";
+    }
+    return NULL;
+}
+
+xrsc_result xrsc_method_from_name(const char *name, xrsc_method *out_method)
+{
+    static const xrsc_method all[] = {XRSC_METHOD_SPP, XRSC_METHOD_PRIMARY};
+    for (size_t i = 0; name && i < sizeof(all) / sizeof(all[0]); i++) {
+        if (!strcmp(name, xrsc_method_name(all[i]))) {
+            if (out_method)
+                *out_method = all[i];
+            return XRSC_OK;
+        }
+    }
+    return XRSC_ERROR_UNKNOWN_METHOD;
+}
+
+/* ---- renderers ---- */
+
+xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
+                                 const xrsc_renderer_options *options,
+                                 xrsc_renderer **out_renderer, xrsc_diag *out_diag)
+{
+    if (!out_renderer)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "out_renderer", "NULL");
+    *out_renderer = NULL;
+    if (!ctx || !scene)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, ctx ? "scene" : "ctx",
+                          "NULL");
+    xrsc_renderer *r = calloc(1, sizeof(*r));
+    if (!r)
+        return u_diag_set(out_diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+    r->ctx = ctx;
+    r->scene = scene;
+    if (options)
+        r->opt = *options;
+    if (r->opt.width == 0)
+        r->opt.width = XRSC_DEFAULT_SIZE_PX;
+    if (r->opt.height == 0)
+        r->opt.height = XRSC_DEFAULT_SIZE_PX;
+    mt_env env = {
+        .gpu = ctx->gpu,
+        .scene = scene->gpu,
+        .cpu_scene = scene->cpu,
+        .width = r->opt.width,
+        .height = r->opt.height,
+        .seed = r->opt.seed,
+    };
+    xrsc_result res;
+    switch (r->opt.method) {
+    case XRSC_METHOD_SPP:
+        res = mt_spp_create(&env, &r->opt.spp, &r->method, out_diag);
+        break;
+    case XRSC_METHOD_PRIMARY:
+        res = mt_primary_create(&env, &r->method, out_diag);
+        break;
+    default:
+        res = u_diag_set(out_diag, XRSC_ERROR_UNKNOWN_METHOD, "", 0, "method",
+                         "unknown method %d", (int)r->opt.method);
+        break;
+    }
+    if (res != XRSC_OK) {
+        free(r);
+        return res;
+    }
+    *out_renderer = r;
+    return XRSC_OK;
+}
+
+void xrsc_renderer_destroy(xrsc_renderer **renderer)
+{
+    if (!renderer || !*renderer)
+        return;
+    mt_method_destroy(&(*renderer)->method);
+    free(*renderer);
+    *renderer = NULL;
+}
+
+xrsc_result xrsc_renderer_render(xrsc_renderer *renderer, const xrsc_frame *frame)
+{
+    if (!renderer || !frame)
+        return XRSC_ERROR_INVALID_ARGUMENT;
+    xrsc_result res = scene_set_time(renderer->scene, frame->display_time_ns, NULL);
+    if (res != XRSC_OK)
+        return res;
+    return mt_method_render(renderer->method, frame, NULL);
+}
+
+size_t xrsc_renderer_output_size(const xrsc_renderer *renderer, xrsc_output output)
+{
+    return renderer ? mt_method_output_size(renderer->method, output) : 0;
+}
+
+xrsc_result xrsc_renderer_read(xrsc_renderer *renderer, uint32_t eye, xrsc_output output,
+                               void *dst, size_t dst_size)
+{
+    if (!renderer)
+        return XRSC_ERROR_INVALID_ARGUMENT;
+    return mt_method_read(renderer->method, eye, output, dst, dst_size, NULL);
+}
+
+uint32_t xrsc_renderer_timings(const xrsc_renderer *renderer, xrsc_pass_timing *out,
+                               uint32_t max_count)
+{
+    if (!renderer || !out)
+        return 0;
+    return mt_method_timings(renderer->method, out, max_count);
+}
+
+uint64_t xrsc_renderer_rays_last_frame(const xrsc_renderer *renderer)
+{
+    return renderer ? mt_method_rays_last_frame(renderer->method) : 0;
+}

@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file gpu_context.h
+ * @brief The Vulkan bundle: instance, device, queue, loaded extension functions, validation.
+ *
+ * Every Vulkan handle the gpu layer shares and every extension function it loads live in
+ * ::gpu_context; the rest of the gpu layer takes a `gpu_context *`. Other layers never call
+ * Vulkan object-creation functions: they go through gpu_* helpers.
+ */
+#pragma once
+
+#include "xrsc/result.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <vulkan/vulkan.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Extension functions, loaded with vkGetInstanceProcAddr / vkGetDeviceProcAddr. */
+typedef struct gpu_vk_functions {
+    PFN_vkCreateDebugUtilsMessengerEXT CreateDebugUtilsMessengerEXT;
+    PFN_vkDestroyDebugUtilsMessengerEXT DestroyDebugUtilsMessengerEXT;
+    PFN_vkCreateAccelerationStructureKHR CreateAccelerationStructureKHR;
+    PFN_vkDestroyAccelerationStructureKHR DestroyAccelerationStructureKHR;
+    PFN_vkGetAccelerationStructureBuildSizesKHR GetAccelerationStructureBuildSizesKHR;
+    PFN_vkGetAccelerationStructureDeviceAddressKHR GetAccelerationStructureDeviceAddressKHR;
+    PFN_vkCmdBuildAccelerationStructuresKHR CmdBuildAccelerationStructuresKHR;
+    PFN_vkCreateRayTracingPipelinesKHR CreateRayTracingPipelinesKHR;
+    PFN_vkGetRayTracingShaderGroupHandlesKHR GetRayTracingShaderGroupHandlesKHR;
+    PFN_vkCmdTraceRaysKHR CmdTraceRaysKHR;
+} gpu_vk_functions;
+
+typedef struct gpu_context {
+    VkInstance instance;
+    VkDebugUtilsMessengerEXT messenger;
+    VkPhysicalDevice physical_device;
+    VkDevice device;
+    VkQueue queue;
+    uint32_t queue_family;
+    VkCommandPool command_pool;
+    VkFence fence; /**< for one-shot submissions */
+    gpu_vk_functions vk;
+
+    VkPhysicalDeviceProperties properties;
+    VkPhysicalDeviceMemoryProperties memory_properties;
+    VkPhysicalDeviceRayTracingPipelinePropertiesKHR rt_properties;
+    VkPhysicalDeviceAccelerationStructurePropertiesKHR as_properties;
+    uint32_t timestamp_valid_bits; /**< of the queue family; 0 = no timestamps */
+    bool is_cpu;
+    bool validation;
+    bool atomic_float; /**< VK_EXT_shader_atomic_float enabled (buffer/image float32 add) */
+    uint32_t validation_errors; /**< ERROR-severity validation messages seen */
+    uint32_t device_index;      /**< physical-device index chosen */
+} gpu_context;
+
+/**
+ * Context options. device: NULL/"" uses XRSC_DEVICE, else the first non-CPU device with ray
+ * tracing, else lavapipe. "cpu", "gpu", a physical-device index or a name substring
+ * (case-insensitive) select explicitly. validation: VK_LAYER_KHRONOS_validation on (also when
+ * XRSC_VALIDATION=1).
+ */
+typedef struct gpu_context_options {
+    const char *device;
+    bool validation;
+} gpu_context_options;
+
+/**
+ * Creates the instance and device. Errors: XRSC_ERROR_DEVICE_NOT_FOUND (selector matches no
+ * device), XRSC_ERROR_NO_RAY_TRACING_DEVICE (message names what each device lacks),
+ * XRSC_ERROR_VULKAN.
+ */
+xrsc_result gpu_context_create(const gpu_context_options *options, gpu_context **out,
+                               xrsc_diag *diag);
+/** Waits for the device to go idle and destroys everything; accepts NULL, sets *ctx NULL. */
+void gpu_context_destroy(gpu_context **ctx);
+
+/** "VK_ERROR_OUT_OF_DEVICE_MEMORY" etc. */
+const char *gpu_vk_result_name(VkResult r);
+
+/** Logs a failed Vulkan call with its name, VkResult and the caller's file/line; fills diag
+ *  with XRSC_ERROR_VULKAN and returns it. */
+xrsc_result gpu_vk_error(xrsc_diag *diag, VkResult r, const char *call, const char *file,
+                         int line);
+
+/** Runs `call`; on failure logs it (call text, VkResult name, file, line), fills diag and
+ *  jumps to `label` with `res` = XRSC_ERROR_VULKAN. */
+#define GPU_CHECK(res, diag, label, call)                                                          \
+    do {                                                                                           \
+        VkResult gpu_check_r_ = (call);                                                            \
+        if (gpu_check_r_ != VK_SUCCESS) {                                                          \
+            (res) = gpu_vk_error((diag), gpu_check_r_, #call, __FILE__, __LINE__);                 \
+            goto label;                                                                            \
+        }                                                                                          \
+    } while (0)
+
+/** Index of a memory type with all `flags` among `type_bits`, or UINT32_MAX. */
+uint32_t gpu_find_memory_type(const gpu_context *ctx, uint32_t type_bits,
+                              VkMemoryPropertyFlags flags);
+
+/** Begins a one-shot primary command buffer from the context's pool. */
+xrsc_result gpu_cmd_begin(gpu_context *ctx, VkCommandBuffer *out_cmd, xrsc_diag *diag);
+/** Ends, submits and waits for cmd, then frees it (also on failure). */
+xrsc_result gpu_cmd_submit_wait(gpu_context *ctx, VkCommandBuffer cmd, xrsc_diag *diag);
+/** A full memory barrier between everything before and after (simple and correct). */
+void gpu_cmd_barrier_all(VkCommandBuffer cmd);
+
+#ifdef __cplusplus
+}
+#endif

@@ -1,0 +1,661 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file gpu_scene.c
+ * @brief Scene upload, BLAS per mesh, TLAS per scene with update.
+ */
+#include "gpu_scene.h"
+
+#include "gpu_timer.h"
+#include "u_diag.h"
+#include "xrsc_shared.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+_Static_assert(sizeof(sc_vertex) == 32 && sizeof(xs_vertex) == 32, "vertex sizes");
+_Static_assert(SC_NO_TEXTURE == XS_NO_TEXTURE, "no-texture markers agree");
+
+/** Buffers read by the AS builder and by shaders. */
+#define GPU_SCENE_INPUT_USAGE                                                                      \
+    (VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |              \
+     VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR)
+
+typedef struct gpu_accel {
+    gpu_buffer buffer;
+    VkAccelerationStructureKHR handle;
+    VkDeviceAddress address;
+} gpu_accel;
+
+struct gpu_scene {
+    gpu_buffer vertices, indices, instances, materials, emitters;
+    gpu_image *textures;
+    uint32_t texture_count;
+    gpu_image white;
+    VkSampler sampler;
+
+    gpu_accel *blas;
+    uint32_t blas_count;
+    gpu_accel tlas;
+    gpu_buffer tlas_instances; /**< VkAccelerationStructureInstanceKHR[], host-visible */
+    gpu_buffer tlas_scratch;   /**< max(build, update) scratch, kept for updates */
+    VkDeviceAddress tlas_scratch_address; /**< aligned */
+    uint32_t instance_count;
+
+    xs_instance *host_instances; /**< CPU copy of instances[] */
+    uint32_t emitter_count;
+    double blas_ms, tlas_ms;
+};
+
+static VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
+
+/* ---- small matrix helpers (column-major) ---- */
+
+static void normal_matrix(const float m[16], float out[16])
+{
+    /* inverse transpose of the upper 3x3 = cofactor matrix / det */
+    float a = m[0], b = m[4], c = m[8];
+    float d = m[1], e = m[5], f = m[9];
+    float g = m[2], h = m[6], i = m[10];
+    float cof[3][3] = {
+        {e * i - f * h, -(d * i - f * g), d * h - e * g},
+        {-(b * i - c * h), a * i - c * g, -(a * h - b * g)},
+        {b * f - c * e, -(a * f - c * d), a * e - b * d},
+    };
+    float det = a * cof[0][0] + b * cof[0][1] + c * cof[0][2];
+    float inv_det = det != 0.0f ? 1.0f / det : 0.0f;
+    memset(out, 0, 16 * sizeof(float));
+    /* (M^-1)^T = cof / det; cof[r][col] is for row r, column col of M */
+    for (int r = 0; r < 3; r++)
+        for (int col = 0; col < 3; col++)
+            out[col * 4 + r] = cof[r][col] * inv_det;
+    out[15] = 1.0f;
+}
+
+static void fill_instance_transform(const float world[16], VkTransformMatrixKHR *t)
+{
+    for (int r = 0; r < 3; r++)
+        for (int col = 0; col < 4; col++)
+            t->matrix[r][col] = world[col * 4 + r];
+}
+
+static void write_tlas_instances(gpu_scene *gs, const sc_scene *scene)
+{
+    VkAccelerationStructureInstanceKHR *inst = gs->tlas_instances.mapped;
+    for (uint32_t i = 0; i < scene->instance_count; i++) {
+        const sc_instance *si = &scene->instances[i];
+        memset(&inst[i], 0, sizeof(inst[i]));
+        fill_instance_transform(si->world, &inst[i].transform);
+        inst[i].instanceCustomIndex = i;
+        inst[i].mask = 0xFF;
+        inst[i].instanceShaderBindingTableRecordOffset = 0;
+        inst[i].flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
+        inst[i].accelerationStructureReference = gs->blas[si->mesh].address;
+    }
+}
+
+/* ---- upload of the shared buffers ---- */
+
+static xrsc_result upload_geometry(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                   xrsc_diag *diag)
+{
+    xrsc_result res = XRSC_OK;
+    xs_vertex *v = calloc(scene->vertex_count ? scene->vertex_count : 1, sizeof(*v));
+    uint32_t *idx = calloc(scene->index_count ? scene->index_count : 1, sizeof(*idx));
+    if (!v || !idx) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+        goto done;
+    }
+    for (uint32_t i = 0; i < scene->vertex_count; i++) {
+        const sc_vertex *s = &scene->vertices[i];
+        v[i].position_u = (xs_vec4){s->position[0], s->position[1], s->position[2], s->uv[0]};
+        v[i].normal_v = (xs_vec4){s->normal[0], s->normal[1], s->normal[2], s->uv[1]};
+    }
+    /* sc_scene indices are already absolute (sc_scene.h); check they stay in their mesh. */
+    for (uint32_t m = 0; m < scene->mesh_count; m++) {
+        const sc_mesh *mesh = &scene->meshes[m];
+        for (uint32_t k = 0; k < mesh->index_count; k++) {
+            uint32_t vi = scene->indices[mesh->first_index + k];
+            if (vi < mesh->first_vertex || vi - mesh->first_vertex >= mesh->vertex_count) {
+                res = u_diag_set(diag, XRSC_ERROR_GLTF_INVALID, scene->path, 0, "indices",
+                                 "mesh %u index %u outside its vertices [%u, %u)", m, vi,
+                                 mesh->first_vertex, mesh->first_vertex + mesh->vertex_count);
+                goto done;
+            }
+            idx[mesh->first_index + k] = vi;
+        }
+    }
+    res = gpu_buffer_create_with_data(ctx, v, (VkDeviceSize)scene->vertex_count * sizeof(*v),
+                                      GPU_SCENE_INPUT_USAGE, &gs->vertices, diag);
+    if (res != XRSC_OK)
+        goto done;
+    res = gpu_buffer_create_with_data(ctx, idx, (VkDeviceSize)scene->index_count * sizeof(*idx),
+                                      GPU_SCENE_INPUT_USAGE, &gs->indices, diag);
+done:
+    free(v);
+    free(idx);
+    return res;
+}
+
+static xrsc_result upload_materials(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                    xrsc_diag *diag)
+{
+    uint32_t n = scene->material_count;
+    xs_material *mats = calloc(n ? n : 1, sizeof(*mats));
+    if (!mats)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+    for (uint32_t i = 0; i < n; i++) {
+        const sc_material *s = &scene->materials[i];
+        xs_material *d = &mats[i];
+        d->base_color = (xs_vec4){s->base_color[0], s->base_color[1], s->base_color[2],
+                                  s->base_color[3]};
+        d->emission = (xs_vec4){s->emission[0], s->emission[1], s->emission[2], 0.0f};
+        d->metallic = s->metallic;
+        d->roughness = s->roughness;
+        d->transmission = s->transmission;
+        d->ior = s->ior;
+        d->base_color_tex = s->base_color_tex < scene->texture_count ? s->base_color_tex
+                                                                     : XS_NO_TEXTURE;
+        d->metal_rough_tex = s->metal_rough_tex < scene->texture_count ? s->metal_rough_tex
+                                                                       : XS_NO_TEXTURE;
+        d->emission_tex = s->emission_tex < scene->texture_count ? s->emission_tex
+                                                                 : XS_NO_TEXTURE;
+        d->flags = s->double_sided ? XS_MAT_DOUBLE_SIDED : 0u;
+    }
+    xrsc_result res = gpu_buffer_create_with_data(
+        ctx, mats, (VkDeviceSize)n * sizeof(*mats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+        &gs->materials, diag);
+    free(mats);
+    return res;
+}
+
+static xrsc_result upload_emitters(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                   xrsc_diag *diag)
+{
+    xrsc_result res = XRSC_OK;
+    uint32_t ni = scene->instance_count;
+    bool *emissive = calloc(ni ? ni : 1, sizeof(*emissive));
+    uint32_t *base = calloc(ni ? ni : 1, sizeof(*base));
+    xs_emitter *em = NULL;
+    if (!emissive || !base) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+        goto done;
+    }
+    for (uint32_t e = 0; e < scene->emitter_count; e++)
+        if (scene->emitters[e].instance < ni)
+            emissive[scene->emitters[e].instance] = true;
+    uint64_t count = 0;
+    for (uint32_t i = 0; i < ni; i++) {
+        base[i] = XS_NO_EMITTER;
+        if (emissive[i]) {
+            base[i] = (uint32_t)count;
+            count += scene->meshes[scene->instances[i].mesh].index_count / 3;
+        }
+    }
+    em = calloc(count ? count : 1, sizeof(*em));
+    if (!em) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+        goto done;
+    }
+    for (uint32_t i = 0; i < ni; i++) {
+        if (base[i] == XS_NO_EMITTER)
+            continue;
+        uint32_t tris = scene->meshes[scene->instances[i].mesh].index_count / 3;
+        for (uint32_t t = 0; t < tris; t++) {
+            em[base[i] + t].instance = i;
+            em[base[i] + t].primitive = t;
+        }
+    }
+    double total = 0.0;
+    for (uint32_t e = 0; e < scene->emitter_count; e++) {
+        const sc_emitter *s = &scene->emitters[e];
+        if (s->instance >= ni || base[s->instance] == XS_NO_EMITTER)
+            continue;
+        uint32_t tris = scene->meshes[scene->instances[s->instance].mesh].index_count / 3;
+        if (s->primitive >= tris || !(s->power > 0.0f))
+            continue;
+        em[base[s->instance] + s->primitive].pmf = s->power;
+        total += s->power;
+    }
+    double cdf = 0.0;
+    for (uint64_t k = 0; k < count; k++) {
+        double pmf = total > 0.0 ? em[k].pmf / total : 1.0 / (double)count;
+        em[k].pmf = (float)pmf;
+        cdf += pmf;
+        em[k].cdf = (float)cdf;
+    }
+    if (count)
+        em[count - 1].cdf = 1.0f;
+    for (uint32_t i = 0; i < ni; i++)
+        gs->host_instances[i].emitter_base = base[i];
+    gs->emitter_count = (uint32_t)count;
+    res = gpu_buffer_create_with_data(ctx, em, count * sizeof(*em),
+                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &gs->emitters, diag);
+done:
+    free(emissive);
+    free(base);
+    free(em);
+    return res;
+}
+
+static xrsc_result upload_textures(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                   xrsc_diag *diag)
+{
+    static const uint8_t white[4] = {255, 255, 255, 255};
+    xrsc_result res = gpu_image_create_texture(ctx, 1, 1, false, white, &gs->white, diag);
+    if (res != XRSC_OK)
+        return res;
+    res = gpu_sampler_create(ctx, &gs->sampler, diag);
+    if (res != XRSC_OK)
+        return res;
+    uint32_t n = scene->texture_count;
+    if (n > XS_MAX_TEXTURES) {
+        U_LOG_W("%s: %u textures, only the first %u are used", scene->path, n, XS_MAX_TEXTURES);
+        n = XS_MAX_TEXTURES;
+    }
+    gs->textures = calloc(n ? n : 1, sizeof(*gs->textures));
+    if (!gs->textures)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+    for (uint32_t i = 0; i < n; i++) {
+        const sc_texture *t = &scene->textures[i];
+        if (!t->rgba8 || t->width == 0 || t->height == 0)
+            res = gpu_image_create_texture(ctx, 1, 1, false, white, &gs->textures[i], diag);
+        else
+            res = gpu_image_create_texture(ctx, t->width, t->height, t->srgb, t->rgba8,
+                                           &gs->textures[i], diag);
+        if (res != XRSC_OK)
+            return res;
+        gs->texture_count = i + 1;
+    }
+    return XRSC_OK;
+}
+
+static void fill_host_instances(gpu_scene *gs, const sc_scene *scene, bool keep_prev)
+{
+    for (uint32_t i = 0; i < scene->instance_count; i++) {
+        const sc_instance *si = &scene->instances[i];
+        xs_instance *d = &gs->host_instances[i];
+        if (keep_prev)
+            d->prev_object_to_world = d->object_to_world;
+        memcpy(d->object_to_world.m, si->world, sizeof(d->object_to_world.m));
+        normal_matrix(si->world, d->normal_to_world.m);
+        if (!keep_prev)
+            d->prev_object_to_world = d->object_to_world;
+        const sc_mesh *mesh = &scene->meshes[si->mesh];
+        d->first_index = mesh->first_index;
+        d->material = mesh->material;
+        d->triangle_count = mesh->index_count / 3;
+    }
+}
+
+/* ---- acceleration structures ---- */
+
+static xrsc_result accel_create(gpu_context *ctx, VkAccelerationStructureTypeKHR type,
+                                VkDeviceSize size, gpu_accel *out, xrsc_diag *diag)
+{
+    xrsc_result res = gpu_buffer_create(ctx, size,
+                                        VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR |
+                                            VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                                        GPU_MEMORY_DEVICE, &out->buffer, diag);
+    if (res != XRSC_OK)
+        return res;
+    VkAccelerationStructureCreateInfoKHR ci = {
+        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR,
+        .buffer = out->buffer.buffer,
+        .size = size,
+        .type = type,
+    };
+    GPU_CHECK(res, diag, fail,
+              ctx->vk.CreateAccelerationStructureKHR(ctx->device, &ci, NULL, &out->handle));
+    VkAccelerationStructureDeviceAddressInfoKHR ai = {
+        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR,
+        .accelerationStructure = out->handle,
+    };
+    out->address = ctx->vk.GetAccelerationStructureDeviceAddressKHR(ctx->device, &ai);
+    return XRSC_OK;
+fail:
+    gpu_buffer_destroy(ctx, &out->buffer);
+    return res;
+}
+
+static void accel_destroy(gpu_context *ctx, gpu_accel *a)
+{
+    if (a->handle)
+        ctx->vk.DestroyAccelerationStructureKHR(ctx->device, a->handle, NULL);
+    gpu_buffer_destroy(ctx, &a->buffer);
+    memset(a, 0, sizeof(*a));
+}
+
+static void tlas_geometry(const gpu_scene *gs, VkAccelerationStructureGeometryKHR *geom,
+                          VkAccelerationStructureBuildGeometryInfoKHR *info,
+                          VkBuildAccelerationStructureModeKHR mode)
+{
+    *geom = (VkAccelerationStructureGeometryKHR){
+        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR,
+        .geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR,
+        .geometry.instances =
+            {
+                .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR,
+                .arrayOfPointers = VK_FALSE,
+                .data.deviceAddress = gs->tlas_instances.address,
+            },
+        .flags = VK_GEOMETRY_OPAQUE_BIT_KHR,
+    };
+    *info = (VkAccelerationStructureBuildGeometryInfoKHR){
+        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR,
+        .type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR,
+        .flags = VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR |
+                 VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR,
+        .mode = mode,
+        .srcAccelerationStructure =
+            mode == VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR ? gs->tlas.handle
+                                                                    : VK_NULL_HANDLE,
+        .dstAccelerationStructure = gs->tlas.handle,
+        .geometryCount = 1,
+        .pGeometries = geom,
+        .scratchData.deviceAddress = gs->tlas_scratch_address,
+    };
+}
+
+static void cmd_as_barrier(VkCommandBuffer cmd)
+{
+    VkMemoryBarrier mb = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
+        .dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR |
+                         VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                         VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR |
+                             VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR,
+                         0, 1, &mb, 0, NULL, 0, NULL);
+}
+
+static xrsc_result build_accels(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                xrsc_diag *diag)
+{
+    xrsc_result res = XRSC_OK;
+    uint32_t nm = scene->mesh_count;
+    VkDeviceSize scratch_align = ctx->as_properties.minAccelerationStructureScratchOffsetAlignment;
+    if (scratch_align == 0)
+        scratch_align = 256;
+    VkAccelerationStructureGeometryKHR *geoms = calloc(nm ? nm : 1, sizeof(*geoms));
+    VkAccelerationStructureBuildGeometryInfoKHR *infos = calloc(nm ? nm : 1, sizeof(*infos));
+    VkAccelerationStructureBuildRangeInfoKHR *ranges = calloc(nm ? nm : 1, sizeof(*ranges));
+    const VkAccelerationStructureBuildRangeInfoKHR **range_ptrs =
+        calloc(nm ? nm : 1, sizeof(*range_ptrs));
+    VkDeviceSize *scratch_offsets = calloc(nm ? nm : 1, sizeof(*scratch_offsets));
+    gpu_buffer scratch = {0};
+    gpu_timer timer = {0};
+    gs->blas = calloc(nm ? nm : 1, sizeof(*gs->blas));
+    if (!geoms || !infos || !ranges || !range_ptrs || !scratch_offsets || !gs->blas) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+        goto done;
+    }
+    gs->blas_count = nm;
+
+    /* One BLAS per mesh: opaque triangles straight from the shared vertex/index buffers. */
+    VkDeviceSize scratch_total = 0;
+    for (uint32_t m = 0; m < nm; m++) {
+        const sc_mesh *mesh = &scene->meshes[m];
+        geoms[m] = (VkAccelerationStructureGeometryKHR){
+            .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR,
+            .geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR,
+            .geometry.triangles =
+                {
+                    .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR,
+                    .vertexFormat = VK_FORMAT_R32G32B32_SFLOAT,
+                    .vertexData.deviceAddress = gs->vertices.address,
+                    .vertexStride = sizeof(xs_vertex),
+                    .maxVertex = mesh->first_vertex + (mesh->vertex_count ? mesh->vertex_count - 1
+                                                                          : 0),
+                    .indexType = VK_INDEX_TYPE_UINT32,
+                    .indexData.deviceAddress =
+                        gs->indices.address + (VkDeviceAddress)mesh->first_index * 4u,
+                },
+            .flags = VK_GEOMETRY_OPAQUE_BIT_KHR,
+        };
+        infos[m] = (VkAccelerationStructureBuildGeometryInfoKHR){
+            .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR,
+            .type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
+            .flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR,
+            .mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR,
+            .geometryCount = 1,
+            .pGeometries = &geoms[m],
+        };
+        ranges[m] = (VkAccelerationStructureBuildRangeInfoKHR){.primitiveCount =
+                                                                   mesh->index_count / 3};
+        range_ptrs[m] = &ranges[m];
+        VkAccelerationStructureBuildSizesInfoKHR sizes = {
+            .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+        ctx->vk.GetAccelerationStructureBuildSizesKHR(
+            ctx->device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &infos[m],
+            &ranges[m].primitiveCount, &sizes);
+        res = accel_create(ctx, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
+                           sizes.accelerationStructureSize, &gs->blas[m], diag);
+        if (res != XRSC_OK)
+            goto done;
+        infos[m].dstAccelerationStructure = gs->blas[m].handle;
+        scratch_offsets[m] = scratch_total;
+        scratch_total += align_up(sizes.buildScratchSize, scratch_align);
+    }
+
+    /* TLAS: sizes, storage, instance buffer and a scratch that also serves updates. */
+    uint32_t ni = scene->instance_count;
+    gs->instance_count = ni;
+    res = gpu_buffer_create(ctx, (VkDeviceSize)(ni ? ni : 1) *
+                                     sizeof(VkAccelerationStructureInstanceKHR),
+                            VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
+                                VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
+                            GPU_MEMORY_UPLOAD, &gs->tlas_instances, diag);
+    if (res != XRSC_OK)
+        goto done;
+    write_tlas_instances(gs, scene);
+    gpu_buffer_flush(ctx, &gs->tlas_instances);
+    VkAccelerationStructureGeometryKHR tgeom;
+    VkAccelerationStructureBuildGeometryInfoKHR tinfo;
+    tlas_geometry(gs, &tgeom, &tinfo, VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR);
+    VkAccelerationStructureBuildSizesInfoKHR tsizes = {
+        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+    ctx->vk.GetAccelerationStructureBuildSizesKHR(
+        ctx->device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &tinfo, &ni, &tsizes);
+    res = accel_create(ctx, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR,
+                       tsizes.accelerationStructureSize, &gs->tlas, diag);
+    if (res != XRSC_OK)
+        goto done;
+    VkDeviceSize tscratch = tsizes.buildScratchSize > tsizes.updateScratchSize
+                                ? tsizes.buildScratchSize
+                                : tsizes.updateScratchSize;
+    res = gpu_buffer_create(ctx, tscratch + scratch_align,
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                            GPU_MEMORY_DEVICE, &gs->tlas_scratch, diag);
+    if (res != XRSC_OK)
+        goto done;
+    gs->tlas_scratch_address = align_up(gs->tlas_scratch.address, scratch_align);
+
+    /* BLAS scratch: one buffer, disjoint aligned ranges, so all builds go in one call. */
+    res = gpu_buffer_create(ctx, scratch_total + scratch_align,
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                            GPU_MEMORY_DEVICE, &scratch, diag);
+    if (res != XRSC_OK)
+        goto done;
+    VkDeviceAddress scratch_base = align_up(scratch.address, scratch_align);
+    for (uint32_t m = 0; m < nm; m++)
+        infos[m].scratchData.deviceAddress = scratch_base + scratch_offsets[m];
+
+    res = gpu_timer_create(ctx, &timer, diag);
+    if (res != XRSC_OK)
+        goto done;
+    VkCommandBuffer cmd;
+    res = gpu_cmd_begin(ctx, &cmd, diag);
+    if (res != XRSC_OK)
+        goto done;
+    gpu_timer_cmd_reset(cmd, &timer);
+    uint32_t pb = gpu_timer_cmd_begin(cmd, &timer, "blas");
+    if (nm)
+        ctx->vk.CmdBuildAccelerationStructuresKHR(cmd, nm, infos, range_ptrs);
+    gpu_timer_cmd_end(cmd, &timer, pb);
+    cmd_as_barrier(cmd);
+    uint32_t pt = gpu_timer_cmd_begin(cmd, &timer, "tlas");
+    tlas_geometry(gs, &tgeom, &tinfo, VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR);
+    VkAccelerationStructureBuildRangeInfoKHR trange = {.primitiveCount = ni};
+    const VkAccelerationStructureBuildRangeInfoKHR *trange_ptr = &trange;
+    ctx->vk.CmdBuildAccelerationStructuresKHR(cmd, 1, &tinfo, &trange_ptr);
+    gpu_timer_cmd_end(cmd, &timer, pt);
+    cmd_as_barrier(cmd);
+    res = gpu_cmd_submit_wait(ctx, cmd, diag);
+    if (res != XRSC_OK)
+        goto done;
+    res = gpu_timer_resolve(ctx, &timer, diag);
+    if (res != XRSC_OK)
+        goto done;
+    gs->blas_ms = timer.ms[pb];
+    gs->tlas_ms = timer.ms[pt];
+done:
+    gpu_timer_destroy(ctx, &timer);
+    gpu_buffer_destroy(ctx, &scratch);
+    free(geoms);
+    free(infos);
+    free(ranges);
+    free(range_ptrs);
+    free(scratch_offsets);
+    return res;
+}
+
+xrsc_result gpu_scene_create(gpu_context *ctx, const sc_scene *scene, gpu_scene **out,
+                             xrsc_diag *diag)
+{
+    *out = NULL;
+    for (uint32_t i = 0; i < scene->instance_count; i++)
+        if (scene->instances[i].mesh >= scene->mesh_count)
+            return u_diag_set(diag, XRSC_ERROR_GLTF_INVALID, scene->path, 0, "instances",
+                              "instance %u uses mesh %u of %u", i, scene->instances[i].mesh,
+                              scene->mesh_count);
+    gpu_scene *gs = calloc(1, sizeof(*gs));
+    if (!gs)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+    xrsc_result res = XRSC_OK;
+    uint32_t ni = scene->instance_count;
+    gs->host_instances = calloc(ni ? ni : 1, sizeof(*gs->host_instances));
+    if (!gs->host_instances) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+        goto fail;
+    }
+    fill_host_instances(gs, scene, false);
+    if ((res = upload_geometry(ctx, gs, scene, diag)) != XRSC_OK ||
+        (res = upload_materials(ctx, gs, scene, diag)) != XRSC_OK ||
+        (res = upload_emitters(ctx, gs, scene, diag)) != XRSC_OK ||
+        (res = upload_textures(ctx, gs, scene, diag)) != XRSC_OK)
+        goto fail;
+    res = gpu_buffer_create_with_data(ctx, gs->host_instances,
+                                      (VkDeviceSize)ni * sizeof(xs_instance),
+                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &gs->instances, diag);
+    if (res != XRSC_OK)
+        goto fail;
+    res = build_accels(ctx, gs, scene, diag);
+    if (res != XRSC_OK)
+        goto fail;
+    U_LOG_D("%s: %u meshes, %u instances, %u emitters, BLAS %.3f ms, TLAS %.3f ms", scene->path,
+            scene->mesh_count, ni, gs->emitter_count, gs->blas_ms, gs->tlas_ms);
+    *out = gs;
+    return XRSC_OK;
+fail:
+    gpu_scene_destroy(ctx, &gs);
+    return res;
+}
+
+void gpu_scene_destroy(gpu_context *ctx, gpu_scene **pgs)
+{
+    if (!pgs || !*pgs)
+        return;
+    gpu_scene *gs = *pgs;
+    if (ctx->device)
+        vkDeviceWaitIdle(ctx->device);
+    accel_destroy(ctx, &gs->tlas);
+    gpu_buffer_destroy(ctx, &gs->tlas_scratch);
+    gpu_buffer_destroy(ctx, &gs->tlas_instances);
+    if (gs->blas)
+        for (uint32_t m = 0; m < gs->blas_count; m++)
+            accel_destroy(ctx, &gs->blas[m]);
+    free(gs->blas);
+    if (gs->textures)
+        for (uint32_t i = 0; i < gs->texture_count; i++)
+            gpu_image_destroy(ctx, &gs->textures[i]);
+    free(gs->textures);
+    gpu_image_destroy(ctx, &gs->white);
+    gpu_sampler_destroy(ctx, &gs->sampler);
+    gpu_buffer_destroy(ctx, &gs->vertices);
+    gpu_buffer_destroy(ctx, &gs->indices);
+    gpu_buffer_destroy(ctx, &gs->instances);
+    gpu_buffer_destroy(ctx, &gs->materials);
+    gpu_buffer_destroy(ctx, &gs->emitters);
+    free(gs->host_instances);
+    free(gs);
+    *pgs = NULL;
+}
+
+xrsc_result gpu_scene_update_instances(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                       xrsc_diag *diag)
+{
+    if (scene->instance_count != gs->instance_count)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, scene->path, 0, "instances",
+                          "instance count changed from %u to %u", gs->instance_count,
+                          scene->instance_count);
+    fill_host_instances(gs, scene, true);
+    xrsc_result res = gpu_buffer_upload(ctx, &gs->instances, 0, gs->host_instances,
+                                        (VkDeviceSize)gs->instance_count * sizeof(xs_instance),
+                                        diag);
+    if (res != XRSC_OK || gs->instance_count == 0)
+        return res;
+    write_tlas_instances(gs, scene);
+    gpu_buffer_flush(ctx, &gs->tlas_instances);
+    gpu_timer timer;
+    res = gpu_timer_create(ctx, &timer, diag);
+    if (res != XRSC_OK)
+        return res;
+    VkCommandBuffer cmd;
+    res = gpu_cmd_begin(ctx, &cmd, diag);
+    if (res == XRSC_OK) {
+        gpu_timer_cmd_reset(cmd, &timer);
+        gpu_cmd_barrier_all(cmd);
+        uint32_t p = gpu_timer_cmd_begin(cmd, &timer, "tlas_update");
+        VkAccelerationStructureGeometryKHR geom;
+        VkAccelerationStructureBuildGeometryInfoKHR info;
+        tlas_geometry(gs, &geom, &info, VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR);
+        VkAccelerationStructureBuildRangeInfoKHR range = {.primitiveCount = gs->instance_count};
+        const VkAccelerationStructureBuildRangeInfoKHR *range_ptr = &range;
+        ctx->vk.CmdBuildAccelerationStructuresKHR(cmd, 1, &info, &range_ptr);
+        gpu_timer_cmd_end(cmd, &timer, p);
+        cmd_as_barrier(cmd);
+        res = gpu_cmd_submit_wait(ctx, cmd, diag);
+        if (res == XRSC_OK && gpu_timer_resolve(ctx, &timer, NULL) == XRSC_OK)
+            gs->tlas_ms = timer.ms[p];
+    }
+    gpu_timer_destroy(ctx, &timer);
+    return res;
+}
+
+xrsc_result gpu_scene_clear_motion(gpu_context *ctx, gpu_scene *gs, xrsc_diag *diag)
+{
+    for (uint32_t i = 0; i < gs->instance_count; i++)
+        gs->host_instances[i].prev_object_to_world = gs->host_instances[i].object_to_world;
+    return gpu_buffer_upload(ctx, &gs->instances, 0, gs->host_instances,
+                             (VkDeviceSize)gs->instance_count * sizeof(xs_instance), diag);
+}
+
+void gpu_scene_write_descriptors(gpu_context *ctx, const gpu_scene *gs, gpu_descriptors *d)
+{
+    gpu_descriptors_write_tlas(ctx, d, XS_BIND_TLAS, gs->tlas.handle);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_VERTICES, &gs->vertices);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_INDICES, &gs->indices);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_INSTANCES, &gs->instances);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_MATERIALS, &gs->materials);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_EMITTERS, &gs->emitters);
+    gpu_descriptors_write_textures(ctx, d, XS_BIND_TEXTURES, gs->textures, gs->texture_count,
+                                   &gs->white, gs->sampler);
+}
+
+uint32_t gpu_scene_emitter_count(const gpu_scene *gs) { return gs->emitter_count; }
+double gpu_scene_blas_build_ms(const gpu_scene *gs) { return gs->blas_ms; }
+double gpu_scene_tlas_build_ms(const gpu_scene *gs) { return gs->tlas_ms; }

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file gpu_scene.h
+ * @brief A ::sc_scene on the GPU: the xrsc_shared.h buffers, textures, one BLAS per mesh and a
+ *        TLAS with one instance per scene instance (updatable for animation).
+ *
+ * Conventions (the contract with the shaders, see xrsc_shared.h):
+ * - vertices[]: sc_scene.vertices in order, as xs_vertex;
+ * - indices[]: ABSOLUTE vertex indices (as sc_scene stores them), so a shader reads
+ *   vertices[indices[first_index + 3t + c]];
+ * - instance i of sc_scene = TLAS instance i (instanceCustomIndex i, mask 0xFF, SBT offset 0,
+ *   culling disabled) = instances[i];
+ * - emitters[]: for every instance with emissive triangles, ALL its triangles in order (those
+ *   sc_scene does not list as emitters get power 0), so emitter_base + t is triangle t's
+ *   emitter; pmf proportional to power (uniform when all are 0), cdf inclusive (last = 1);
+ * - textures[]: sc_scene.textures in order (RGBA8, sRGB or UNORM per texture), the rest of the
+ *   XS_MAX_TEXTURES entries hold a 1x1 white texture.
+ */
+#pragma once
+
+#include "gpu_pipeline.h"
+#include "sc_scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct gpu_scene gpu_scene;
+
+/** Uploads the scene and builds the acceleration structures (waits for completion). */
+xrsc_result gpu_scene_create(gpu_context *ctx, const sc_scene *scene, gpu_scene **out,
+                             xrsc_diag *diag);
+void gpu_scene_destroy(gpu_context *ctx, gpu_scene **scene);
+
+/**
+ * After sc_scene_evaluate moved instances: copies each instance's current world matrix to its
+ * prev_object_to_world, writes the new world matrices, and updates the TLAS (mode UPDATE).
+ */
+xrsc_result gpu_scene_update_instances(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                       xrsc_diag *diag);
+/** Sets prev_object_to_world = object_to_world for every instance (no motion). */
+xrsc_result gpu_scene_clear_motion(gpu_context *ctx, gpu_scene *gs, xrsc_diag *diag);
+
+/** Writes the scene bindings of set 0 (TLAS, vertices, indices, instances, materials,
+ *  emitters, textures) into d. */
+void gpu_scene_write_descriptors(gpu_context *ctx, const gpu_scene *gs, gpu_descriptors *d);
+
+/** Number of entries in the GPU emitter array (see the conventions above). */
+uint32_t gpu_scene_emitter_count(const gpu_scene *gs);
+/** GPU time of the BLAS builds at load, and of the first TLAS build / last TLAS update. */
+double gpu_scene_blas_build_ms(const gpu_scene *gs);
+double gpu_scene_tlas_build_ms(const gpu_scene *gs);
+
+#ifdef __cplusplus
+}
+#endif

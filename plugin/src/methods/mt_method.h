@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file mt_method.h
+ * @brief The rendering-method interface: one struct of function pointers per method, created
+ *        by mt_<name>_create and destroyed with ::mt_method_destroy.
+ *
+ * A method renders both eyes of one ::xrsc_frame into per-eye output images (layer = eye),
+ * times its passes with timestamp queries and counts the rays it traced. Implementations embed
+ * ::mt_method as their first member named `base`.
+ */
+#pragma once
+
+#include "gpu_scene.h"
+#include "sc_scene.h"
+#include "xrsc/xrsc.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct mt_method mt_method;
+
+struct mt_method {
+    const char *name; /**< "primary", "spp", ... */
+    /** Renders both eyes of frame and waits for the GPU. */
+    xrsc_result (*render)(mt_method *m, const xrsc_frame *frame, xrsc_diag *diag);
+    /** Bytes of one eye's image of output (width * height * texel size), 0 if not produced. */
+    size_t (*output_size)(const mt_method *m, xrsc_output output);
+    /** Copies one eye's output of the last frame into dst (rows top to bottom). */
+    xrsc_result (*read)(mt_method *m, uint32_t eye, xrsc_output output, void *dst,
+                        size_t dst_size, xrsc_diag *diag);
+    /** GPU time per pass of the last frame; returns the number written. */
+    uint32_t (*timings)(const mt_method *m, xrsc_pass_timing *out, uint32_t max_count);
+    /** Rays traced in the last frame. */
+    uint64_t (*rays_last_frame)(const mt_method *m);
+    void (*destroy)(mt_method *m);
+};
+
+/** What every method renders with: borrowed pointers that outlive the method. */
+typedef struct mt_env {
+    gpu_context *gpu;
+    gpu_scene *scene;
+    const sc_scene *cpu_scene; /**< environment and sun */
+    uint32_t width, height;    /**< per eye, pixels (non-zero) */
+    uint32_t seed;
+} mt_env;
+
+static inline xrsc_result mt_method_render(mt_method *m, const xrsc_frame *frame,
+                                           xrsc_diag *diag)
+{
+    return m->render(m, frame, diag);
+}
+static inline size_t mt_method_output_size(const mt_method *m, xrsc_output output)
+{
+    return m->output_size(m, output);
+}
+static inline xrsc_result mt_method_read(mt_method *m, uint32_t eye, xrsc_output output,
+                                         void *dst, size_t dst_size, xrsc_diag *diag)
+{
+    return m->read(m, eye, output, dst, dst_size, diag);
+}
+static inline uint32_t mt_method_timings(const mt_method *m, xrsc_pass_timing *out,
+                                         uint32_t max_count)
+{
+    return m->timings(m, out, max_count);
+}
+static inline uint64_t mt_method_rays_last_frame(const mt_method *m)
+{
+    return m->rays_last_frame(m);
+}
+/** Destroys the method; accepts NULL and sets *m to NULL. */
+static inline void mt_method_destroy(mt_method **m)
+{
+    if (m && *m) {
+        (*m)->destroy(*m);
+        *m = NULL;
+    }
+}
+
+/**
+ * `primary`: one ray per pixel through its centre (primary.rgen); colour = first-hit albedo.
+ * No options.
+ */
+xrsc_result mt_primary_create(const mt_env *env, mt_method **out, xrsc_diag *diag);
+
+/**
+ * `spp`: path tracer (spp.rgen), options as ::xrsc_spp_options (zero = defaults:
+ * 1 sample per pixel, XS_DEFAULT_MAX_BOUNCES bounces, jitter on, no accumulation).
+ */
+xrsc_result mt_spp_create(const mt_env *env, const xrsc_spp_options *options, mt_method **out,
+                          xrsc_diag *diag);
+
+#ifdef __cplusplus
+}
+#endif
