@@ -14,6 +14,7 @@
 #include "xrsc/result.h"
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -30,7 +31,11 @@ typedef struct sc_vertex {
 
 typedef struct sc_mesh {
     uint32_t first_vertex, vertex_count; /**< range in sc_scene.vertices */
-    uint32_t first_index, index_count;   /**< range in sc_scene.indices; index_count % 3 == 0 */
+    uint32_t first_index, index_count;   /**< range in sc_scene.indices; index_count % 3 == 0.
+                                          *   Index values are absolute: they index
+                                          *   sc_scene.vertices directly (first_vertex is
+                                          *   already added). Triangles are in Morton order
+                                          *   (see ::sc_morton_sort_triangles). */
     uint32_t material;                   /**< index in sc_scene.materials (a default is added) */
 } sc_mesh;
 
@@ -60,6 +65,9 @@ typedef struct sc_node {
     float scale[3];
     float world[16];         /**< column-major local → world, from ::sc_scene_evaluate */
     char name[64];
+    bool has_matrix;         /**< the file gave a matrix (not animated): used instead of TRS */
+    float matrix[16];        /**< column-major local matrix when has_matrix (TRS = its
+                              *   decomposition) */
 } sc_node;
 
 typedef struct sc_instance {
@@ -69,7 +77,9 @@ typedef struct sc_instance {
     bool animated;      /**< the node or one of its ancestors is animated */
 } sc_instance;
 
-/** One emissive triangle: an area light. */
+/** One emissive triangle: an area light. The emitters of one instance are contiguous and in
+ *  triangle order, one for every triangle of an instance whose material emits (zero-area
+ *  triangles get power 0), so emitter = first emitter of the instance + primitive. */
 typedef struct sc_emitter {
     uint32_t instance, primitive; /**< primitive = triangle index within the mesh */
     float power;                  /**< luminance(emission) x world area at load time */
@@ -114,6 +124,7 @@ typedef struct sc_scene {
     float viewpoint_orientation[4]; /**< x, y, z, w */
     float bounds_min[3], bounds_max[3]; /**< world AABB at time 0 */
     uint64_t triangle_count; /**< over all instances */
+    uint32_t *node_order; /**< internal: node indices, parents before children */
 } sc_scene;
 
 /**
@@ -124,6 +135,8 @@ typedef struct sc_scene {
 typedef struct sc_load_options {
     bool env_set;
     float environment[3];
+    /** Keep the file's triangle order (skip the Morton sort); for tests and benchmarks. */
+    bool keep_triangle_order;
 } sc_load_options;
 
 /**
@@ -139,6 +152,15 @@ typedef struct sc_load_options {
  */
 xrsc_result sc_scene_load(const char *path, const sc_load_options *opt, sc_scene **out,
                           xrsc_diag *diag);
+/**
+ * Loads glTF from memory: GLB when data starts with "glTF", else JSON text. name is used in
+ * messages and sc_scene.path. External buffers and images are read from base_dir; with
+ * base_dir NULL no file is read (an external uri is then XRSC_ERROR_GLTF_MISSING_BUFFER).
+ * Same errors and ownership as ::sc_scene_load (data is not kept).
+ */
+xrsc_result sc_scene_load_memory(const char *name, const void *data, size_t size,
+                                 const char *base_dir, const sc_load_options *opt,
+                                 sc_scene **out, xrsc_diag *diag);
 /** Frees the scene; accepts NULL and sets *scene to NULL. */
 void sc_scene_destroy(sc_scene **scene);
 /**
@@ -146,6 +168,16 @@ void sc_scene_destroy(sc_scene **scene);
  * nodes[].world and instances[].world. Called once at load with time 0.
  */
 void sc_scene_evaluate(sc_scene *scene, double time_s);
+
+/**
+ * Reorders the triangles of one mesh along a Morton (Z-order) curve of their centroids,
+ * quantised with one uniform scale over the three axes of the mesh's bounding box, so that
+ * BVH builders that split in input order (lavapipe) get spatially coherent leaves. indices
+ * are absolute into vertices; index_count % 3 == 0. The multiset of triangles is unchanged
+ * and each triangle keeps its vertex order (winding). Returns false only when out of memory
+ * (indices then unchanged).
+ */
+bool sc_morton_sort_triangles(const sc_vertex *vertices, uint32_t *indices, uint32_t index_count);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file sc_anim.c
+ * @brief Node animation (glTF 2.0 §3.11: LINEAR, STEP, CUBICSPLINE) and world transforms.
+ */
+#include "sc_scene.h"
+#include "sc_xform.h"
+
+#include <math.h>
+
+/** Index k of the key segment [times[k], times[k+1]] containing t (0 <= k < n-1), n >= 2. */
+static uint32_t find_segment(const float *times, uint32_t n, float t)
+{
+    uint32_t lo = 0, hi = n - 1;
+    while (hi - lo > 1) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (times[mid] <= t) lo = mid;
+        else hi = mid;
+    }
+    return lo;
+}
+
+/** Value of channel ch at time t into out (3 or 4 floats). */
+static void sample_channel(const sc_anim_channel *ch, float t, float *out)
+{
+    uint32_t nc = ch->path == SC_ANIM_ROTATION ? 4 : 3;
+    uint32_t n = ch->key_count;
+    bool cubic = ch->interp == SC_INTERP_CUBICSPLINE;
+    /* CUBICSPLINE stores (in-tangent, value, out-tangent) per key (glTF §3.11.2). */
+    uint32_t per_key = cubic ? 3 * nc : nc, value_at = cubic ? nc : 0;
+    const float *v = ch->values;
+    if (n == 1 || t <= ch->times[0] || t >= ch->times[n - 1]) {
+        uint32_t k = (n == 1 || t <= ch->times[0]) ? 0 : n - 1;
+        for (uint32_t i = 0; i < nc; i++) out[i] = v[k * per_key + value_at + i];
+    } else {
+        uint32_t k = find_segment(ch->times, n, t);
+        float t0 = ch->times[k], dt = ch->times[k + 1] - t0;
+        float u = dt > 0.0f ? (t - t0) / dt : 0.0f;
+        const float *a = v + k * per_key + value_at, *b = v + (k + 1) * per_key + value_at;
+        if (ch->interp == SC_INTERP_STEP) {
+            for (uint32_t i = 0; i < nc; i++) out[i] = a[i];
+        } else if (!cubic) {
+            if (ch->path == SC_ANIM_ROTATION) {
+                sc_quat_slerp(a, b, u, out);
+            } else {
+                for (uint32_t i = 0; i < nc; i++) out[i] = a[i] + (b[i] - a[i]) * u;
+            }
+        } else {
+            /* Hermite spline with tangents scaled by the key interval (glTF Appendix C). */
+            const float *out_tan = a + nc, *in_tan = b - nc;
+            float u2 = u * u, u3 = u2 * u;
+            float h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u;
+            float h01 = -2 * u3 + 3 * u2, h11 = u3 - u2;
+            for (uint32_t i = 0; i < nc; i++)
+                out[i] = h00 * a[i] + h10 * dt * out_tan[i] + h01 * b[i] + h11 * dt * in_tan[i];
+        }
+    }
+    if (ch->path == SC_ANIM_ROTATION) sc_quat_normalize(out);
+}
+
+void sc_scene_evaluate(sc_scene *scene, double time_s)
+{
+    if (!scene) return;
+    double t = 0.0;
+    if (scene->animation_duration_s > 0.0f) {
+        double d = scene->animation_duration_s;
+        t = fmod(time_s, d);
+        if (t < 0.0) t += d;
+        /* Looping: the end of the loop shows the last key, not the first one again. */
+        if (t == 0.0 && time_s > 0.0) t = d;
+    }
+    for (uint32_t c = 0; c < scene->channel_count; c++) {
+        const sc_anim_channel *ch = &scene->channels[c];
+        sc_node *node = &scene->nodes[ch->node];
+        float *dst = ch->path == SC_ANIM_TRANSLATION ? node->translation
+                     : ch->path == SC_ANIM_ROTATION  ? node->rotation
+                                                     : node->scale;
+        sample_channel(ch, (float)t, dst);
+    }
+    for (uint32_t i = 0; i < scene->node_count; i++) {
+        sc_node *n = &scene->nodes[scene->node_order[i]];
+        float local[16];
+        if (n->has_matrix) memcpy(local, n->matrix, sizeof local);
+        else sc_mat4_from_trs(n->translation, n->rotation, n->scale, local);
+        if (n->parent < 0) memcpy(n->world, local, sizeof local);
+        else sc_mat4_mul(scene->nodes[n->parent].world, local, n->world);
+    }
+    for (uint32_t i = 0; i < scene->instance_count; i++)
+        memcpy(scene->instances[i].world, scene->nodes[scene->instances[i].node].world,
+               sizeof scene->instances[i].world);
+}

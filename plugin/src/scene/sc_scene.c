@@ -1,0 +1,1116 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file sc_scene.c
+ * @brief glTF document (sc_gltf.h) → ::sc_scene: validation, geometry, materials, instances,
+ * lights, camera, animation, emitters, bounds and the default environment.
+ *
+ * Every index and byte range from the file is checked here before use; errors name the JSON
+ * field (e.g. `meshes[2].primitives[0].mode`). Ignored features are collected and named in
+ * one warning per load.
+ */
+#include "sc_gltf.h"
+#include "sc_scene.h"
+#include "sc_xform.h"
+#include "u_diag.h"
+
+#include <errno.h>
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/** Files larger than this are refused (tinygltf takes 32-bit lengths). */
+#define SC_MAX_FILE_BYTES (2ull << 30)
+/** More vertices or indices than this in one scene are refused (32-bit indices, GPU limits). */
+#define SC_MAX_ELEMENTS (1u << 28)
+/** Accessors without a bufferView (zeros, perhaps with sparse values) may have at most this
+ *  many elements: their size is not bounded by the file's size. */
+#define SC_MAX_ZERO_ELEMENTS (1u << 16)
+/** Rec. 709 luminance weights, for emitter power. */
+#define SC_LUMA_R 0.2126f
+#define SC_LUMA_G 0.7152f
+#define SC_LUMA_B 0.0722f
+/** Default viewpoint distance factor (sc_scene.h: max_z + 1.2 * max(half_x, half_y)). */
+#define SC_DEFAULT_VIEW_DISTANCE 1.2f
+
+/** Growable array of fixed-size items. */
+typedef struct sc_vec {
+    void *data;
+    size_t count, cap, item;
+} sc_vec;
+
+static void *vec_push(sc_vec *v, size_t n)
+{
+    if (v->count + n > v->cap) {
+        size_t cap = v->cap ? v->cap : 64;
+        while (cap < v->count + n) cap *= 2;
+        void *p = realloc(v->data, cap * v->item);
+        if (!p) return NULL;
+        v->data = p;
+        v->cap = cap;
+    }
+    void *at = (char *)v->data + v->count * v->item;
+    memset(at, 0, n * v->item);
+    v->count += n;
+    return at;
+}
+
+/** State of one load. */
+typedef struct sc_build {
+    const char *name;
+    sc_gltf_doc *doc;
+    xrsc_diag *diag;
+    const sc_load_options *opt;
+    sc_scene *s;
+    sc_vec vertices, indices, meshes, textures, instances, emitters;
+    uint32_t *prim_mesh;      /**< doc primitive → sc mesh */
+    int32_t *tex_map;         /**< doc texture * 2 + srgb → sc texture, -1 unused */
+} sc_build;
+
+#define FIELD(buf, ...) snprintf(buf, sizeof buf, __VA_ARGS__)
+
+/* ---------------------------------------------------------------- accessors ------------ */
+
+static size_t component_size(int32_t type)
+{
+    switch (type) {
+    case SC_GLTF_BYTE:
+    case SC_GLTF_UNSIGNED_BYTE: return 1;
+    case SC_GLTF_SHORT:
+    case SC_GLTF_UNSIGNED_SHORT: return 2;
+    case SC_GLTF_UNSIGNED_INT:
+    case SC_GLTF_FLOAT: return 4;
+    default: return 0;
+    }
+}
+
+/** One component as double (exact for every glTF component type), normalised if asked
+ *  (glTF §3.11 "normalized": signed values clamp at -1). */
+static double read_component(const uint8_t *p, int32_t type, bool normalized)
+{
+    switch (type) {
+    case SC_GLTF_BYTE: {
+        int8_t v;
+        memcpy(&v, p, 1);
+        return normalized ? fmax(v / 127.0, -1.0) : v;
+    }
+    case SC_GLTF_UNSIGNED_BYTE: return normalized ? p[0] / 255.0 : p[0];
+    case SC_GLTF_SHORT: {
+        int16_t v;
+        memcpy(&v, p, 2);
+        return normalized ? fmax(v / 32767.0, -1.0) : v;
+    }
+    case SC_GLTF_UNSIGNED_SHORT: {
+        uint16_t v;
+        memcpy(&v, p, 2);
+        return normalized ? v / 65535.0 : v;
+    }
+    case SC_GLTF_UNSIGNED_INT: {
+        uint32_t v;
+        memcpy(&v, p, 4);
+        return normalized ? v / 4294967295.0 : v;
+    }
+    default: {
+        float v;
+        memcpy(&v, p, 4);
+        return v;
+    }
+    }
+}
+
+/**
+ * Resolves bytes [offset, offset + stride*(count-1) + elem) of buffer view `view`, checking
+ * every range. Returns the first byte, or NULL after filling diag.
+ */
+static const uint8_t *view_range(sc_build *b, int32_t view, size_t offset, size_t count,
+                                 size_t elem, size_t *inout_stride, const char *field)
+{
+    sc_gltf_doc *d = b->doc;
+    if (view < 0 || (uint32_t)view >= d->view_count) {
+        u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                   "bufferView %d does not exist", view);
+        return NULL;
+    }
+    const sc_gltf_view *v = &d->views[view];
+    if (v->buffer < 0 || (uint32_t)v->buffer >= d->buffer_count) {
+        u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                   "bufferViews[%d].buffer %d does not exist", view, v->buffer);
+        return NULL;
+    }
+    const sc_gltf_buffer *buf = &d->buffers[v->buffer];
+    if (v->offset > buf->size || v->length > buf->size - v->offset) {
+        u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                   "bufferViews[%d] overruns buffer %d (%zu bytes)", view, v->buffer, buf->size);
+        return NULL;
+    }
+    size_t stride = *inout_stride ? *inout_stride : (v->stride ? v->stride : elem);
+    if (stride < elem) {
+        u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                   "bufferViews[%d].byteStride %zu is smaller than an element (%zu bytes)", view,
+                   stride, elem);
+        return NULL;
+    }
+    *inout_stride = stride;
+    if (count == 0) return buf->data ? buf->data + v->offset : (const uint8_t *)"";
+    if (offset > v->length || elem > v->length - offset ||
+        (count - 1) > (v->length - offset - elem) / stride) {
+        u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                   "%zu elements of %zu bytes (stride %zu) from byte %zu overrun bufferViews[%d] "
+                   "of %zu bytes",
+                   count, elem, stride, offset, view, v->length);
+        return NULL;
+    }
+    return buf->data + v->offset + offset;
+}
+
+/**
+ * Reads accessor idx as `comps` components per element into a new double array (*out, count
+ * elements), applying normalisation and sparse substitution. Returns XRSC_OK or fills diag.
+ */
+static xrsc_result read_accessor(sc_build *b, int32_t idx, uint32_t comps, const char *use,
+                                 double **out, size_t *out_count)
+{
+    char field[96];
+    *out = NULL;
+    *out_count = 0;
+    sc_gltf_doc *d = b->doc;
+    if (idx < 0 || (uint32_t)idx >= d->accessor_count)
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, use,
+                          "accessor %d does not exist", idx);
+    const sc_gltf_accessor *a = &d->accessors[idx];
+    FIELD(field, "accessors[%d]", idx);
+    size_t cs = component_size(a->component_type);
+    if (cs == 0)
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                          "componentType %d is not a glTF component type (used as %s)",
+                          a->component_type, use);
+    if (a->components != comps)
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                          "has %u components per element, %s needs %u", a->components, use,
+                          comps);
+    if (a->count > SC_MAX_ELEMENTS)
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                          "count %zu is more than xrsc accepts (%u)", a->count, SC_MAX_ELEMENTS);
+    if (a->view < 0 && a->count > SC_MAX_ZERO_ELEMENTS)
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                          "count %zu without a bufferView is more than xrsc accepts (%u)",
+                          a->count, SC_MAX_ZERO_ELEMENTS);
+    size_t elem = cs * comps, stride = 0;
+    /* Check the byte range before allocating, so the allocation is bounded by the file. */
+    const uint8_t *p = NULL;
+    if (a->view >= 0 &&
+        !(p = view_range(b, a->view, a->offset, a->count, elem, &stride, field)))
+        return b->diag ? b->diag->code : XRSC_ERROR_GLTF_INVALID;
+    double *v = calloc(a->count ? a->count * comps : 1, sizeof(double));
+    if (!v) return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, field, "out of memory");
+    if (p) {
+        for (size_t i = 0; i < a->count; i++)
+            for (uint32_t c = 0; c < comps; c++)
+                v[i * comps + c] = read_component(p + i * stride + c * cs, a->component_type,
+                                                  a->normalized);
+    }
+    if (a->sparse) {
+        char sfield[96];
+        FIELD(sfield, "accessors[%d].sparse", idx);
+        size_t n = a->sparse_count, ics = component_size(a->sparse_indices_type);
+        if (n > a->count || ics == 0 || a->sparse_indices_type == SC_GLTF_BYTE ||
+            a->sparse_indices_type == SC_GLTF_SHORT || a->sparse_indices_type == SC_GLTF_FLOAT) {
+            free(v);
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, sfield,
+                              "sparse count %zu or index componentType %d is invalid", n,
+                              a->sparse_indices_type);
+        }
+        size_t istride = 0, vstride = 0;
+        const uint8_t *ip = view_range(b, a->sparse_indices_view, a->sparse_indices_offset, n,
+                                       ics, &istride, sfield);
+        const uint8_t *vp = ip ? view_range(b, a->sparse_values_view, a->sparse_values_offset,
+                                            n, elem, &vstride, sfield)
+                               : NULL;
+        if (!ip || !vp) {
+            free(v);
+            return b->diag ? b->diag->code : XRSC_ERROR_GLTF_INVALID;
+        }
+        /* Sparse indices and values are tightly packed (glTF §3.6.2.3). */
+        for (size_t k = 0; k < n; k++) {
+            double di = read_component(ip + k * ics, a->sparse_indices_type, false);
+            if (!(di >= 0.0 && di < (double)a->count)) {
+                free(v);
+                return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, sfield,
+                                  "sparse index %.0f is out of range (count %zu)", di, a->count);
+            }
+            size_t i = (size_t)di;
+            for (uint32_t c = 0; c < comps; c++)
+                v[i * comps + c] = read_component(vp + k * elem + c * cs, a->component_type,
+                                                  a->normalized);
+        }
+    }
+    for (size_t i = 0; i < a->count * comps; i++)
+        if (!isfinite(v[i]) || fabs(v[i]) > FLT_MAX) {
+            free(v);
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                              "element %zu is NaN or infinite (used as %s)", i / comps, use);
+        }
+    *out = v;
+    *out_count = a->count;
+    return XRSC_OK;
+}
+
+/* ---------------------------------------------------------------- geometry ------------- */
+
+static void normalize3(float v[3], const float fallback[3])
+{
+    float n = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (n > 1e-20f && isfinite(n)) {
+        v[0] /= n, v[1] /= n, v[2] /= n;
+    } else {
+        v[0] = fallback[0], v[1] = fallback[1], v[2] = fallback[2];
+    }
+}
+
+static void face_normal(const float a[3], const float b[3], const float c[3], float n[3])
+{
+    float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    float e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    static const float up[3] = {0.0f, 1.0f, 0.0f};
+    normalize3(n, up);
+}
+
+/** Builds the sc_mesh of document primitive gp (mesh m, primitive p). */
+static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t gp)
+{
+    sc_gltf_doc *d = b->doc;
+    const sc_gltf_primitive *pr = &d->primitives[gp];
+    char field[96];
+    xrsc_result r;
+    if (pr->mode != SC_GLTF_MODE_TRIANGLES) {
+        FIELD(field, "meshes[%u].primitives[%u].mode", m, p);
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_UNSUPPORTED, b->name, 0, field,
+                          "mode %d is not TRIANGLES (4); xrsc renders triangles only", pr->mode);
+    }
+    if (pr->position < 0) {
+        FIELD(field, "meshes[%u].primitives[%u].attributes.POSITION", m, p);
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                          "POSITION is required");
+    }
+    if (pr->material >= 0 && (uint32_t)pr->material >= d->material_count) {
+        FIELD(field, "meshes[%u].primitives[%u].material", m, p);
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                          "material %d does not exist", pr->material);
+    }
+    double *pos = NULL, *nrm = NULL, *uv = NULL, *idx = NULL;
+    size_t vcount = 0, ncount = 0, uvcount = 0, icount = 0;
+    FIELD(field, "meshes[%u].primitives[%u].attributes.POSITION", m, p);
+    r = read_accessor(b, pr->position, 3, field, &pos, &vcount);
+    if (r == XRSC_OK && pr->normal >= 0) {
+        FIELD(field, "meshes[%u].primitives[%u].attributes.NORMAL", m, p);
+        r = read_accessor(b, pr->normal, 3, field, &nrm, &ncount);
+    }
+    if (r == XRSC_OK && pr->texcoord0 >= 0) {
+        FIELD(field, "meshes[%u].primitives[%u].attributes.TEXCOORD_0", m, p);
+        r = read_accessor(b, pr->texcoord0, 2, field, &uv, &uvcount);
+    }
+    if (r == XRSC_OK && ((nrm && ncount != vcount) || (uv && uvcount != vcount))) {
+        FIELD(field, "meshes[%u].primitives[%u].attributes", m, p);
+        r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                       "attribute counts differ (POSITION %zu, NORMAL %zu, TEXCOORD_0 %zu)",
+                       vcount, ncount, uvcount);
+    }
+    if (r == XRSC_OK && pr->indices >= 0) {
+        FIELD(field, "meshes[%u].primitives[%u].indices", m, p);
+        int32_t ct = pr->indices < (int32_t)d->accessor_count && pr->indices >= 0
+                         ? d->accessors[pr->indices].component_type
+                         : SC_GLTF_UNSIGNED_INT;
+        if (ct != SC_GLTF_UNSIGNED_BYTE && ct != SC_GLTF_UNSIGNED_SHORT &&
+            ct != SC_GLTF_UNSIGNED_INT)
+            r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                           "index componentType %d is not an unsigned integer type", ct);
+        else
+            r = read_accessor(b, pr->indices, 1, field, &idx, &icount);
+    } else if (r == XRSC_OK) {
+        icount = vcount;
+    }
+    if (r == XRSC_OK && icount % 3 != 0) {
+        FIELD(field, "meshes[%u].primitives[%u].indices", m, p);
+        r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                       "%zu indices is not a multiple of 3 (TRIANGLES)", icount);
+    }
+    if (r == XRSC_OK && idx) {
+        for (size_t i = 0; i < icount; i++)
+            if (idx[i] >= (double)vcount) {
+                FIELD(field, "meshes[%u].primitives[%u].indices", m, p);
+                r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                               "index %.0f at position %zu is out of range (%zu vertices)", idx[i],
+                               i, vcount);
+                break;
+            }
+    }
+    /* Without normals the triangles are unwelded and get flat normals (glTF §3.7.2.1). */
+    size_t out_vcount = nrm ? vcount : icount;
+    if (r == XRSC_OK && (b->vertices.count + out_vcount > SC_MAX_ELEMENTS ||
+                         b->indices.count + icount > SC_MAX_ELEMENTS)) {
+        r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "meshes",
+                       "more than %u vertices or indices", SC_MAX_ELEMENTS);
+    }
+    sc_vertex *verts = NULL;
+    uint32_t *inds = NULL;
+    uint32_t first_vertex = (uint32_t)b->vertices.count, first_index = (uint32_t)b->indices.count;
+    if (r == XRSC_OK) {
+        verts = vec_push(&b->vertices, out_vcount);
+        inds = verts ? vec_push(&b->indices, icount) : NULL;
+        if (!verts || !inds)
+            r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    }
+    if (r == XRSC_OK) {
+        if (nrm) {
+            static const float up[3] = {0.0f, 1.0f, 0.0f};
+            for (size_t i = 0; i < vcount; i++) {
+                sc_vertex *v = &verts[i];
+                for (int c = 0; c < 3; c++) {
+                    v->position[c] = (float)pos[i * 3 + c];
+                    v->normal[c] = (float)nrm[i * 3 + c];
+                }
+                normalize3(v->normal, up);
+                if (uv) v->uv[0] = (float)uv[i * 2], v->uv[1] = (float)uv[i * 2 + 1];
+            }
+            for (size_t i = 0; i < icount; i++)
+                inds[i] = first_vertex + (uint32_t)(idx ? idx[i] : (double)i);
+        } else {
+            for (size_t t = 0; t < icount / 3; t++) {
+                for (int k = 0; k < 3; k++) {
+                    size_t src = idx ? (size_t)idx[3 * t + k] : 3 * t + k;
+                    sc_vertex *v = &verts[3 * t + k];
+                    for (int c = 0; c < 3; c++) v->position[c] = (float)pos[src * 3 + c];
+                    if (uv) v->uv[0] = (float)uv[src * 2], v->uv[1] = (float)uv[src * 2 + 1];
+                }
+                float n[3];
+                face_normal(verts[3 * t].position, verts[3 * t + 1].position,
+                            verts[3 * t + 2].position, n);
+                for (int k = 0; k < 3; k++) memcpy(verts[3 * t + k].normal, n, sizeof n);
+            }
+            for (size_t i = 0; i < icount; i++) inds[i] = first_vertex + (uint32_t)i;
+        }
+        if (!b->opt->keep_triangle_order &&
+            !sc_morton_sort_triangles((const sc_vertex *)b->vertices.data, inds,
+                                      (uint32_t)icount))
+            r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    }
+    if (r == XRSC_OK) {
+        sc_mesh *mesh = vec_push(&b->meshes, 1);
+        if (!mesh) {
+            r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+        } else {
+            mesh->first_vertex = first_vertex;
+            mesh->vertex_count = (uint32_t)out_vcount;
+            mesh->first_index = first_index;
+            mesh->index_count = (uint32_t)icount;
+            mesh->material = pr->material >= 0 ? (uint32_t)pr->material : d->material_count;
+            b->prim_mesh[gp] = (uint32_t)(b->meshes.count - 1);
+        }
+    }
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    return r;
+}
+
+/* ---------------------------------------------------------------- materials ------------ */
+
+/** sc texture index for a material's texture reference, creating it on first use. */
+static xrsc_result map_texture(sc_build *b, sc_gltf_texref ref, bool srgb, const char *field,
+                               uint32_t *out)
+{
+    sc_gltf_doc *d = b->doc;
+    *out = SC_NO_TEXTURE;
+    if (ref.texture < 0) return XRSC_OK;
+    if ((uint32_t)ref.texture >= d->texture_count)
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                          "texture %d does not exist", ref.texture);
+    if (ref.tex_coord != 0) return XRSC_OK; /* noted by sc_gltf.cpp */
+    int32_t img = d->textures[ref.texture].image;
+    if (img < 0 || (uint32_t)img >= d->image_count) {
+        sc_gltf_note(d, "textures without a PNG/JPEG source");
+        return XRSC_OK;
+    }
+    const sc_gltf_image *im = &d->images[img];
+    if (!im->rgba8) return XRSC_OK; /* undecodable: noted by sc_gltf.cpp */
+    int32_t *slot = &b->tex_map[(size_t)ref.texture * 2 + (srgb ? 1 : 0)];
+    if (*slot < 0) {
+        sc_texture *t = vec_push(&b->textures, 1);
+        size_t bytes = (size_t)im->width * im->height * 4;
+        uint8_t *px = t ? malloc(bytes) : NULL;
+        if (!px) {
+            if (t) b->textures.count--;
+            return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, field,
+                              "out of memory");
+        }
+        memcpy(px, im->rgba8, bytes);
+        t->width = im->width;
+        t->height = im->height;
+        t->rgba8 = px;
+        t->srgb = srgb;
+        *slot = (int32_t)(b->textures.count - 1);
+    }
+    *out = (uint32_t)*slot;
+    return XRSC_OK;
+}
+
+static xrsc_result build_materials(sc_build *b)
+{
+    sc_gltf_doc *d = b->doc;
+    sc_scene *s = b->s;
+    s->material_count = d->material_count + 1; /* + the glTF default material */
+    s->materials = calloc(s->material_count, sizeof(sc_material));
+    b->tex_map = malloc(sizeof(int32_t) * 2 * (d->texture_count + 1));
+    if (!s->materials || !b->tex_map)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    for (uint32_t i = 0; i < 2 * (d->texture_count + 1); i++) b->tex_map[i] = -1;
+    for (uint32_t i = 0; i < d->material_count; i++) {
+        const sc_gltf_material *g = &d->materials[i];
+        sc_material *mt = &s->materials[i];
+        char field[96];
+        memcpy(mt->base_color, g->base_color, sizeof mt->base_color);
+        mt->metallic = g->metallic;
+        mt->roughness = g->roughness;
+        for (int c = 0; c < 3; c++) mt->emission[c] = g->emissive[c] * g->emissive_strength;
+        mt->transmission = g->transmission;
+        mt->ior = g->ior;
+        mt->double_sided = g->double_sided;
+        snprintf(mt->name, sizeof mt->name, "%s", g->name);
+        xrsc_result r;
+        FIELD(field, "materials[%u].pbrMetallicRoughness.baseColorTexture.index", i);
+        if ((r = map_texture(b, g->base_color_tex, true, field, &mt->base_color_tex)) != XRSC_OK)
+            return r;
+        FIELD(field, "materials[%u].pbrMetallicRoughness.metallicRoughnessTexture.index", i);
+        if ((r = map_texture(b, g->metal_rough_tex, false, field, &mt->metal_rough_tex)) !=
+            XRSC_OK)
+            return r;
+        FIELD(field, "materials[%u].emissiveTexture.index", i);
+        if ((r = map_texture(b, g->emissive_tex, true, field, &mt->emission_tex)) != XRSC_OK)
+            return r;
+    }
+    /* The glTF default material (§3.9.6): white, metallic 1, roughness 1. */
+    sc_material *def = &s->materials[d->material_count];
+    for (int c = 0; c < 4; c++) def->base_color[c] = 1.0f;
+    def->metallic = 1.0f;
+    def->roughness = 1.0f;
+    def->base_color_tex = def->metal_rough_tex = def->emission_tex = SC_NO_TEXTURE;
+    def->ior = 1.5f;
+    snprintf(def->name, sizeof def->name, "xrsc-default");
+    return XRSC_OK;
+}
+
+/* ---------------------------------------------------------------- nodes ---------------- */
+
+/** Parents from children lists; rejects bad indices, two parents and cycles. */
+static xrsc_result build_nodes(sc_build *b)
+{
+    sc_gltf_doc *d = b->doc;
+    sc_scene *s = b->s;
+    char field[96];
+    s->node_count = d->node_count;
+    s->nodes = calloc(d->node_count ? d->node_count : 1, sizeof(sc_node));
+    s->node_order = calloc(d->node_count ? d->node_count : 1, sizeof(uint32_t));
+    if (!s->nodes || !s->node_order)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    for (uint32_t i = 0; i < d->node_count; i++) {
+        const sc_gltf_node *g = &d->nodes[i];
+        sc_node *n = &s->nodes[i];
+        n->parent = -1;
+        snprintf(n->name, sizeof n->name, "%s", g->name);
+        if (g->has_matrix) {
+            n->has_matrix = true;
+            memcpy(n->matrix, g->matrix, sizeof n->matrix);
+            sc_mat4_decompose(g->matrix, n->translation, n->rotation, n->scale);
+        } else {
+            memcpy(n->translation, g->translation, sizeof n->translation);
+            memcpy(n->rotation, g->rotation, sizeof n->rotation);
+            memcpy(n->scale, g->scale, sizeof n->scale);
+        }
+    }
+    for (uint32_t i = 0; i < d->node_count; i++) {
+        const sc_gltf_node *g = &d->nodes[i];
+        if (g->first_child > d->children_count || g->child_count > d->children_count - g->first_child)
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "nodes",
+                              "internal: bad child range");
+        for (uint32_t k = 0; k < g->child_count; k++) {
+            int32_t c = d->children[g->first_child + k];
+            FIELD(field, "nodes[%u].children[%u]", i, k);
+            if (c < 0 || (uint32_t)c >= d->node_count)
+                return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                                  "node %d does not exist", c);
+            if (s->nodes[c].parent >= 0 || (uint32_t)c == i)
+                return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                                  "node %d has more than one parent (the node graph must be a "
+                                  "forest)",
+                                  c);
+            s->nodes[c].parent = (int32_t)i;
+        }
+    }
+    /* Parents-first order: depth of each node by walking up; a walk longer than the node
+     * count is a cycle. Then counting sort by depth. */
+    uint32_t *depth = calloc(d->node_count ? d->node_count : 1, sizeof(uint32_t));
+    uint32_t *start = calloc((size_t)d->node_count + 1, sizeof(uint32_t));
+    if (!depth || !start) {
+        free(depth);
+        free(start);
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    }
+    for (uint32_t i = 0; i < d->node_count; i++) {
+        uint32_t steps = 0;
+        int32_t p = s->nodes[i].parent;
+        while (p >= 0 && steps <= d->node_count) {
+            steps++;
+            p = s->nodes[p].parent;
+        }
+        if (steps > d->node_count) {
+            free(depth);
+            free(start);
+            FIELD(field, "nodes[%u].children", (uint32_t)s->nodes[i].parent);
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                              "the node hierarchy has a cycle");
+        }
+        depth[i] = steps;
+        start[steps]++;
+    }
+    uint32_t sum = 0;
+    for (uint32_t k = 0; k <= d->node_count; k++) {
+        uint32_t c = start[k];
+        start[k] = sum;
+        sum += c;
+    }
+    for (uint32_t i = 0; i < d->node_count; i++) s->node_order[start[depth[i]]++] = i;
+    free(depth);
+    free(start);
+    return XRSC_OK;
+}
+
+/* ---------------------------------------------------------------- animation ------------ */
+
+static xrsc_result build_channels(sc_build *b, bool *node_animated)
+{
+    sc_gltf_doc *d = b->doc;
+    sc_scene *s = b->s;
+    char field[96];
+    s->channels = calloc(d->channel_count ? d->channel_count : 1, sizeof(sc_anim_channel));
+    if (!s->channels)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    for (uint32_t c = 0; c < d->channel_count; c++) {
+        const sc_gltf_channel *g = &d->channels[c];
+        FIELD(field, "animations[%u].channels[%u]", g->animation, g->channel);
+        if (g->node < 0) continue; /* no target node: ignored per spec (extensions may use it) */
+        if ((uint32_t)g->node >= d->node_count)
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                              "target node %d does not exist", g->node);
+        if (g->path == SC_GLTF_PATH_WEIGHTS || g->path == SC_GLTF_PATH_OTHER) {
+            sc_gltf_note(d, g->path == SC_GLTF_PATH_WEIGHTS ? "morph target animation"
+                                                            : "animation paths other than T/R/S");
+            continue;
+        }
+        if (g->input < 0 || g->interp == SC_GLTF_INTERP_OTHER) {
+            FIELD(field, "animations[%u].channels[%u].sampler", g->animation, g->channel);
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                              "sampler is missing or has an unknown interpolation");
+        }
+        uint32_t nc = g->path == SC_GLTF_PATH_ROTATION ? 4 : 3;
+        double *times = NULL, *vals = NULL;
+        size_t tcount = 0, vcount = 0;
+        FIELD(field, "animations[%u].samplers.input", g->animation);
+        xrsc_result r = read_accessor(b, g->input, 1, field, &times, &tcount);
+        FIELD(field, "animations[%u].samplers.output", g->animation);
+        if (r == XRSC_OK) r = read_accessor(b, g->output, nc, field, &vals, &vcount);
+        size_t per_key = g->interp == SC_GLTF_INTERP_CUBICSPLINE ? 3 : 1;
+        if (r == XRSC_OK && (tcount == 0 || vcount != tcount * per_key))
+            r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                           "%zu output values for %zu keys (%zu per key expected)", vcount, tcount,
+                           per_key);
+        for (size_t k = 1; r == XRSC_OK && k < tcount; k++)
+            if (!(times[k] >= times[k - 1])) {
+                FIELD(field, "animations[%u].samplers.input", g->animation);
+                r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                               "key times decrease at key %zu", k);
+            }
+        sc_anim_channel *ch = &s->channels[s->channel_count];
+        if (r == XRSC_OK) {
+            ch->times = malloc(tcount * sizeof(float));
+            ch->values = malloc(vcount * nc * sizeof(float));
+            s->channel_count++; /* counted now so that destroy frees partial arrays */
+            if (!ch->times || !ch->values)
+                r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+        }
+        if (r == XRSC_OK) {
+            ch->node = (uint32_t)g->node;
+            ch->path = g->path == SC_GLTF_PATH_TRANSLATION ? SC_ANIM_TRANSLATION
+                       : g->path == SC_GLTF_PATH_ROTATION  ? SC_ANIM_ROTATION
+                                                           : SC_ANIM_SCALE;
+            ch->interp = g->interp == SC_GLTF_INTERP_LINEAR ? SC_INTERP_LINEAR
+                         : g->interp == SC_GLTF_INTERP_STEP ? SC_INTERP_STEP
+                                                            : SC_INTERP_CUBICSPLINE;
+            ch->key_count = (uint32_t)tcount;
+            for (size_t k = 0; k < tcount; k++) ch->times[k] = (float)times[k];
+            for (size_t k = 0; k < vcount * nc; k++) ch->values[k] = (float)vals[k];
+            if (ch->times[tcount - 1] > s->animation_duration_s)
+                s->animation_duration_s = ch->times[tcount - 1];
+            node_animated[g->node] = true;
+            /* An animated node uses TRS (the spec forbids animating matrix nodes). */
+            s->nodes[g->node].has_matrix = false;
+        }
+        free(times);
+        free(vals);
+        if (r != XRSC_OK) return r;
+    }
+    return XRSC_OK;
+}
+
+/* ---------------------------------------------------------------- instances ------------ */
+
+/** Walks the chosen scene depth-first: instances, first perspective camera, first sun. */
+static xrsc_result build_instances(sc_build *b, int32_t scene_index, const bool *node_animated,
+                                   int32_t *out_camera_node, int32_t *out_sun_node,
+                                   int32_t *out_sun_light)
+{
+    sc_gltf_doc *d = b->doc;
+    sc_scene *s = b->s;
+    char field[96];
+    *out_camera_node = *out_sun_node = *out_sun_light = -1;
+    uint32_t nroots = 0;
+    const int32_t *roots = NULL;
+    int32_t *all_roots = NULL;
+    if (scene_index >= 0) {
+        const sc_gltf_scene *sc = &d->scenes[scene_index];
+        if (sc->first_root > d->roots_count || sc->root_count > d->roots_count - sc->first_root)
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "scenes",
+                              "internal: bad root range");
+        roots = sc->root_count ? d->roots + sc->first_root : NULL;
+        nroots = sc->root_count;
+    } else {
+        /* No scenes: every root node is drawn. */
+        all_roots = calloc(d->node_count ? d->node_count : 1, sizeof(int32_t));
+        if (!all_roots)
+            return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+        for (uint32_t i = 0; i < d->node_count; i++)
+            if (s->nodes[i].parent < 0) all_roots[nroots++] = (int32_t)i;
+        roots = all_roots;
+    }
+    /* Each node has at most one parent and there are no cycles, so the stack never holds
+     * more than node_count entries, and each node is visited at most once per root listing. */
+    int32_t *stack = calloc(d->node_count ? d->node_count : 1, sizeof(int32_t));
+    bool *seen = calloc(d->node_count ? d->node_count : 1, sizeof(bool));
+    bool *anim_below = calloc(d->node_count ? d->node_count : 1, sizeof(bool));
+    xrsc_result r = XRSC_OK;
+    if (!stack || !seen || !anim_below)
+        r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    /* animated = node or an ancestor animated; node_order has parents first. */
+    for (uint32_t k = 0; r == XRSC_OK && k < d->node_count; k++) {
+        uint32_t i = s->node_order[k];
+        anim_below[i] = node_animated[i] ||
+                        (s->nodes[i].parent >= 0 && anim_below[s->nodes[i].parent]);
+    }
+    bool cameras_extra = false;
+    for (uint32_t ri = 0; r == XRSC_OK && ri < nroots; ri++) {
+        int32_t root = roots[ri];
+        FIELD(field, "scenes[%d].nodes[%u]", scene_index, ri);
+        if (root < 0 || (uint32_t)root >= d->node_count) {
+            r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                           "node %d does not exist", root);
+            break;
+        }
+        if (s->nodes[root].parent >= 0 || seen[root]) {
+            r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                           "node %d is not a root or is listed twice", root);
+            break;
+        }
+        uint32_t top = 0;
+        stack[top++] = root;
+        while (r == XRSC_OK && top > 0) {
+            int32_t ni = stack[--top];
+            seen[ni] = true;
+            const sc_gltf_node *g = &d->nodes[ni];
+            if (g->mesh >= 0) {
+                if ((uint32_t)g->mesh >= d->mesh_count) {
+                    FIELD(field, "nodes[%d].mesh", ni);
+                    r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                                   "mesh %d does not exist", g->mesh);
+                    break;
+                }
+                const sc_gltf_mesh *gm = &d->meshes[g->mesh];
+                for (uint32_t p = 0; p < gm->primitive_count; p++) {
+                    sc_instance *inst = vec_push(&b->instances, 1);
+                    if (!inst) {
+                        r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "",
+                                       "out of memory");
+                        break;
+                    }
+                    inst->mesh = b->prim_mesh[gm->first_primitive + p];
+                    inst->node = (uint32_t)ni;
+                    inst->animated = anim_below[ni];
+                }
+            }
+            if (g->camera >= 0) {
+                if ((uint32_t)g->camera >= d->camera_count) {
+                    FIELD(field, "nodes[%d].camera", ni);
+                    r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                                   "camera %d does not exist", g->camera);
+                    break;
+                }
+                if (!d->cameras[g->camera].perspective) sc_gltf_note(d, "orthographic cameras");
+                else if (*out_camera_node < 0) *out_camera_node = ni;
+                else cameras_extra = true;
+            }
+            if (g->light >= 0) {
+                if ((uint32_t)g->light >= d->light_count) {
+                    FIELD(field, "nodes[%d].extensions.KHR_lights_punctual.light", ni);
+                    r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                                   "light %d does not exist", g->light);
+                    break;
+                }
+                sc_gltf_light_type t = d->lights[g->light].type;
+                if (t == SC_GLTF_LIGHT_DIRECTIONAL && *out_sun_node < 0) {
+                    *out_sun_node = ni;
+                    *out_sun_light = g->light;
+                } else if (t == SC_GLTF_LIGHT_DIRECTIONAL) {
+                    sc_gltf_note(d, "directional lights beyond the first");
+                } else {
+                    sc_gltf_note(d, t == SC_GLTF_LIGHT_OTHER ? "unknown light types"
+                                                             : "point and spot lights");
+                }
+            }
+            /* Push children in reverse so that they are visited in file order. */
+            for (uint32_t k = g->child_count; k-- > 0;) {
+                int32_t c = d->children[g->first_child + k];
+                if (top < d->node_count) stack[top++] = c;
+            }
+        }
+    }
+    if (cameras_extra) sc_gltf_note(d, "cameras beyond the first");
+    free(stack);
+    free(seen);
+    free(anim_below);
+    free(all_roots);
+    return r;
+}
+
+/* ---------------------------------------------------------------- whole scene ---------- */
+
+static float luminance(const float c[3])
+{
+    return SC_LUMA_R * c[0] + SC_LUMA_G * c[1] + SC_LUMA_B * c[2];
+}
+
+static bool emits(const sc_material *m)
+{
+    return m->emission[0] > 0.0f || m->emission[1] > 0.0f || m->emission[2] > 0.0f;
+}
+
+static xrsc_result build_emitters(sc_build *b)
+{
+    sc_scene *s = b->s;
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        const sc_instance *inst = &s->instances[i];
+        const sc_mesh *m = &s->meshes[inst->mesh];
+        const sc_material *mt = &s->materials[m->material];
+        if (!emits(mt)) continue;
+        float lum = luminance(mt->emission);
+        uint32_t tris = m->index_count / 3;
+        sc_emitter *e = vec_push(&b->emitters, tris);
+        if (!e && tris)
+            return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+        for (uint32_t t = 0; t < tris; t++) {
+            float p[3][3];
+            for (int k = 0; k < 3; k++)
+                sc_mat4_point(inst->world, s->vertices[s->indices[m->first_index + 3 * t + k]].position,
+                              p[k]);
+            float e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+            float e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+            float c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                          e1[0] * e2[1] - e1[1] * e2[0]};
+            float area = 0.5f * sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+            e[t].instance = i;
+            e[t].primitive = t;
+            e[t].power = isfinite(area) ? lum * area : 0.0f;
+        }
+    }
+    s->emitters = b->emitters.data;
+    s->emitter_count = (uint32_t)b->emitters.count;
+    b->emitters.data = NULL;
+    return XRSC_OK;
+}
+
+static void compute_bounds(sc_scene *s)
+{
+    for (int a = 0; a < 3; a++) {
+        s->bounds_min[a] = FLT_MAX;
+        s->bounds_max[a] = -FLT_MAX;
+    }
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        const sc_instance *inst = &s->instances[i];
+        const sc_mesh *m = &s->meshes[inst->mesh];
+        for (uint32_t k = 0; k < m->index_count; k++) {
+            float p[3];
+            sc_mat4_point(inst->world, s->vertices[s->indices[m->first_index + k]].position, p);
+            for (int a = 0; a < 3; a++) {
+                s->bounds_min[a] = fminf(s->bounds_min[a], p[a]);
+                s->bounds_max[a] = fmaxf(s->bounds_max[a], p[a]);
+            }
+        }
+    }
+    if (s->bounds_min[0] > s->bounds_max[0])
+        for (int a = 0; a < 3; a++) s->bounds_min[a] = s->bounds_max[a] = 0.0f;
+}
+
+/** Rotation of a world matrix (scale removed) as a quaternion. */
+static void world_rotation(const float m[16], float q[4])
+{
+    float c[3][3];
+    static const float axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int i = 0; i < 3; i++) {
+        for (int k = 0; k < 3; k++) c[i][k] = m[i * 4 + k];
+        normalize3(c[i], axes[i]);
+    }
+    sc_quat_from_columns(c[0], c[1], c[2], q);
+}
+
+static void set_viewpoint(sc_scene *s, int32_t camera_node)
+{
+    if (camera_node >= 0) {
+        const float *w = s->nodes[camera_node].world;
+        s->has_camera = true;
+        s->viewpoint_position[0] = w[12];
+        s->viewpoint_position[1] = w[13];
+        s->viewpoint_position[2] = w[14];
+        world_rotation(w, s->viewpoint_orientation);
+        return;
+    }
+    float hx = 0.5f * (s->bounds_max[0] - s->bounds_min[0]);
+    float hy = 0.5f * (s->bounds_max[1] - s->bounds_min[1]);
+    s->has_camera = false;
+    s->viewpoint_position[0] = 0.5f * (s->bounds_min[0] + s->bounds_max[0]);
+    s->viewpoint_position[1] = 0.5f * (s->bounds_min[1] + s->bounds_max[1]);
+    s->viewpoint_position[2] = s->bounds_max[2] + SC_DEFAULT_VIEW_DISTANCE * fmaxf(hx, hy);
+    s->viewpoint_orientation[0] = s->viewpoint_orientation[1] = s->viewpoint_orientation[2] = 0.0f;
+    s->viewpoint_orientation[3] = 1.0f;
+}
+
+static void set_sun(sc_scene *s, const sc_gltf_doc *d, int32_t node, int32_t light)
+{
+    if (node < 0) return;
+    const float *w = s->nodes[node].world;
+    /* A directional light shines along its node's -Z; the sun is the other way (+Z). */
+    float dir[3] = {w[8], w[9], w[10]};
+    static const float z[3] = {0.0f, 0.0f, 1.0f};
+    normalize3(dir, z);
+    const sc_gltf_light *l = &d->lights[light];
+    s->sun.present = true;
+    memcpy(s->sun.direction, dir, sizeof dir);
+    for (int c = 0; c < 3; c++) s->sun.radiance[c] = l->color[c] * l->intensity;
+}
+
+static xrsc_result build_scene(sc_build *b)
+{
+    sc_gltf_doc *d = b->doc;
+    sc_scene *s = b->s;
+    xrsc_result r;
+    int32_t scene_index = -1;
+    if (d->default_scene >= 0) {
+        if ((uint32_t)d->default_scene >= d->scene_count)
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "scene",
+                              "scene %d does not exist", d->default_scene);
+        scene_index = d->default_scene;
+    } else if (d->scene_count > 0) {
+        scene_index = 0;
+    }
+
+    if ((r = build_materials(b)) != XRSC_OK) return r;
+    if ((r = build_nodes(b)) != XRSC_OK) return r;
+
+    b->prim_mesh = calloc(d->primitive_count ? d->primitive_count : 1, sizeof(uint32_t));
+    if (!b->prim_mesh)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    for (uint32_t m = 0; m < d->mesh_count; m++) {
+        const sc_gltf_mesh *gm = &d->meshes[m];
+        if (gm->first_primitive > d->primitive_count ||
+            gm->primitive_count > d->primitive_count - gm->first_primitive)
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "meshes",
+                              "internal: bad primitive range");
+        for (uint32_t p = 0; p < gm->primitive_count; p++)
+            if ((r = build_primitive(b, m, p, gm->first_primitive + p)) != XRSC_OK) return r;
+    }
+
+    bool *node_animated = calloc(d->node_count ? d->node_count : 1, sizeof(bool));
+    if (!node_animated)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    r = build_channels(b, node_animated);
+    int32_t camera_node = -1, sun_node = -1, sun_light = -1;
+    if (r == XRSC_OK)
+        r = build_instances(b, scene_index, node_animated, &camera_node, &sun_node, &sun_light);
+    free(node_animated);
+    if (r != XRSC_OK) return r;
+
+    /* Hand the growable arrays to the scene. */
+    s->vertices = b->vertices.data, s->vertex_count = (uint32_t)b->vertices.count;
+    s->indices = b->indices.data, s->index_count = (uint32_t)b->indices.count;
+    s->meshes = b->meshes.data, s->mesh_count = (uint32_t)b->meshes.count;
+    s->textures = b->textures.data, s->texture_count = (uint32_t)b->textures.count;
+    s->instances = b->instances.data, s->instance_count = (uint32_t)b->instances.count;
+    b->vertices.data = b->indices.data = b->meshes.data = b->textures.data = NULL;
+    b->instances.data = NULL;
+    b->vertices.count = b->indices.count = b->meshes.count = b->textures.count = 0;
+    b->instances.count = 0;
+
+    for (uint32_t i = 0; i < s->instance_count; i++)
+        s->triangle_count += s->meshes[s->instances[i].mesh].index_count / 3;
+    if (s->triangle_count == 0)
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "meshes",
+                          "the scene has no triangles to render");
+
+    sc_scene_evaluate(s, 0.0);
+    compute_bounds(s);
+    if ((r = build_emitters(b)) != XRSC_OK) return r;
+    set_sun(s, d, sun_node, sun_light);
+    set_viewpoint(s, camera_node);
+
+    if (b->opt->env_set) {
+        memcpy(s->environment, b->opt->environment, sizeof s->environment);
+    } else if (scene_index >= 0 && d->scenes[scene_index].has_environment) {
+        memcpy(s->environment, d->scenes[scene_index].environment, sizeof s->environment);
+    } else {
+        bool any_emissive = false;
+        for (uint32_t i = 0; i < s->material_count; i++) any_emissive |= emits(&s->materials[i]);
+        float grey = (!s->sun.present && !any_emissive) ? 1.0f : 0.0f;
+        s->environment[0] = s->environment[1] = s->environment[2] = grey;
+    }
+    return XRSC_OK;
+}
+
+/** Directory part of path ("" for a bare file name), into buf. */
+static void dir_of(const char *path, char *buf, size_t cap)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) {
+        buf[0] = '\0';
+        return;
+    }
+    size_t n = (size_t)(slash - path);
+    if (n == 0) n = 1; /* "/file.gltf" */
+    if (n >= cap) n = cap - 1;
+    memcpy(buf, path, n);
+    buf[n] = '\0';
+}
+
+xrsc_result sc_scene_load_memory(const char *name, const void *data, size_t size,
+                                 const char *base_dir, const sc_load_options *opt,
+                                 sc_scene **out, xrsc_diag *diag)
+{
+    if (out) *out = NULL;
+    if (!out || (!data && size))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, name ? name : "", 0, "",
+                          "out and data must not be NULL");
+    if (!name) name = "(memory)";
+    static const sc_load_options defaults = {0};
+    sc_build b = {.name = name, .diag = diag, .opt = opt ? opt : &defaults};
+    b.vertices.item = sizeof(sc_vertex);
+    b.indices.item = sizeof(uint32_t);
+    b.meshes.item = sizeof(sc_mesh);
+    b.textures.item = sizeof(sc_texture);
+    b.instances.item = sizeof(sc_instance);
+    b.emitters.item = sizeof(sc_emitter);
+
+    xrsc_result r = sc_gltf_parse(name, data, size, base_dir, &b.doc, diag);
+    if (r != XRSC_OK) return r;
+    b.s = calloc(1, sizeof(sc_scene));
+    if (!b.s) r = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, name, 0, "", "out of memory");
+    if (r == XRSC_OK) {
+        snprintf(b.s->path, sizeof b.s->path, "%s", name);
+        r = build_scene(&b);
+    }
+    if (r == XRSC_OK && b.doc->unsupported[0])
+        U_LOG_W("%s: ignored (not supported by xrsc): %s", name, b.doc->unsupported);
+
+    /* Whatever was not handed to the scene. */
+    for (size_t i = 0; i < b.textures.count; i++) free(((sc_texture *)b.textures.data)[i].rgba8);
+    free(b.vertices.data);
+    free(b.indices.data);
+    free(b.meshes.data);
+    free(b.textures.data);
+    free(b.instances.data);
+    free(b.emitters.data);
+    free(b.prim_mesh);
+    free(b.tex_map);
+    sc_gltf_doc_destroy(&b.doc);
+    if (r != XRSC_OK) {
+        sc_scene_destroy(&b.s);
+        return r;
+    }
+    *out = b.s;
+    return XRSC_OK;
+}
+
+xrsc_result sc_scene_load(const char *path, const sc_load_options *opt, sc_scene **out,
+                          xrsc_diag *diag)
+{
+    if (out) *out = NULL;
+    if (!path || !out)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0, "",
+                          "path and out must not be NULL");
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot open: %s", strerror(errno));
+    long size = -1;
+    if (fseek(f, 0, SEEK_END) == 0) size = ftell(f);
+    if (size < 0 || fseek(f, 0, SEEK_SET) != 0) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot read: %s", strerror(errno));
+    }
+    if ((unsigned long long)size > SC_MAX_FILE_BYTES) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_FILE_TOO_LARGE, path, 0, "",
+                          "%ld bytes is more than %llu", size, SC_MAX_FILE_BYTES);
+    }
+    if (size == 0) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, path, 0, "", "file is empty");
+    }
+    uint8_t *data = malloc((size_t)size);
+    if (!data) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "out of memory");
+    }
+    size_t got = fread(data, 1, (size_t)size, f);
+    fclose(f);
+    if (got != (size_t)size) {
+        free(data);
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "short read");
+    }
+    char dir[512];
+    dir_of(path, dir, sizeof dir);
+    xrsc_result r = sc_scene_load_memory(path, data, (size_t)size, dir, opt, out, diag);
+    free(data);
+    return r;
+}
+
+void sc_scene_destroy(sc_scene **pscene)
+{
+    if (!pscene || !*pscene) return;
+    sc_scene *s = *pscene;
+    for (uint32_t i = 0; i < s->texture_count; i++) free(s->textures[i].rgba8);
+    for (uint32_t i = 0; i < s->channel_count; i++) {
+        free(s->channels[i].times);
+        free(s->channels[i].values);
+    }
+    free(s->vertices);
+    free(s->indices);
+    free(s->meshes);
+    free(s->materials);
+    free(s->textures);
+    free(s->nodes);
+    free(s->node_order);
+    free(s->instances);
+    free(s->emitters);
+    free(s->channels);
+    free(s);
+    *pscene = NULL;
+}
