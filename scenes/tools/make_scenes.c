@@ -405,7 +405,7 @@ static int make_cornell(const char *dir)
              "\"scale\": [0.35, 0.35, 0.35]",
              m_glass);
     add_node(&g, body);
-    snprintf(body, sizeof body, "\"name\": \"camera\", \"camera\": %d, \"translation\": [0, 1, 2.8]",
+    snprintf(body, sizeof body, "\"name\": \"camera\", \"camera\": %d, \"translation\": [0, 1, 2.05]",
              cam);
     add_node(&g, body);
     char path[1024];
