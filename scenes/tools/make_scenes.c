@@ -306,9 +306,10 @@ static void quad(geom *m, const float o[3], const float u[3], const float v[3])
 
 /* ------------------------------------------------------------------------------------------ */
 
-/** White furnace: a diffuse sphere of albedo 0.5 under a uniform environment of 1. A correct
- *  path tracer shows the sphere at exactly 0.5 + 0.5 * 0.5 + ... = 1 with infinite bounces,
- *  or 1 - 0.5^(bounces+1) with a bounce limit. */
+/** White furnace: a diffuse sphere of albedo 0.5 under a uniform environment of 1. A convex
+ *  sphere never sees itself, so every reflected ray escapes and a correct path tracer shows
+ *  the sphere at exactly rho * L = 0.5 for any bounce limit >= 1. IOR 1 removes glTF's
+ *  dielectric specular layer (F0 = 0.04 at IOR 1.5), leaving a pure Lambertian. */
 static int make_furnace(const char *dir)
 {
     gltf g = {0};
@@ -317,7 +318,8 @@ static int make_furnace(const char *dir)
     geom_free(&s);
     int mat = add_material(&g, "\"name\": \"albedo-0.5\", \"pbrMetallicRoughness\": "
                                "{\"baseColorFactor\": [0.5, 0.5, 0.5, 1], \"metallicFactor\": 0, "
-                               "\"roughnessFactor\": 1}");
+                               "\"roughnessFactor\": 1}, "
+                               "\"extensions\": {\"KHR_materials_ior\": {\"ior\": 1.0}}");
     int mesh = add_mesh(&g, "sphere", a, mat);
     int cam = add_camera(&g, 1.0f, 0.05f);
     char body[256];
@@ -328,7 +330,7 @@ static int make_furnace(const char *dir)
     add_node(&g, body);
     char path[1024];
     snprintf(path, sizeof path, "%s/furnace.gltf", dir);
-    return write_gltf(&g, path, "",
+    return write_gltf(&g, path, "\"KHR_materials_ior\"",
                       "\"name\": \"furnace\", \"nodes\": [0, 1], "
                       "\"extras\": {\"xrsc_environment\": [1, 1, 1]}");
 }

@@ -172,6 +172,7 @@ static void test_furnace(void)
     CHECK_NEAR(m->base_color[0], 0.5, 0.0);
     CHECK_NEAR(m->metallic, 0.0, 0.0);
     CHECK_NEAR(m->roughness, 1.0, 0.0);
+    CHECK_NEAR(m->ior, 1.0, 0.0); /* pure Lambertian: no dielectric specular layer */
     for (int a = 0; a < 3; a++) {
         CHECK_NEAR(s->environment[a], 1.0, 0.0);
         CHECK_NEAR(s->bounds_min[a], -1.0, 1e-5);

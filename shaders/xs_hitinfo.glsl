@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file xs_hitinfo.glsl
+ * @brief Rebuilds a surface point from (instance, primitive, barycentrics): world position,
+ * normals, uv, triangle area and the material evaluated with its textures.
+ *
+ * Orientation conventions:
+ * - "outside" of a triangle is the side its interpolated vertex normal points to (the winding
+ *   is not used: the geometric normal is flipped to agree with the vertex normals);
+ * - xs_surface_orient() then flips both normals to face the viewer (wo), and records whether wo
+ *   is outside (used for the IOR ratio of glass and for one-sided emission).
+ * Requires xs_bindings.glsl.
+ */
+#ifndef XS_HITINFO_GLSL
+#define XS_HITINFO_GLSL
+
+#include "xs_sampling.glsl"
+
+struct xs_surface {
+    vec3 p;        /* world position */
+    vec3 ng;       /* unit geometric normal (outside, or facing wo after xs_surface_orient) */
+    vec3 ns;       /* unit shading normal (same) */
+    vec2 uv;
+    float area;    /* world-space triangle area, m^2 */
+    bool outside;  /* after xs_surface_orient: wo lies on the outside */
+    uint material;
+};
+
+/** The material's values at uv (textures sampled at LOD 0). */
+struct xs_mat {
+    vec3 base;       /* linear base colour x texture */
+    float metallic;
+    float roughness; /* perceptual; GGX alpha = roughness^2 */
+    float transmission;
+    float ior;
+    vec3 emission;   /* linear emitted radiance */
+    bool double_sided;
+};
+
+xs_surface xs_surface_at(uint instance, uint primitive, vec2 bary)
+{
+    xs_instance inst = instances[instance];
+    uint base = inst.first_index + 3u * primitive;
+    xs_vertex v0 = vertices[indices[base]];
+    xs_vertex v1 = vertices[indices[base + 1u]];
+    xs_vertex v2 = vertices[indices[base + 2u]];
+    vec3 w = vec3(1.0 - bary.x - bary.y, bary.x, bary.y);
+
+    vec3 p0 = (inst.object_to_world * vec4(v0.position_u.xyz, 1.0)).xyz;
+    vec3 p1 = (inst.object_to_world * vec4(v1.position_u.xyz, 1.0)).xyz;
+    vec3 p2 = (inst.object_to_world * vec4(v2.position_u.xyz, 1.0)).xyz;
+
+    xs_surface s;
+    s.p = w.x * p0 + w.y * p1 + w.z * p2;
+    vec3 cr = cross(p1 - p0, p2 - p0);
+    float cr_len = length(cr);
+    s.area = 0.5 * cr_len;
+    vec3 ng = cr_len > 0.0 ? cr / cr_len : vec3(0.0, 0.0, 1.0);
+
+    vec3 n_obj = w.x * v0.normal_v.xyz + w.y * v1.normal_v.xyz + w.z * v2.normal_v.xyz;
+    vec3 ns = (inst.normal_to_world * vec4(n_obj, 0.0)).xyz;
+    float ns_len = length(ns);
+    ns = ns_len > 1e-20 && !isnan(ns_len) ? ns / ns_len : ng;
+    /* Outside = where the vertex normals point. */
+    if (dot(ng, ns) < 0.0)
+        ng = -ng;
+    s.ng = ng;
+    s.ns = ns;
+    s.uv = w.x * vec2(v0.position_u.w, v0.normal_v.w) + w.y * vec2(v1.position_u.w, v1.normal_v.w) +
+           w.z * vec2(v2.position_u.w, v2.normal_v.w);
+    s.outside = true;
+    s.material = inst.material;
+    return s;
+}
+
+/** Flips the normals to face wo (unit, pointing away from the surface). The shading normal
+ *  falls back to the geometric one when wo is below it (silhouettes of smooth meshes). */
+void xs_surface_orient(inout xs_surface s, vec3 wo)
+{
+    s.outside = dot(wo, s.ng) >= 0.0;
+    if (!s.outside) {
+        s.ng = -s.ng;
+        s.ns = -s.ns;
+    }
+    if (dot(wo, s.ns) <= 0.0)
+        s.ns = s.ng;
+}
+
+xs_mat xs_material_at(uint material, vec2 uv)
+{
+    xs_material m = materials[material];
+    xs_mat r;
+    r.base = m.base_color.rgb;
+    if (m.base_color_tex != XS_NO_TEXTURE)
+        r.base *= textureLod(textures[nonuniformEXT(m.base_color_tex)], uv, 0.0).rgb;
+    r.metallic = m.metallic;
+    r.roughness = m.roughness;
+    if (m.metal_rough_tex != XS_NO_TEXTURE) {
+        /* glTF 2.0 §3.9.2: G = roughness, B = metallic. */
+        vec4 mr = textureLod(textures[nonuniformEXT(m.metal_rough_tex)], uv, 0.0);
+        r.roughness *= mr.g;
+        r.metallic *= mr.b;
+    }
+    r.metallic = clamp(r.metallic, 0.0, 1.0);
+    r.roughness = clamp(r.roughness, 0.0, 1.0);
+    r.transmission = clamp(m.transmission, 0.0, 1.0);
+    r.ior = max(m.ior, 1.0);
+    r.emission = m.emission.rgb;
+    if (m.emission_tex != XS_NO_TEXTURE)
+        r.emission *= textureLod(textures[nonuniformEXT(m.emission_tex)], uv, 0.0).rgb;
+    r.double_sided = (m.flags & XS_MAT_DOUBLE_SIDED) != 0u;
+    return r;
+}
+
+/** Emitted radiance towards the viewer: one-sided (outside only) unless double-sided. */
+vec3 xs_emitted(xs_mat m, bool outside)
+{
+    return (outside || m.double_sided) ? m.emission : vec3(0.0);
+}
+
+/**
+ * The demodulation albedo written to XS_BIND_OUT_ALBEDO: the base colour (diffuse albedo of
+ * dielectrics, F0 of metals: glTF uses the same base colour for both), blended towards 1 by
+ * the transmission of the dielectric part (clear glass = 1). Background = 1.
+ */
+vec3 xs_demod_albedo(xs_mat m)
+{
+    return mix(m.base, vec3(1.0), m.transmission * (1.0 - m.metallic));
+}
+
+/** Ray origin offset off a surface to the side of n, against self-intersection: a fixed
+ *  number of float ULPs away from the world origin, a small absolute step near it (Wächter and
+ *  Binder 2019, "A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing Gems
+ *  ch. 6). */
+#define XS_OFFSET_ORIGIN_BAND (1.0 / 32.0)
+#define XS_OFFSET_FLOAT_STEP (1.0 / 65536.0)
+#define XS_OFFSET_INT_ULPS 256.0
+vec3 xs_offset_ray(vec3 p, vec3 n)
+{
+    ivec3 ulps = ivec3(XS_OFFSET_INT_ULPS * n);
+    vec3 far_off;
+    for (int i = 0; i < 3; i++)
+        far_off[i] = intBitsToFloat(floatBitsToInt(p[i]) + (p[i] < 0.0 ? -ulps[i] : ulps[i]));
+    vec3 near_off = p + XS_OFFSET_FLOAT_STEP * n;
+    return mix(far_off, near_off, lessThan(abs(p), vec3(XS_OFFSET_ORIGIN_BAND)));
+}
+
+#endif
