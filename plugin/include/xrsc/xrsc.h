@@ -52,11 +52,13 @@ uint32_t xrsc_context_validation_errors(const xrsc_context *ctx);
 
 /**
  * Scene options. environment: see sc_load_options (constant environment radiance override
- * when env_set).
+ * when env_set). keep_triangle_order: skip the Morton sort of each mesh's triangles done
+ * before the BLAS build (for benchmarks of its effect; primitive ids then follow the file).
  */
 typedef struct xrsc_scene_options {
     bool env_set;
     float environment[3];
+    bool keep_triangle_order;
 } xrsc_scene_options;
 
 typedef struct xrsc_scene_info {
@@ -152,7 +154,15 @@ typedef struct xrsc_pass_timing {
     double gpu_ms;    /**< from Vulkan timestamp queries */
 } xrsc_pass_timing;
 
-/** GPU time per pass of the last frame; returns the number of passes written. */
+/**
+ * GPU time per pass of the last frame (Vulkan timestamp queries around each pass of the
+ * frame's one command buffer); returns the number of passes written.
+ * A renderer reports the same passes in the same order every frame (so they can be indexed by
+ * position after the first frame). The first is always "tlas": the update of moved
+ * (animated) instances and of the TLAS, about 0 ms when nothing moved (static scenes, or the
+ * same display time as the last frame). Then the method's passes: `spp` and `primary` have
+ * one, "trace" (both eyes). Read-back copies for xrsc_renderer_read are not timed.
+ */
 uint32_t xrsc_renderer_timings(const xrsc_renderer *renderer, xrsc_pass_timing *out,
                                uint32_t max_count);
 /** Rays traced in the last frame (primary + secondary + shadow), for Mrays/s. */

@@ -102,6 +102,7 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
     if (options) {
         lo.env_set = options->env_set;
         memcpy(lo.environment, options->environment, sizeof(lo.environment));
+        lo.keep_triangle_order = options->keep_triangle_order;
     }
     xrsc_result res = sc_scene_load(path, &lo, &s->cpu, out_diag);
     if (res != XRSC_OK)
@@ -159,14 +160,16 @@ void xrsc_scene_get_info(const xrsc_scene *scene, xrsc_scene_info *out_info)
     *out_info = scene->info;
 }
 
-/** Moves animated instances to time_ns (prev transforms keep the last evaluated time's). */
+/** Moves animated instances to time_ns (prev transforms keep the last evaluated time's). The
+ *  GPU side (instances[] copy, TLAS update) is recorded into the next frame's command buffer
+ *  by the method (pass "tlas"). */
 static xrsc_result scene_set_time(xrsc_scene *s, int64_t time_ns, xrsc_diag *diag)
 {
     if (!s->animated || time_ns == s->time_ns)
         return XRSC_OK;
     sc_scene_evaluate(s->cpu, (double)time_ns * 1e-9);
     s->time_ns = time_ns;
-    return gpu_scene_update_instances(s->ctx->gpu, s->gpu, s->cpu, diag);
+    return gpu_scene_stage_instances(s->ctx->gpu, s->gpu, s->cpu, diag);
 }
 
 /* ---- methods ---- */

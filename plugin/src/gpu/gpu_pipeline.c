@@ -358,9 +358,17 @@ xrsc_result gpu_rt_program_create(gpu_context *ctx, const gpu_rt_program_desc *d
 
     VkPipelineShaderStageCreateInfo stages[STAGE_COUNT];
     for (int i = 0; i < STAGE_COUNT; i++) {
-        res = gpu_shader_module_create(ctx, names[i], &modules[i], diag);
-        if (res != XRSC_OK)
+        if (i == 0 && desc->raygen_spirv) {
+            VkShaderModuleCreateInfo ci = {
+                .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
+                .codeSize = desc->raygen_spirv_size,
+                .pCode = desc->raygen_spirv,
+            };
+            GPU_CHECK(res, diag, fail, vkCreateShaderModule(ctx->device, &ci, NULL, &modules[i]));
+        } else if ((res = gpu_shader_module_create(ctx, names[i], &modules[i], diag)) !=
+                   XRSC_OK) {
             goto fail;
+        }
         stages[i] = (VkPipelineShaderStageCreateInfo){
             .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
             .stage = stage_bits[i],

@@ -72,12 +72,17 @@ void gpu_descriptors_write_tlas(gpu_context *ctx, gpu_descriptors *d, uint32_t b
 const gpu_binding *gpu_rt_set0_bindings(uint32_t *out_count);
 
 /**
- * A ray-tracing program. raygen: embedded shader name, e.g. "primary.rgen". set1/set1_count:
+ * A ray-tracing program. raygen: embedded shader name, e.g. "primary.rgen" (or raygen_spirv).
+ * set1/set1_count:
  * optional method-specific descriptor set 1. push_constant_size: bytes (0 = none), visible to
  * all ray-tracing stages.
  */
 typedef struct gpu_rt_program_desc {
     const char *raygen;
+    /** Optional: SPIR-V of the raygen shader used instead of the embedded `raygen` (tests with
+     *  their own raygen and the library's miss/hit shaders); size in bytes. */
+    const uint32_t *raygen_spirv;
+    size_t raygen_spirv_size;
     const gpu_binding *set1;
     uint32_t set1_count;
     uint32_t push_constant_size;

@@ -37,6 +37,8 @@ struct gpu_scene {
     uint32_t blas_count;
     gpu_accel tlas;
     gpu_buffer tlas_instances; /**< VkAccelerationStructureInstanceKHR[], host-visible */
+    gpu_buffer instances_staging; /**< xs_instance[], host-visible: source of updates */
+    bool update_pending;          /**< staged by gpu_scene_stage_instances, not yet recorded */
     gpu_buffer tlas_scratch;   /**< max(build, update) scratch, kept for updates */
     VkDeviceAddress tlas_scratch_address; /**< aligned */
     uint32_t instance_count;
@@ -88,6 +90,12 @@ static void write_tlas_instances(gpu_scene *gs, const sc_scene *scene)
         inst[i].instanceCustomIndex = i;
         inst[i].mask = 0xFF;
         inst[i].instanceShaderBindingTableRecordOffset = 0;
+        /* Facing: no FLIP_FACING / FRONT_COUNTERCLOCKWISE bit. Vulkan determines facing in
+         * object space, and its default front (clockwise in a left-handed system) is the
+         * counter-clockwise side in glTF's right-handed coordinates: the glTF front, also for
+         * mirrored instances (glTF 2.0 "Meshes": a negative determinant makes the front
+         * clockwise in world space, i.e. still counter-clockwise in object space).
+         * Checked by test_gpu_primary's test_front_face (the bit makes it fail). */
         inst[i].flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
         inst[i].accelerationStructureReference = gs->blas[si->mesh].address;
     }
@@ -553,6 +561,11 @@ xrsc_result gpu_scene_create(gpu_context *ctx, const sc_scene *scene, gpu_scene 
                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &gs->instances, diag);
     if (res != XRSC_OK)
         goto fail;
+    res = gpu_buffer_create(ctx, (VkDeviceSize)ni * sizeof(xs_instance),
+                            VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GPU_MEMORY_UPLOAD,
+                            &gs->instances_staging, diag);
+    if (res != XRSC_OK)
+        goto fail;
     res = build_accels(ctx, gs, scene, diag);
     if (res != XRSC_OK)
         goto fail;
@@ -575,6 +588,7 @@ void gpu_scene_destroy(gpu_context *ctx, gpu_scene **pgs)
     accel_destroy(ctx, &gs->tlas);
     gpu_buffer_destroy(ctx, &gs->tlas_scratch);
     gpu_buffer_destroy(ctx, &gs->tlas_instances);
+    gpu_buffer_destroy(ctx, &gs->instances_staging);
     if (gs->blas)
         for (uint32_t m = 0; m < gs->blas_count; m++)
             accel_destroy(ctx, &gs->blas[m]);
@@ -595,45 +609,87 @@ void gpu_scene_destroy(gpu_context *ctx, gpu_scene **pgs)
     *pgs = NULL;
 }
 
-xrsc_result gpu_scene_update_instances(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
-                                       xrsc_diag *diag)
+xrsc_result gpu_scene_stage_instances(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                      xrsc_diag *diag)
 {
     if (scene->instance_count != gs->instance_count)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, scene->path, 0, "instances",
                           "instance count changed from %u to %u", gs->instance_count,
                           scene->instance_count);
+    if (gs->instance_count == 0)
+        return XRSC_OK;
     fill_host_instances(gs, scene, true);
-    xrsc_result res = gpu_buffer_upload(ctx, &gs->instances, 0, gs->host_instances,
-                                        (VkDeviceSize)gs->instance_count * sizeof(xs_instance),
-                                        diag);
-    if (res != XRSC_OK || gs->instance_count == 0)
-        return res;
+    memcpy(gs->instances_staging.mapped, gs->host_instances,
+           (size_t)gs->instance_count * sizeof(xs_instance));
+    gpu_buffer_flush(ctx, &gs->instances_staging);
     write_tlas_instances(gs, scene);
     gpu_buffer_flush(ctx, &gs->tlas_instances);
-    gpu_timer timer;
-    res = gpu_timer_create(ctx, &timer, diag);
-    if (res != XRSC_OK)
+    gs->update_pending = true;
+    return XRSC_OK;
+}
+
+bool gpu_scene_cmd_update(gpu_context *ctx, gpu_scene *gs, VkCommandBuffer cmd)
+{
+    if (!gs->update_pending)
+        return false;
+    gs->update_pending = false;
+    /* Host writes (staging, TLAS instances) and earlier reads of instances[] / the TLAS
+     * before the copy and the build. */
+    VkMemoryBarrier before = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_HOST_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT |
+                         VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR,
+        .dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                         VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR |
+                         VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
+    };
+    vkCmdPipelineBarrier(cmd,
+                         VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR |
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT |
+                             VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                         0, 1, &before, 0, NULL, 0, NULL);
+    VkBufferCopy region = {0, 0, (VkDeviceSize)gs->instance_count * sizeof(xs_instance)};
+    vkCmdCopyBuffer(cmd, gs->instances_staging.buffer, gs->instances.buffer, 1, &region);
+    VkAccelerationStructureGeometryKHR geom;
+    VkAccelerationStructureBuildGeometryInfoKHR info;
+    tlas_geometry(gs, &geom, &info, VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR);
+    VkAccelerationStructureBuildRangeInfoKHR range = {.primitiveCount = gs->instance_count};
+    const VkAccelerationStructureBuildRangeInfoKHR *range_ptr = &range;
+    ctx->vk.CmdBuildAccelerationStructuresKHR(cmd, 1, &info, &range_ptr);
+    /* The new TLAS and instances[] before any later shader. */
+    VkMemoryBarrier after = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask =
+            VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
+        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT |
+                         VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR |
+                         VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
+    };
+    vkCmdPipelineBarrier(cmd,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT |
+                             VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                         VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR |
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
+                             VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                         0, 1, &after, 0, NULL, 0, NULL);
+    return true;
+}
+
+bool gpu_scene_update_pending(const gpu_scene *gs) { return gs->update_pending; }
+
+xrsc_result gpu_scene_update_instances(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                       xrsc_diag *diag)
+{
+    xrsc_result res = gpu_scene_stage_instances(ctx, gs, scene, diag);
+    if (res != XRSC_OK || !gs->update_pending)
         return res;
     VkCommandBuffer cmd;
     res = gpu_cmd_begin(ctx, &cmd, diag);
-    if (res == XRSC_OK) {
-        gpu_timer_cmd_reset(cmd, &timer);
-        gpu_cmd_barrier_all(cmd);
-        uint32_t p = gpu_timer_cmd_begin(cmd, &timer, "tlas_update");
-        VkAccelerationStructureGeometryKHR geom;
-        VkAccelerationStructureBuildGeometryInfoKHR info;
-        tlas_geometry(gs, &geom, &info, VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR);
-        VkAccelerationStructureBuildRangeInfoKHR range = {.primitiveCount = gs->instance_count};
-        const VkAccelerationStructureBuildRangeInfoKHR *range_ptr = &range;
-        ctx->vk.CmdBuildAccelerationStructuresKHR(cmd, 1, &info, &range_ptr);
-        gpu_timer_cmd_end(cmd, &timer, p);
-        cmd_as_barrier(cmd);
-        res = gpu_cmd_submit_wait(ctx, cmd, diag);
-        if (res == XRSC_OK && gpu_timer_resolve(ctx, &timer, NULL) == XRSC_OK)
-            gs->tlas_ms = timer.ms[p];
-    }
-    gpu_timer_destroy(ctx, &timer);
-    return res;
+    if (res != XRSC_OK)
+        return res;
+    gpu_scene_cmd_update(ctx, gs, cmd);
+    return gpu_cmd_submit_wait(ctx, cmd, diag);
 }
 
 xrsc_result gpu_scene_clear_motion(gpu_context *ctx, gpu_scene *gs, xrsc_diag *diag)

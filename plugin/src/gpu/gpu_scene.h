@@ -9,7 +9,10 @@
  * - indices[]: ABSOLUTE vertex indices (as sc_scene stores them), so a shader reads
  *   vertices[indices[first_index + 3t + c]];
  * - instance i of sc_scene = TLAS instance i (instanceCustomIndex i, mask 0xFF, SBT offset 0,
- *   culling disabled) = instances[i];
+ *   culling disabled, no facing flip) = instances[i];
+ * - facing: gl_HitKindEXT (xs_hit.front_face) reports the glTF front side: the side from which
+ *   the triangle's vertices appear counter-clockwise in object space (right-handed), for
+ *   mirrored instances too (test_gpu_primary: test_front_face);
  * - emitters[]: for every instance with emissive triangles, ALL its triangles in order (those
  *   sc_scene does not list as emitters get power 0), so emitter_base + t is triangle t's
  *   emitter; pmf proportional to power (uniform when all are 0), cdf inclusive (last = 1);
@@ -33,9 +36,21 @@ xrsc_result gpu_scene_create(gpu_context *ctx, const sc_scene *scene, gpu_scene 
 void gpu_scene_destroy(gpu_context *ctx, gpu_scene **scene);
 
 /**
- * After sc_scene_evaluate moved instances: copies each instance's current world matrix to its
- * prev_object_to_world, writes the new world matrices, and updates the TLAS (mode UPDATE).
+ * Instance updates, in two halves so the GPU work joins the frame's command buffer:
+ * - gpu_scene_stage_instances (CPU, after sc_scene_evaluate moved instances): copies each
+ *   instance's current world matrix to its prev_object_to_world, writes the new world
+ *   matrices into a host-visible staging copy of instances[] and the TLAS instance buffer,
+ *   and marks an update pending. The caller guarantees that no submitted work still reads
+ *   these (xrsc waits for every frame).
+ * - gpu_scene_cmd_update records the pending update into cmd: instances[] copy, TLAS update
+ *   (mode UPDATE) and the barriers before and after; returns false (records nothing) when
+ *   none is pending.
  */
+xrsc_result gpu_scene_stage_instances(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                      xrsc_diag *diag);
+bool gpu_scene_cmd_update(gpu_context *ctx, gpu_scene *gs, VkCommandBuffer cmd);
+bool gpu_scene_update_pending(const gpu_scene *gs);
+/** Stage + record + submit + wait in one call (outside a frame; tests). */
 xrsc_result gpu_scene_update_instances(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
                                        xrsc_diag *diag);
 /** Sets prev_object_to_world = object_to_world for every instance (no motion). */
@@ -47,7 +62,8 @@ void gpu_scene_write_descriptors(gpu_context *ctx, const gpu_scene *gs, gpu_desc
 
 /** Number of entries in the GPU emitter array (see the conventions above). */
 uint32_t gpu_scene_emitter_count(const gpu_scene *gs);
-/** GPU time of the BLAS builds at load, and of the first TLAS build / last TLAS update. */
+/** GPU time of the BLAS builds and of the TLAS build at load (updates are timed by the
+ *  frame that records them, pass "tlas"). */
 double gpu_scene_blas_build_ms(const gpu_scene *gs);
 double gpu_scene_tlas_build_ms(const gpu_scene *gs);
 

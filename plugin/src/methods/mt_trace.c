@@ -12,13 +12,19 @@
 
 xrsc_result mt_trace_init(mt_trace *t, const mt_env *env, const char *raygen, xrsc_diag *diag)
 {
+    gpu_rt_program_desc desc = {.raygen = raygen};
+    return mt_trace_init_program(t, env, &desc, diag);
+}
+
+xrsc_result mt_trace_init_program(mt_trace *t, const mt_env *env,
+                                  const gpu_rt_program_desc *desc, xrsc_diag *diag)
+{
     memset(t, 0, sizeof(*t));
     t->env = *env;
     gpu_context *ctx = env->gpu;
     uint32_t w = env->width, h = env->height;
     xrsc_result res;
-    gpu_rt_program_desc desc = {.raygen = raygen};
-    if ((res = gpu_rt_program_create(ctx, &desc, &t->program, diag)) != XRSC_OK)
+    if ((res = gpu_rt_program_create(ctx, desc, &t->program, diag)) != XRSC_OK)
         goto fail;
     /* Formats per xrsc_shared.h: XS_BIND_OUT_* and XS_BIND_ACCUM. */
     if ((res = gpu_image_create_storage(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, w, h, 2, &t->color,
@@ -69,6 +75,8 @@ void mt_trace_fini(mt_trace *t)
         return;
     vkDeviceWaitIdle(ctx->device);
     gpu_timer_destroy(ctx, &t->timer);
+    for (uint32_t o = 0; o < MT_OUTPUT_COUNT; o++)
+        gpu_buffer_destroy(ctx, &t->readback[o]);
     gpu_buffer_destroy(ctx, &t->ray_readback);
     gpu_buffer_destroy(ctx, &t->ray_counter);
     gpu_buffer_destroy(ctx, &t->frame_ubo);
@@ -124,6 +132,13 @@ static void cmd_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkA
     vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &mb, 0, NULL, 0, NULL);
 }
 
+void mt_trace_cmd_scene_update(mt_trace *t, VkCommandBuffer cmd)
+{
+    uint32_t pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_PASS_TLAS);
+    gpu_scene_cmd_update(t->env.gpu, t->env.scene, cmd);
+    gpu_timer_cmd_end(cmd, &t->timer, pass);
+}
+
 xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc_diag *diag)
 {
     gpu_context *ctx = t->env.gpu;
@@ -133,16 +148,17 @@ xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc
     xrsc_result res = gpu_cmd_begin(ctx, &cmd, diag);
     if (res != XRSC_OK)
         return res;
-    /* Earlier submissions (scene upload, TLAS update, read-backs) before anything here. */
+    /* Earlier submissions (scene upload, read-backs) before anything here. */
     gpu_cmd_barrier_all(cmd);
     gpu_timer_cmd_reset(cmd, &t->timer);
+    mt_trace_cmd_scene_update(t, cmd);
     if (clear_accum)
         gpu_image_cmd_clear(cmd, &t->accum);
     vkCmdFillBuffer(cmd, t->ray_counter.buffer, 0, sizeof(uint64_t), 0);
     cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR,
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    uint32_t pass = gpu_timer_cmd_begin(cmd, &t->timer, "trace");
+    uint32_t pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_PASS_TRACE);
     gpu_rt_program_cmd_trace(ctx, cmd, &t->program, NULL, t->env.width, t->env.height, 2);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
     cmd_barrier(cmd, VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_SHADER_WRITE_BIT,
@@ -151,7 +167,9 @@ xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc
     vkCmdCopyBuffer(cmd, t->ray_counter.buffer, t->ray_readback.buffer, 1, &region);
     cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    mt_trace_cmd_stage_outputs(t, cmd);
     res = gpu_cmd_submit_wait(ctx, cmd, diag);
+    mt_trace_frame_done(t, res == XRSC_OK);
     if (res != XRSC_OK)
         return res;
     res = gpu_timer_resolve(ctx, &t->timer, diag);
@@ -183,14 +201,94 @@ size_t mt_trace_output_size(const mt_trace *t, xrsc_output output)
     return img ? (size_t)img->width * img->height * img->texel_size : 0;
 }
 
+static void cmd_copy_output(VkCommandBuffer cmd, const gpu_image *img, const gpu_buffer *dst)
+{
+    VkBufferImageCopy regions[2];
+    VkDeviceSize layer_bytes = (VkDeviceSize)img->width * img->height * img->texel_size;
+    for (uint32_t l = 0; l < 2; l++)
+        regions[l] = (VkBufferImageCopy){
+            .bufferOffset = l * layer_bytes,
+            .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, l, 1},
+            .imageExtent = {img->width, img->height, 1},
+        };
+    vkCmdCopyImageToBuffer(cmd, img->image, VK_IMAGE_LAYOUT_GENERAL, dst->buffer, 2, regions);
+}
+
+void mt_trace_cmd_stage_outputs(mt_trace *t, VkCommandBuffer cmd)
+{
+    uint32_t mask = 0;
+    t->staged_mask = 0; /* this frame overwrites the outputs */
+    for (uint32_t o = 0; o < MT_OUTPUT_COUNT; o++)
+        if ((t->read_mask >> o & 1u) && t->readback[o].buffer)
+            mask |= 1u << o;
+    if (!mask)
+        return;
+    cmd_barrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    for (uint32_t o = 0; o < MT_OUTPUT_COUNT; o++)
+        if (mask >> o & 1u)
+            cmd_copy_output(cmd, output_image(t, (xrsc_output)o), &t->readback[o]);
+    cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    t->staged_mask = mask; /* made valid by mt_trace_frame_done */
+}
+
+void mt_trace_frame_done(mt_trace *t, bool ok)
+{
+    if (!ok)
+        t->staged_mask = 0;
+    for (uint32_t o = 0; o < MT_OUTPUT_COUNT; o++)
+        if (t->staged_mask >> o & 1u)
+            gpu_buffer_invalidate(t->env.gpu, &t->readback[o]);
+    t->read_mask = 0;
+}
+
+/** Copies both eyes of output o into its read-back buffer now (one submission). */
+static xrsc_result stage_output(mt_trace *t, xrsc_output o, xrsc_diag *diag)
+{
+    gpu_context *ctx = t->env.gpu;
+    const gpu_image *img = output_image(t, o);
+    xrsc_result res;
+    if (!t->readback[o].buffer &&
+        (res = gpu_buffer_create(ctx, 2 * (VkDeviceSize)img->width * img->height *
+                                          img->texel_size,
+                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT, GPU_MEMORY_READBACK,
+                                 &t->readback[o], diag)) != XRSC_OK)
+        return res;
+    VkCommandBuffer cmd;
+    if ((res = gpu_cmd_begin(ctx, &cmd, diag)) != XRSC_OK)
+        return res;
+    gpu_cmd_barrier_all(cmd);
+    cmd_copy_output(cmd, img, &t->readback[o]);
+    cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    if ((res = gpu_cmd_submit_wait(ctx, cmd, diag)) != XRSC_OK)
+        return res;
+    gpu_buffer_invalidate(ctx, &t->readback[o]);
+    t->staged_mask |= 1u << o;
+    return XRSC_OK;
+}
+
 xrsc_result mt_trace_read(mt_trace *t, uint32_t eye, xrsc_output output, void *dst,
                           size_t dst_size, xrsc_diag *diag)
 {
     const gpu_image *img = output_image(t, output);
-    if (!img || eye > 1)
+    if (!img || eye > 1 || (uint32_t)output >= MT_OUTPUT_COUNT)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "output",
                           "unknown output %d or eye %u", (int)output, eye);
-    return gpu_image_read_layer(t->env.gpu, img, eye, dst, dst_size, diag);
+    size_t bytes = (size_t)img->width * img->height * img->texel_size;
+    if (!dst || dst_size < bytes)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "dst",
+                          "dst_size %zu < %zu", dst_size, bytes);
+    t->read_mask |= 1u << output;
+    if (!(t->staged_mask >> output & 1u)) {
+        xrsc_result res = stage_output(t, output, diag);
+        if (res != XRSC_OK)
+            return res;
+    }
+    memcpy(dst, (const uint8_t *)t->readback[output].mapped + eye * bytes, bytes);
+    return XRSC_OK;
 }
 
 uint32_t mt_trace_timings(const mt_trace *t, xrsc_pass_timing *out, uint32_t max_count)

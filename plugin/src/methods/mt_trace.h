@@ -14,6 +14,22 @@
 extern "C" {
 #endif
 
+/**
+ * Pass names (xrsc_renderer_timings), static strings. Every frame of a method reports the same
+ * passes in the same order, so consumers may index them by position after the first frame:
+ * - MT_PASS_TLAS: the scene's instance update (instances[] copy + TLAS update) when animated
+ *   instances moved since the last frame; always present, ~0 ms when nothing moved (static
+ *   scene or same scene time). Always the first pass.
+ * - MT_PASS_TRACE: the one vkCmdTraceRaysKHR of both eyes.
+ * Later methods add theirs after MT_PASS_TLAS (e.g. "reproject", "trace_mask", "density",
+ * "trace", "shade", "reconstruct"); read-back copies are never timed.
+ */
+#define MT_PASS_TLAS "tlas"
+#define MT_PASS_TRACE "trace"
+
+/** Outputs with a persistent read-back buffer (xrsc_output values). */
+#define MT_OUTPUT_COUNT 4
+
 /** Near and far planes of xs_eye.proj (only reprojection uses proj; rays use tan_fov). */
 #define MT_NEAR_M 0.05f
 #define MT_FAR_M 1000.0f
@@ -27,18 +43,40 @@ typedef struct mt_trace {
     gpu_buffer ray_readback;
     gpu_timer timer;
     uint64_t rays;
+    /** Read-back: per output both eyes (layer 0 then 1), created at its first read. An output
+     *  read during frame N is copied inside frame N+1's command buffer (reads usually repeat
+     *  every frame), others by one submission at their first read after a frame. */
+    gpu_buffer readback[MT_OUTPUT_COUNT];
+    uint32_t staged_mask; /**< bit o: readback[o] holds the last frame's output o */
+    uint32_t read_mask;   /**< bit o: output o was read since the last frame */
 } mt_trace;
 
 /** Creates the program for `raygen` and the resources, and writes set 0. */
 xrsc_result mt_trace_init(mt_trace *t, const mt_env *env, const char *raygen, xrsc_diag *diag);
+/** The same for any program description (tests: a raygen of their own, raygen_spirv). */
+xrsc_result mt_trace_init_program(mt_trace *t, const mt_env *env,
+                                  const gpu_rt_program_desc *desc, xrsc_diag *diag);
 void mt_trace_fini(mt_trace *t);
 
 /** Fills the views, environment, sun, sizes, seed and emitter count of xf from frame; the
  *  method fills samples, bounces, accumulate, jitter and frame_index. */
 void mt_trace_frame_constants(const mt_trace *t, const xrsc_frame *frame, xs_frame *xf);
 
-/** Uploads xf, (clears the accumulation image when clear_accum,) zeroes the ray counter,
- *  traces width x height x 2 (pass "trace"), reads back the counter and timings. Waits. */
+/** Records pass MT_PASS_TLAS: the scene's pending instance update (gpu_scene_cmd_update).
+ *  Methods with their own frame record it first, after gpu_timer_cmd_reset. */
+void mt_trace_cmd_scene_update(mt_trace *t, VkCommandBuffer cmd);
+
+/** Records the copies of the outputs read during the last frame into their read-back
+ *  buffers (after the passes that write them; the command buffer's last work). */
+void mt_trace_cmd_stage_outputs(mt_trace *t, VkCommandBuffer cmd);
+/** After the frame's submission completed (success or not): records which outputs are now
+ *  staged. */
+void mt_trace_frame_done(mt_trace *t, bool ok);
+
+/** One submission: uploads xf, records pass "tlas" (scene update), (clears the accumulation
+ *  image when clear_accum,) zeroes the ray counter, traces width x height x 2 (pass "trace"),
+ *  copies the ray counter and the outputs read last frame; waits, then reads the counter and
+ *  the timings. */
 xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc_diag *diag);
 
 size_t mt_trace_output_size(const mt_trace *t, xrsc_output output);
