@@ -10,6 +10,7 @@
 #include <errno.h>
 #include <math.h>
 #include <png.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,6 +22,27 @@
 #define ACES_C 2.43f
 #define ACES_D 0.59f
 #define ACES_E 0.14f
+
+/** Largest PFM side hs_read_pfm accepts. */
+#define PFM_MAX_SIDE 65536u
+
+static bool host_is_little_endian(void)
+{
+    const uint16_t one = 1;
+    uint8_t first;
+    memcpy(&first, &one, 1);
+    return first == 1;
+}
+
+static float byte_swap_f32(float v)
+{
+    uint8_t b[4], t;
+    memcpy(b, &v, 4);
+    t = b[0], b[0] = b[3], b[3] = t;
+    t = b[1], b[1] = b[2], b[2] = t;
+    memcpy(&v, b, 4);
+    return v;
+}
 
 static float aces(float x)
 {
@@ -88,8 +110,9 @@ xrsc_result hs_write_pfm(const char *path, const float *rgba, uint32_t w, uint32
     FILE *f = fopen(path, "wb");
     if (!f)
         return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
-    /* A negative scale marks little-endian data; PFM rows run bottom to top. */
-    fprintf(f, "PF\n%u %u\n-1.0\n", w, h);
+    /* The sign of the scale gives the byte order (negative: little-endian); the pixels are
+     * written in the host's. PFM rows run bottom to top. */
+    fprintf(f, "PF\n%u %u\n%s\n", w, h, host_is_little_endian() ? "-1.0" : "1.0");
     float *row = malloc((size_t)w * 3 * sizeof(float));
     if (!row) {
         fclose(f);
@@ -118,11 +141,27 @@ xrsc_result hs_read_pfm(const char *path, float **out_rgba, uint32_t *out_w, uin
     char magic[3] = {0};
     unsigned w = 0, h = 0;
     float scale = 0.0f;
+    /* The header ends with exactly one whitespace character after the scale. */
     if (fscanf(f, "%2s %u %u %f", magic, &w, &h, &scale) != 4 || strcmp(magic, "PF") != 0 ||
-        w == 0 || h == 0 || w > 65536 || h > 65536 || scale >= 0.0f || fgetc(f) == EOF) {
+        w == 0 || h == 0 || w > PFM_MAX_SIDE || h > PFM_MAX_SIDE || scale == 0.0f ||
+        scale != scale || fgetc(f) == EOF) {
         fclose(f);
-        return u_diag_set(diag, XRSC_ERROR_BAD_HEADER, path, 1, "header",
-                          "not a little-endian colour PFM");
+        return u_diag_set(diag, XRSC_ERROR_BAD_HEADER, path, 1, "header", "not a colour PFM");
+    }
+    bool swap = (scale < 0.0f) != host_is_little_endian();
+    /* Check the size before allocating, so a short file with a huge header costs nothing. */
+    long header_end = ftell(f);
+    if (header_end < 0 || fseek(f, 0, SEEK_END) != 0) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot seek");
+    }
+    long file_end = ftell(f);
+    uint64_t need = (uint64_t)w * h * 3 * sizeof(float);
+    if (file_end < header_end || (uint64_t)(file_end - header_end) < need ||
+        fseek(f, header_end, SEEK_SET) != 0) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_TRUNCATED_LINE, path, 0, "pixels",
+                          "file ends before %u x %u pixels", w, h);
     }
     float *rgba = malloc((size_t)w * h * 4 * sizeof(float));
     float *row = malloc((size_t)w * 3 * sizeof(float));
@@ -142,7 +181,8 @@ xrsc_result hs_read_pfm(const char *path, float **out_rgba, uint32_t *out_w, uin
         }
         for (uint32_t x = 0; x < w; x++) {
             float *d = rgba + ((size_t)y * w + x) * 4;
-            memcpy(d, row + x * 3, 3 * sizeof(float));
+            for (int c = 0; c < 3; c++)
+                d[c] = swap ? byte_swap_f32(row[x * 3 + c]) : row[x * 3 + c];
             d[3] = 1.0f;
         }
     }

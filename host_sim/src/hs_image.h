@@ -29,12 +29,16 @@ void hs_tonemap_rgba(const hs_tonemap *tm, const float *rgba, uint32_t w, uint32
 xrsc_result hs_write_png(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h,
                          xrsc_diag *diag);
 /**
- * Writes RGBA float pixels (rows top to bottom) as a colour PFM ("PF", little-endian, rows
- * stored bottom to top as the format requires; alpha dropped).
+ * Writes RGBA float pixels (rows top to bottom) as a colour PFM ("PF", the host's byte order
+ * marked by the scale's sign, rows stored bottom to top as the format requires; alpha dropped).
  */
 xrsc_result hs_write_pfm(const char *path, const float *rgba, uint32_t w, uint32_t h,
                          xrsc_diag *diag);
-/** Reads a colour PFM back into RGBA floats (alpha 1); *out_rgba is malloc'ed. */
+/**
+ * Reads a colour PFM (either byte order) back into RGBA floats, rows top to bottom, alpha 1;
+ * *out_rgba is malloc'ed. XRSC_ERROR_BAD_HEADER for anything but "PF" with sides 1..65536,
+ * XRSC_ERROR_TRUNCATED_LINE when the file is shorter than its header says.
+ */
 xrsc_result hs_read_pfm(const char *path, float **out_rgba, uint32_t *out_w, uint32_t *out_h,
                         xrsc_diag *diag);
 

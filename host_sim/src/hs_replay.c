@@ -21,6 +21,11 @@
 #define PROGRESS_AFTER_S 2.0
 /** Without a terminal, one progress line per this many seconds. */
 #define PROGRESS_LOG_PERIOD_S 10.0
+/** xrsc.h: renderer width/height 0 mean 256 pixels. The replay sizes its buffers from the
+ * resolved value, so it fills the default in itself rather than guess the library's. */
+#define DEFAULT_EYE_SIZE_PX 256u
+/** Display refresh rate when the headset's is 0 (xrsc_headset_default's). */
+#define DEFAULT_REFRESH_HZ 90.0
 
 static double now_s(void)
 {
@@ -32,7 +37,9 @@ static double now_s(void)
 static xrsc_result make_dirs(const char *path, xrsc_diag *diag)
 {
     char buf[1024];
-    snprintf(buf, sizeof(buf), "%s", path);
+    if (path[0] == '\0' || (size_t)snprintf(buf, sizeof(buf), "%s", path) >= sizeof(buf))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path, 0, "--out",
+                          "output folder name is empty or too long");
     for (char *p = buf + 1; *p; p++) {
         if (*p != '/')
             continue;
@@ -68,7 +75,11 @@ static xrsc_result write_frame(const hs_replay_options *opt, xrsc_renderer *r, u
                                uint32_t w, uint32_t h, replay_buffers *b, xrsc_diag *diag)
 {
     static const char *const eye_name[2] = {"left", "right"};
-    size_t bytes = xrsc_renderer_output_size(r, XRSC_OUTPUT_COLOR);
+    size_t bytes = (size_t)w * h * 4 * sizeof(float);
+    if (xrsc_renderer_output_size(r, XRSC_OUTPUT_COLOR) != bytes)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "output",
+                          "colour output is %zu bytes, expected %u x %u RGBA float",
+                          xrsc_renderer_output_size(r, XRSC_OUTPUT_COLOR), w, h);
     hs_tonemap tm = {.exposure = opt->exposure};
     char path[1200];
     for (int e = 0; e < 2; e++) {
@@ -117,9 +128,19 @@ static void show_progress(const hs_replay_options *opt, uint32_t done, uint32_t 
     fflush(stderr);
 }
 
-xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *st, xrsc_diag *diag)
+/* True when the caller left the headset zero-initialised (never filled it). */
+static bool headset_is_zero(const xrsc_headset *hs)
+{
+    static const xrsc_headset zero;
+    return memcmp(hs, &zero, sizeof(zero)) == 0;
+}
+
+xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_stats,
+                          xrsc_diag *diag)
 {
     double t_start = now_s();
+    hs_replay_stats local_stats;
+    hs_replay_stats *st = out_stats ? out_stats : &local_stats;
     memset(st, 0, sizeof(*st));
     xrsc_context *ctx = NULL;
     xrsc_scene *scene = NULL;
@@ -127,7 +148,23 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *st, xrs
     hs_pose_stream *stream = NULL;
     replay_buffers buf = {0};
     FILE *csv = NULL;
+    bool csv_header_done = false;
     xrsc_result res;
+
+    if (!opt || !opt->scene_path || !opt->poses_path)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "",
+                          "replay needs a scene and a pose stream");
+    if (opt->out_dir && opt->out_dir[0] == '\0')
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--out",
+                          "output folder name is empty (NULL writes nothing)");
+    xrsc_headset headset = opt->headset;
+    if (headset_is_zero(&headset))
+        xrsc_headset_default(&headset);
+    xrsc_renderer_options ropt = opt->renderer;
+    if (ropt.width == 0)
+        ropt.width = DEFAULT_EYE_SIZE_PX;
+    if (ropt.height == 0)
+        ropt.height = DEFAULT_EYE_SIZE_PX;
 
     if ((res = hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag)) != XRSC_OK)
         goto done;
@@ -140,11 +177,11 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *st, xrs
     xrsc_scene_get_info(scene, &info);
     if (!opt->no_anchor)
         hs_pose_stream_anchor(stream, info.viewpoint);
-    if ((res = xrsc_renderer_create(ctx, scene, &opt->renderer, &r, diag)) != XRSC_OK)
+    if ((res = xrsc_renderer_create(ctx, scene, &ropt, &r, diag)) != XRSC_OK)
         goto done;
     st->load_s = now_s() - t_start;
 
-    uint32_t w = opt->renderer.width, h = opt->renderer.height;
+    uint32_t w = ropt.width, h = ropt.height;
     size_t n = (size_t)w * h;
     for (int e = 0; e < 2; e++) {
         buf.color[e] = malloc(n * 4 * sizeof(float));
@@ -156,7 +193,8 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *st, xrs
         goto done;
     }
 
-    double period_ns = NS_PER_S / (opt->headset.refresh_hz > 0 ? opt->headset.refresh_hz : 90.0);
+    double period_ns =
+        NS_PER_S / (headset.refresh_hz > 0 ? headset.refresh_hz : DEFAULT_REFRESH_HZ);
     int64_t start_ns = (int64_t)(opt->start_s * NS_PER_S);
     int64_t span_ns = hs_pose_stream_duration_ns(stream) - start_ns;
     uint32_t frames = opt->frames;
@@ -184,11 +222,11 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *st, xrs
         XrPosef head;
         hs_lookup lookup = hs_pose_stream_sample(stream, t_ns, &head);
         XrPosef eyes[2];
-        xrsc_headset_eye_poses(&opt->headset, head, eyes);
+        xrsc_headset_eye_poses(&headset, head, eyes);
         xrsc_frame frame = {.display_time_ns = t_ns - start_ns, .frame_index = k};
         for (int e = 0; e < 2; e++) {
             frame.views[e].pose = eyes[e];
-            frame.views[e].fov = opt->headset.fov[e];
+            frame.views[e].fov = headset.fov[e];
         }
         double t0 = now_s();
         if ((res = xrsc_renderer_render(r, &frame)) != XRSC_OK) {
@@ -212,6 +250,7 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *st, xrs
             }
             if (csv)
                 fputc('\n', csv);
+            csv_header_done = true;
         }
         for (uint32_t p = 0; p < np && p < st->pass_count; p++)
             st->pass_mean[p].gpu_ms += passes[p].gpu_ms;
@@ -236,17 +275,20 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *st, xrs
         for (uint32_t p = 0; p < st->pass_count; p++)
             st->pass_mean[p].gpu_ms /= st->frames;
     }
-    if (ctx && xrsc_context_validation_errors(ctx) > 0)
-        U_LOG_W("the Vulkan validation layer reported %u errors",
-                xrsc_context_validation_errors(ctx));
     res = XRSC_OK;
 
 done:
+    if (csv && !csv_header_done)
+        fputc('\n', csv); /* the header waits for the first frame's pass names */
     if (csv && fclose(csv) != 0 && res == XRSC_OK)
         res = u_diag_set(diag, XRSC_ERROR_IO, opt->out_dir, 0, "", "writing frames.csv failed");
     buffers_free(&buf);
     xrsc_renderer_destroy(&r);
     xrsc_scene_destroy(&scene);
+    /* Counted after the renderer and scene are gone, so errors at their destruction count. */
+    st->validation_errors = xrsc_context_validation_errors(ctx);
+    if (st->validation_errors > 0)
+        U_LOG_W("the Vulkan validation layer reported %u errors", st->validation_errors);
     xrsc_context_destroy(&ctx);
     hs_pose_stream_destroy(&stream);
     st->total_s = now_s() - t_start;

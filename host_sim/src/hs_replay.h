@@ -27,7 +27,7 @@ typedef struct hs_replay_options {
     xrsc_context_options context;
     xrsc_renderer_options renderer;
     xrsc_scene_options scene;
-    xrsc_headset headset;         /**< fill with xrsc_headset_default first */
+    xrsc_headset headset;         /**< fill with xrsc_headset_default first (all zero: default) */
     double start_s;               /**< offset into the stream */
     uint32_t frames;              /**< 0: until the stream ends */
     bool no_anchor;               /**< keep the stream's own coordinates */
@@ -46,10 +46,16 @@ typedef struct hs_replay_stats {
     uint32_t pass_count;
     xrsc_pass_timing pass_mean[XRSC_MAX_PASSES]; /**< GPU ms per pass, mean over frames */
     double rays_per_frame;
+    uint32_t validation_errors; /**< validation-layer errors over the run (0 when it is off) */
     char device[256];
 } hs_replay_stats;
 
-/** Runs the replay. Writes frames.csv (one row per frame: timing) into out_dir. */
+/**
+ * Runs the replay. Writes frames.csv (a header, then one row per frame: display time in ns
+ * on the simulated clock, lookup kind, timing) into out_dir. out_stats may be NULL. Renderer
+ * width/height 0 mean xrsc.h's default (256); a headset left all zero means
+ * xrsc_headset_default.
+ */
 xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_stats,
                           xrsc_diag *diag);
 

@@ -68,8 +68,24 @@ static void usage(FILE *f)
 
 static int bad_arg(const char *flag, const char *value, const char *why)
 {
-    fprintf(stderr, "xrsc: error: %s %s: %s (see xrsc --help)\n", flag, value ? value : "", why);
+    fprintf(stderr, "xrsc: error: %s%s%s: %s (see xrsc --help)\n", flag, value ? " " : "",
+            value ? value : "", why);
     return 2;
+}
+
+/* Options that take a value; anything else starting with "--" is unknown. */
+static const char *const value_options[] = {
+    "--scene", "--poses",   "--pose-format", "--start", "--frames", "--method",
+    "--spp",   "--bounces", "--resolution",  "--seed",  "--env",    "--device",
+    "--ipd",   "--refresh", "--out",         "--write", "--exposure",
+};
+
+static bool takes_value(const char *flag)
+{
+    for (size_t k = 0; k < sizeof(value_options) / sizeof(value_options[0]); k++)
+        if (!strcmp(flag, value_options[k]))
+            return true;
+    return false;
 }
 
 static bool parse_u32(const char *s, uint32_t *out)
@@ -133,6 +149,8 @@ int main(int argc, char **argv)
         }
         if (a[0] != '-' || a[1] != '-')
             return bad_arg(a, NULL, "unexpected argument");
+        if (!takes_value(a))
+            return bad_arg(a, NULL, "unknown option");
         if (i + 1 >= argc)
             return bad_arg(a, NULL, "needs a value");
         const char *v = argv[++i];
