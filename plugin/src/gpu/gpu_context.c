@@ -600,6 +600,7 @@ xrsc_result gpu_cmd_submit_wait(gpu_context *ctx, VkCommandBuffer cmd, xrsc_diag
         .pCommandBuffers = &cmd,
     };
     GPU_CHECK(res, diag, done, vkResetFences(ctx->device, 1, &ctx->fence));
+    ctx->submit_count++;
     GPU_CHECK(res, diag, done, vkQueueSubmit(ctx->queue, 1, &si, ctx->fence));
     GPU_CHECK(res, diag, done, vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, UINT64_MAX));
 done:

@@ -54,6 +54,8 @@ typedef struct gpu_context {
     bool atomic_float; /**< VK_EXT_shader_atomic_float enabled (buffer/image float32 add) */
     uint32_t validation_errors; /**< ERROR-severity validation messages seen */
     uint32_t device_index;      /**< physical-device index chosen */
+    uint64_t submit_count;      /**< vkQueueSubmit calls so far (the only one is in
+                                 *   gpu_cmd_submit_wait); tests count submissions per frame */
 } gpu_context;
 
 /**
