@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file me_internal.h
+ * @brief Helpers shared by the metrics files: option defaults and input checks.
+ */
+#pragma once
+
+#include "xrsc/xrsc_metrics.h"
+
+#include <stddef.h>
+
+/** A copy of options (NULL allowed) with zero fields replaced by the documented defaults. */
+xrsc_metrics_options me_options_fill(const xrsc_metrics_options *options);
+
+/**
+ * Checks a w*h image of `channels` floats per pixel: non-NULL, non-zero size whose element
+ * count fits size_t, every value finite. Writes the pixel count to out_pixels.
+ */
+xrsc_result me_check_image(const float *data, uint32_t width, uint32_t height, unsigned channels,
+                           size_t *out_pixels);
+
+/** Luminance clamped to [0, L] and divided by L (L = options->display_range). */
+double me_display_luminance(const float rgba[4], double display_range);
