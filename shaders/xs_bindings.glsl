@@ -15,14 +15,20 @@
 #ifndef XS_BINDINGS_GLSL
 #define XS_BINDINGS_GLSL
 
+/* Compute shaders define XS_NO_TLAS before including this file: the TLAS type needs a
+ * ray-tracing capability there (spirv-val), and they trace nothing. */
+#ifndef XS_NO_TLAS
 #extension GL_EXT_ray_tracing : require
+#endif
 #extension GL_EXT_nonuniform_qualifier : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 
 #include "xrsc_shared.h"
 
+#ifndef XS_NO_TLAS
 layout(set = 0, binding = XS_BIND_TLAS) uniform accelerationStructureEXT xs_tlas;
+#endif
 
 layout(set = 0, binding = XS_BIND_FRAME, std140) uniform XsFrameBlock
 {

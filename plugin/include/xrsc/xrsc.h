@@ -83,9 +83,15 @@ void xrsc_scene_get_info(const xrsc_scene *scene, xrsc_scene_info *out_info);
  * - XRSC_METHOD_SPP: path tracer, N samples per pixel per frame (seed 000 §5.1).
  * - XRSC_METHOD_PRIMARY: one primary ray per pixel through its centre, no shading: colour is
  *   the first hit's albedo (environment for misses). For previews and primary-ray Mrays/s.
+ * - XRSC_METHOD_SAMPLECACHE: the per-eye sample cache of seed 000 §3 (reproject, trace mask,
+ *   density control, trace, shade, reconstruct), options ::xrsc_samplecache_options.
  */
-typedef enum xrsc_method { XRSC_METHOD_SPP = 0, XRSC_METHOD_PRIMARY = 1 } xrsc_method;
-/** "spp" / "primary"; NULL for unknown values. */
+typedef enum xrsc_method {
+    XRSC_METHOD_SPP = 0,
+    XRSC_METHOD_PRIMARY = 1,
+    XRSC_METHOD_SAMPLECACHE = 2,
+} xrsc_method;
+/** "spp" / "primary" / "samplecache"; NULL for unknown values. */
 const char *xrsc_method_name(xrsc_method method);
 /** Parses a method name; XRSC_ERROR_UNKNOWN_METHOD when unknown. */
 xrsc_result xrsc_method_from_name(const char *name, xrsc_method *out_method);
@@ -106,12 +112,69 @@ typedef struct xrsc_spp_options {
     bool no_jitter;
 } xrsc_spp_options;
 
+/** Which samples the sample cache retraces each frame (seed 000 §3.2, §3.4). */
+typedef enum xrsc_sc_trace {
+    XRSC_SC_TRACE_DEFAULT = 0, /**< adaptive */
+    XRSC_SC_TRACE_SINGLE,      /**< one sample per pixel, round robin over the slots */
+    XRSC_SC_TRACE_MULTI,       /**< every sample, every frame */
+    XRSC_SC_TRACE_ADAPTIVE,    /**< one per block x block pixels + all samples at edges (Eq. 2) */
+} xrsc_sc_trace;
+/** Forward reprojection variant (seed 000 §3.1, Fig. 6). */
+typedef enum xrsc_sc_reproject {
+    XRSC_SC_REPROJECT_DEFAULT = 0, /**< 1pass */
+    XRSC_SC_REPROJECT_1PASS,       /**< reserve and write in one pass (Listing 2) */
+    XRSC_SC_REPROJECT_2PASS,       /**< reserve (source addresses), then copy */
+} xrsc_sc_reproject;
+/** Which cached samples are re-shaded each frame (seed 000 §3.3, §3.5). */
+typedef enum xrsc_sc_shade {
+    XRSC_SC_SHADE_DEFAULT = 0, /**< uniform */
+    XRSC_SC_SHADE_UNIFORM,     /**< one visible sample per pixel, round robin */
+    XRSC_SC_SHADE_ADAPTIVE,    /**< base rate + importance 1/(1+c_s) histogram at shade_rate */
+} xrsc_sc_shade;
+/** Temporal blend factor of the shading cache (seed 000 App. C). */
+typedef enum xrsc_sc_alpha {
+    XRSC_SC_ALPHA_DEFAULT = 0, /**< clamped */
+    XRSC_SC_ALPHA_CLAMPED,     /**< max(1/(c_s+1), alpha_min(roughness)) for metal/glass lobes */
+    XRSC_SC_ALPHA_FIXED,       /**< max(1/(c_s+1), alpha_fixed) for every sample */
+} xrsc_sc_alpha;
+
+/**
+ * Options of the `samplecache` method (seed 000 §3). Zero fields mean the paper's defaults
+ * (§4, §3.2, §3.4, App. C): slots N = 12 (1..16: a 32-bit mask, 2 bits per slot),
+ * n_target = 4, delta = 1 (density n_target +- delta over 3 x 3), eps0 = 0.001 (retrace:
+ * relative distance), eps1 = 0.005 (Eq. 2), block = 4 (one traced / shaded sample per 4 x 4
+ * block as base rate), trace adaptive, reprojection 1pass, shading cache on, shading uniform,
+ * shade_rate = 1 (shadings per pixel per frame in adaptive shading, 1 = 100 %), alpha clamped
+ * (App. C), alpha_fixed = 0.1 (used by XRSC_SC_ALPHA_FIXED), max_bounces as
+ * ::xrsc_spp_options (0: 3; XRSC_BOUNCES_NONE: none) for the shading paths. A zero float
+ * cannot be asked for: use a tiny value (e.g. delta 1e-6).
+ * no_shading_cache: radiance is not kept between frames (only visibility is cached; each
+ * frame's shaded samples alone make the colour).
+ */
+typedef struct xrsc_samplecache_options {
+    uint32_t slots;
+    float n_target;
+    float delta;
+    float eps0;
+    float eps1;
+    uint32_t block;
+    xrsc_sc_trace trace;
+    xrsc_sc_reproject reproject;
+    bool no_shading_cache;
+    xrsc_sc_shade shade;
+    float shade_rate;
+    xrsc_sc_alpha alpha;
+    float alpha_fixed;
+    uint32_t max_bounces;
+} xrsc_samplecache_options;
+
 /** Renderer options. width/height per eye (default 256 x 256); seed 0 is a valid seed. */
 typedef struct xrsc_renderer_options {
     xrsc_method method;
     uint32_t width, height;
     uint32_t seed;
     xrsc_spp_options spp;
+    xrsc_samplecache_options samplecache;
 } xrsc_renderer_options;
 
 /** One eye's view. */
@@ -140,6 +203,10 @@ typedef enum xrsc_output {
     XRSC_OUTPUT_ALBEDO, /**< float RGBA, demodulated first-hit albedo */
     XRSC_OUTPUT_DEPTH,  /**< float, view-space distance along -Z (m), 0 = background */
     XRSC_OUTPUT_HIT_ID, /**< uint32 x4: instance (UINT32_MAX = miss), primitive, bary u, v bits */
+    /** float RGBA, `samplecache` only: raw moments of the pixel (seed 000 Eq. 5), rgb = mu_1
+     *  (resp. mu_2) per channel, a = c_X (Eq. 6, the pixel's effective sample count). */
+    XRSC_OUTPUT_MU1,
+    XRSC_OUTPUT_MU2,
 } xrsc_output;
 
 /** Bytes one eye's image of that output takes (width * height * texel size). */
@@ -161,7 +228,8 @@ typedef struct xrsc_pass_timing {
  * position after the first frame). The first is always "tlas": the update of moved
  * (animated) instances and of the TLAS, about 0 ms when nothing moved (static scenes, or the
  * same display time as the last frame). Then the method's passes: `spp` and `primary` have
- * one, "trace" (both eyes). Read-back copies for xrsc_renderer_read are not timed.
+ * one, "trace" (both eyes); `samplecache` has "reproject", "trace_mask", "density", "trace",
+ * "shade", "reconstruct". Read-back copies for xrsc_renderer_read are not timed.
  */
 uint32_t xrsc_renderer_timings(const xrsc_renderer *renderer, xrsc_pass_timing *out,
                                uint32_t max_count);

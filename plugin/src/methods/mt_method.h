@@ -34,6 +34,10 @@ struct mt_method {
     /** Rays traced in the last frame. */
     uint64_t (*rays_last_frame)(const mt_method *m);
     void (*destroy)(mt_method *m);
+    /** Optional (NULL: not offered): the GPU image holding output for both eyes (layer =
+     *  eye, layout GENERAL, valid after render returned), for copies on the GPU (the XR
+     *  front end's swapchain copies); NULL if the output is not produced. */
+    const gpu_image *(*output_image)(const mt_method *m, xrsc_output output);
 };
 
 /** What every method renders with: borrowed pointers that outlive the method. */
@@ -67,6 +71,11 @@ static inline uint32_t mt_method_timings(const mt_method *m, xrsc_pass_timing *o
 static inline uint64_t mt_method_rays_last_frame(const mt_method *m)
 {
     return m->rays_last_frame(m);
+}
+/** The output's GPU image, or NULL when the method does not offer it. */
+static inline const gpu_image *mt_method_output_image(const mt_method *m, xrsc_output output)
+{
+    return m->output_image ? m->output_image(m, output) : NULL;
 }
 /** Destroys the method; accepts NULL and sets *m to NULL. */
 static inline void mt_method_destroy(mt_method **m)

@@ -46,6 +46,11 @@ static uint32_t primary_timings(const mt_method *m, xrsc_pass_timing *out, uint3
 
 static uint64_t primary_rays(const mt_method *m) { return ((const mt_primary *)m)->trace.rays; }
 
+static const gpu_image *primary_output_image(const mt_method *m, xrsc_output output)
+{
+    return mt_trace_output_image(&((const mt_primary *)m)->trace, output);
+}
+
 static void primary_destroy(mt_method *m)
 {
     mt_primary *p = (mt_primary *)m;
@@ -72,6 +77,7 @@ xrsc_result mt_primary_create(const mt_env *env, mt_method **out, xrsc_diag *dia
         .timings = primary_timings,
         .rays_last_frame = primary_rays,
         .destroy = primary_destroy,
+        .output_image = primary_output_image,
     };
     *out = &p->base;
     return XRSC_OK;

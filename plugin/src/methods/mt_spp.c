@@ -77,6 +77,11 @@ static uint32_t spp_timings(const mt_method *m, xrsc_pass_timing *out, uint32_t 
 
 static uint64_t spp_rays(const mt_method *m) { return ((const mt_spp *)m)->trace.rays; }
 
+static const gpu_image *spp_output_image(const mt_method *m, xrsc_output output)
+{
+    return mt_trace_output_image(&((const mt_spp *)m)->trace, output);
+}
+
 static void spp_destroy(mt_method *m)
 {
     mt_spp *s = (mt_spp *)m;
@@ -110,6 +115,7 @@ xrsc_result mt_spp_create(const mt_env *env, const xrsc_spp_options *options, mt
         .timings = spp_timings,
         .rays_last_frame = spp_rays,
         .destroy = spp_destroy,
+        .output_image = spp_output_image,
     };
     *out = &s->base;
     return XRSC_OK;

@@ -191,8 +191,15 @@ static const gpu_image *output_image(const mt_trace *t, xrsc_output output)
         return &t->depth;
     case XRSC_OUTPUT_HIT_ID:
         return &t->hitid;
+    default: /* method-specific outputs (e.g. the sample cache's moments) */
+        break;
     }
     return NULL;
+}
+
+const gpu_image *mt_trace_output_image(const mt_trace *t, xrsc_output output)
+{
+    return output_image(t, output);
 }
 
 size_t mt_trace_output_size(const mt_trace *t, xrsc_output output)

@@ -80,6 +80,8 @@ void mt_trace_frame_done(mt_trace *t, bool ok);
 xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc_diag *diag);
 
 size_t mt_trace_output_size(const mt_trace *t, xrsc_output output);
+/** The output's image (2 layers, GENERAL), NULL if this method does not produce it. */
+const gpu_image *mt_trace_output_image(const mt_trace *t, xrsc_output output);
 xrsc_result mt_trace_read(mt_trace *t, uint32_t eye, xrsc_output output, void *dst,
                           size_t dst_size, xrsc_diag *diag);
 uint32_t mt_trace_timings(const mt_trace *t, xrsc_pass_timing *out, uint32_t max_count);

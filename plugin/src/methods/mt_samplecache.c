@@ -1,0 +1,629 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file mt_samplecache.c
+ * @brief Method `samplecache`: the per-eye sample cache of seed 000 §3 (reprojection, trace
+ *        mask, density control, tracing, shading, reconstruction) on compute and ray-tracing
+ *        programs, both eyes per dispatch (z = eye).
+ */
+#include "mt_samplecache.h"
+
+#include "mt_trace.h"
+#include "u_diag.h"
+#include "xs_sc_math.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+_Static_assert(XS_SC_TRACE_SINGLE == XRSC_SC_TRACE_SINGLE - 1 &&
+                   XS_SC_TRACE_MULTI == XRSC_SC_TRACE_MULTI - 1 &&
+                   XS_SC_TRACE_ADAPTIVE == XRSC_SC_TRACE_ADAPTIVE - 1,
+               "trace modes: public value - 1");
+_Static_assert(XS_SC_SHADE_UNIFORM == XRSC_SC_SHADE_UNIFORM - 1 &&
+                   XS_SC_SHADE_ADAPTIVE == XRSC_SC_SHADE_ADAPTIVE - 1,
+               "shading modes: public value - 1");
+_Static_assert(XS_SC_ALPHA_CLAMPED == XRSC_SC_ALPHA_CLAMPED - 1 &&
+                   XS_SC_ALPHA_FIXED == XRSC_SC_ALPHA_FIXED - 1,
+               "alpha modes: public value - 1");
+
+/* Self-test dispatch width (local_size_x of sc_selftest.comp). */
+#define MT_SC_SELFTEST_GROUP 64u
+/* Fill value of the closest-depth words: "no sample" for the 64-bit atomicMin. */
+#define MT_SC_DEPTH_MIN_NONE 0xFFFFFFFFu
+
+enum {
+    PROG_REPROJECT,
+    PROG_COPY,
+    PROG_TRACE_MASK,
+    PROG_DENSITY,
+    PROG_SHADE_SELECT,
+    PROG_RECONSTRUCT,
+    PROG_COUNT
+};
+static const char *const prog_shader[PROG_COUNT] = {
+    "sc_reproject.comp", "sc_copy.comp",         "sc_trace_mask.comp",
+    "sc_density.comp",   "sc_shade_select.comp", "sc_reconstruct.comp",
+};
+
+/* The cache bindings (set 1 of the ray-tracing programs). */
+static const gpu_binding cache_bindings[] = {
+    {XS_SC_BIND_PARAMS, GPU_BINDING_UNIFORM_BUFFER, 1},
+    {XS_SC_BIND_MASK, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_SC_BIND_FH, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_SC_BIND_RAD, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_SC_BIND_DEPTH_MIN, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_SC_BIND_DEPTH_MAX, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_SC_BIND_SRC, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_SC_BIND_PLAN, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_SC_BIND_STATS, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_SC_BIND_SHADE_LIST, GPU_BINDING_STORAGE_BUFFER, 1},
+};
+#define CACHE_BINDING_COUNT (sizeof(cache_bindings) / sizeof(cache_bindings[0]))
+
+typedef struct mt_samplecache {
+    mt_method base;
+    mt_trace trace; /**< sc_trace.rgen + outputs, frame UBO, ray counter, timer, read-back */
+    gpu_rt_program shade;
+    gpu_compute_program prog[PROG_COUNT];
+    gpu_buffer params; /**< xs_sc_params, host-visible */
+    gpu_buffer mask, fh, rad, depth_min, depth_max, src, plan, stats, shade_list;
+    gpu_image mu1, mu2;
+    xrsc_samplecache_options opt; /**< defaults filled in */
+    xs_sc_params p;
+    uint32_t plane;  /**< 2 * width * height */
+    uint32_t frames; /**< rendered so far (0: the previous copy must be cleared) */
+} mt_samplecache;
+
+_Static_assert(offsetof(mt_samplecache, base) == 0, "base first");
+
+/* Adaptive shading chooses rate x pixels samples in expectation (coin tosses): the shade list
+ * holds that with this much headroom (plus the base rate); more are dropped that frame. */
+#define MT_SC_SHADE_HEADROOM 1.25
+
+/** Entries of the shade list for both eyes: uniform shading needs one per pixel. */
+static uint32_t shade_capacity(const xrsc_samplecache_options *o, uint32_t w, uint32_t h)
+{
+    double px = 2.0 * w * h;
+    double per_pixel = 1.0;
+    if (o->shade == XRSC_SC_SHADE_ADAPTIVE)
+        per_pixel = o->shade_rate * MT_SC_SHADE_HEADROOM + 1.0 / ((double)o->block * o->block);
+    if (per_pixel > o->slots)
+        per_pixel = o->slots;
+    if (per_pixel < 1.0)
+        per_pixel = 1.0;
+    return (uint32_t)ceil(px * per_pixel);
+}
+
+static void fill_defaults(xrsc_samplecache_options *o)
+{
+    if (o->slots == 0)
+        o->slots = XS_SC_DEFAULT_SLOTS;
+    if (o->n_target == 0.0f)
+        o->n_target = (float)XS_SC_DEFAULT_N_TARGET;
+    if (o->delta == 0.0f)
+        o->delta = (float)XS_SC_DEFAULT_DELTA;
+    if (o->eps0 == 0.0f)
+        o->eps0 = (float)XS_SC_DEFAULT_EPS0;
+    if (o->eps1 == 0.0f)
+        o->eps1 = (float)XS_SC_DEFAULT_EPS1;
+    if (o->block == 0)
+        o->block = XS_SC_DEFAULT_BLOCK;
+    if (o->trace == XRSC_SC_TRACE_DEFAULT)
+        o->trace = XRSC_SC_TRACE_ADAPTIVE;
+    if (o->reproject == XRSC_SC_REPROJECT_DEFAULT)
+        o->reproject = XRSC_SC_REPROJECT_1PASS;
+    if (o->shade == XRSC_SC_SHADE_DEFAULT)
+        o->shade = XRSC_SC_SHADE_UNIFORM;
+    if (o->shade_rate == 0.0f)
+        o->shade_rate = (float)XS_SC_DEFAULT_SHADE_RATE;
+    if (o->alpha == XRSC_SC_ALPHA_DEFAULT)
+        o->alpha = XRSC_SC_ALPHA_CLAMPED;
+    if (o->alpha_fixed == 0.0f)
+        o->alpha_fixed = (float)XS_SC_DEFAULT_ALPHA_FIXED;
+    if (o->max_bounces == 0)
+        o->max_bounces = XS_DEFAULT_MAX_BOUNCES;
+}
+
+/** The compute programs' set 0: the ray-tracing programs' set 0 (the compute shaders never
+ *  read the TLAS, but gpu_scene_write_descriptors writes it), then the cache's bindings and
+ *  the moment images. */
+static uint32_t compute_bindings(gpu_binding *out)
+{
+    uint32_t n0, n = 0;
+    const gpu_binding *b0 = gpu_rt_set0_bindings(&n0);
+    for (uint32_t i = 0; i < n0; i++)
+        out[n++] = b0[i];
+    for (uint32_t i = 0; i < CACHE_BINDING_COUNT; i++)
+        out[n++] = cache_bindings[i];
+    out[n++] = (gpu_binding){XS_SC_BIND_OUT_MU1, GPU_BINDING_STORAGE_IMAGE, 1};
+    out[n++] = (gpu_binding){XS_SC_BIND_OUT_MU2, GPU_BINDING_STORAGE_IMAGE, 1};
+    return n;
+}
+
+/** Writes the frame, outputs, ray counter (and scene) bindings of mt_trace's set 0 into d. */
+static void write_set0(mt_samplecache *s, gpu_descriptors *d)
+{
+    gpu_context *ctx = s->trace.env.gpu;
+    mt_trace *t = &s->trace;
+    gpu_scene_write_descriptors(ctx, t->env.scene, d);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_FRAME, &t->frame_ubo);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_COLOR, &t->color);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_ALBEDO, &t->albedo);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_DEPTH, &t->depth);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_HITID, &t->hitid);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_ACCUM, &t->accum);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_RAY_COUNTER, &t->ray_counter);
+}
+
+static void write_cache(mt_samplecache *s, gpu_descriptors *d)
+{
+    gpu_context *ctx = s->trace.env.gpu;
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_PARAMS, &s->params);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_MASK, &s->mask);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_FH, &s->fh);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_RAD, &s->rad);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_DEPTH_MIN, &s->depth_min);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_DEPTH_MAX, &s->depth_max);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_SRC, &s->src);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_PLAN, &s->plan);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_STATS, &s->stats);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_SHADE_LIST, &s->shade_list);
+}
+
+/** Angle subtended by the diagonal of the centre pixel of an eye (Eq. 1's phi). */
+static float pixel_phi(const XrFovf *fov, uint32_t w, uint32_t h)
+{
+    double dx = (tan(fov->angleRight) - tan(fov->angleLeft)) / w;
+    double dy = (tan(fov->angleUp) - tan(fov->angleDown)) / h;
+    return (float)atan(sqrt(dx * dx + dy * dy));
+}
+
+static void cmd_fill(VkCommandBuffer cmd, const gpu_buffer *b, VkDeviceSize offset,
+                     VkDeviceSize size, uint32_t value)
+{
+    vkCmdFillBuffer(cmd, b->buffer, offset, size, value);
+}
+
+static void dispatch(VkCommandBuffer cmd, const mt_samplecache *s, int prog)
+{
+    uint32_t gx = (s->trace.env.width + XS_SC_GROUP - 1) / XS_SC_GROUP;
+    uint32_t gy = (s->trace.env.height + XS_SC_GROUP - 1) / XS_SC_GROUP;
+    gpu_compute_program_cmd_dispatch(cmd, &s->prog[prog], NULL, gx, gy, 2);
+}
+
+static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *diag)
+{
+    mt_samplecache *s = (mt_samplecache *)m;
+    mt_trace *t = &s->trace;
+    gpu_context *ctx = t->env.gpu;
+    uint32_t w = t->env.width, h = t->env.height;
+
+    xs_frame xf;
+    mt_trace_frame_constants(t, frame, &xf);
+    xf.max_bounces = s->opt.max_bounces == XRSC_BOUNCES_NONE ? 0u : s->opt.max_bounces;
+    xf.jitter = 1;
+    memcpy(t->frame_ubo.mapped, &xf, sizeof(xf));
+    gpu_buffer_flush(ctx, &t->frame_ubo);
+
+    s->p.cur = s->frames & 1u;
+    s->p.phi_left = pixel_phi(&frame->views[0].fov, w, h);
+    s->p.phi_right = pixel_phi(&frame->views[1].fov, w, h);
+    memcpy(s->params.mapped, &s->p, sizeof(s->p));
+    gpu_buffer_flush(ctx, &s->params);
+
+    VkCommandBuffer cmd;
+    xrsc_result res = gpu_cmd_begin(ctx, &cmd, diag);
+    if (res != XRSC_OK)
+        return res;
+    gpu_cmd_barrier_all(cmd);
+    gpu_timer_cmd_reset(cmd, &t->timer);
+    mt_trace_cmd_scene_update(t, cmd);
+
+    VkDeviceSize plane = s->plane;
+    VkDeviceSize cur = s->p.cur;
+    uint32_t pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_REPROJECT);
+    if (s->frames == 0) { /* empty history: clear the previous copy's masks and statistics */
+        cmd_fill(cmd, &s->mask, 0, VK_WHOLE_SIZE, 0);
+        cmd_fill(cmd, &s->stats, 0, VK_WHOLE_SIZE, 0);
+    }
+    cmd_fill(cmd, &s->mask, cur * plane * sizeof(uint32_t), plane * sizeof(uint32_t), 0);
+    cmd_fill(cmd, &s->stats, cur * 2 * sizeof(xs_sc_stats), 2 * sizeof(xs_sc_stats), 0);
+    cmd_fill(cmd, &s->depth_min, 0, VK_WHOLE_SIZE, MT_SC_DEPTH_MIN_NONE);
+    cmd_fill(cmd, &s->depth_max, 0, VK_WHOLE_SIZE, 0);
+    if (s->p.two_pass)
+        cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cmd, t->ray_counter.buffer, 0, sizeof(uint64_t), 0);
+    gpu_cmd_barrier_all(cmd);
+    dispatch(cmd, s, PROG_REPROJECT);
+    if (s->p.two_pass) {
+        gpu_cmd_barrier_all(cmd);
+        dispatch(cmd, s, PROG_COPY);
+    }
+    gpu_timer_cmd_end(cmd, &t->timer, pass);
+    gpu_cmd_barrier_all(cmd);
+
+    pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_TRACE_MASK);
+    dispatch(cmd, s, PROG_TRACE_MASK);
+    gpu_timer_cmd_end(cmd, &t->timer, pass);
+    gpu_cmd_barrier_all(cmd);
+
+    pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_DENSITY);
+    dispatch(cmd, s, PROG_DENSITY);
+    gpu_timer_cmd_end(cmd, &t->timer, pass);
+    gpu_cmd_barrier_all(cmd);
+
+    pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_TRACE);
+    gpu_rt_program_cmd_trace(ctx, cmd, &t->program, NULL, w, h, 2);
+    gpu_timer_cmd_end(cmd, &t->timer, pass);
+    gpu_cmd_barrier_all(cmd);
+
+    pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_SHADE);
+    cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0);
+    gpu_cmd_barrier_all(cmd);
+    dispatch(cmd, s, PROG_SHADE_SELECT);
+    gpu_cmd_barrier_all(cmd);
+    /* one invocation per shade-list entry, rows of width w (entries past the count exit) */
+    gpu_rt_program_cmd_trace(ctx, cmd, &s->shade, NULL, w, (s->p.shade_capacity + w - 1) / w, 1);
+    gpu_timer_cmd_end(cmd, &t->timer, pass);
+    gpu_cmd_barrier_all(cmd);
+
+    pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_RECONSTRUCT);
+    dispatch(cmd, s, PROG_RECONSTRUCT);
+    gpu_timer_cmd_end(cmd, &t->timer, pass);
+    gpu_cmd_barrier_all(cmd);
+
+    VkBufferCopy region = {0, 0, sizeof(uint64_t)};
+    vkCmdCopyBuffer(cmd, t->ray_counter.buffer, t->ray_readback.buffer, 1, &region);
+    mt_trace_cmd_stage_outputs(t, cmd);
+    gpu_cmd_barrier_all(cmd);
+    res = gpu_cmd_submit_wait(ctx, cmd, diag);
+    mt_trace_frame_done(t, res == XRSC_OK);
+    if (res != XRSC_OK)
+        return res;
+    s->frames++;
+    if ((res = gpu_timer_resolve(ctx, &t->timer, diag)) != XRSC_OK)
+        return res;
+    gpu_buffer_invalidate(ctx, &t->ray_readback);
+    memcpy(&t->rays, t->ray_readback.mapped, sizeof(uint64_t));
+    return XRSC_OK;
+}
+
+static size_t sc_output_size(const mt_method *m, xrsc_output output)
+{
+    const mt_samplecache *s = (const mt_samplecache *)m;
+    if (output == XRSC_OUTPUT_MU1 || output == XRSC_OUTPUT_MU2)
+        return (size_t)s->mu1.width * s->mu1.height * s->mu1.texel_size;
+    return mt_trace_output_size(&s->trace, output);
+}
+
+static xrsc_result sc_read(mt_method *m, uint32_t eye, xrsc_output output, void *dst,
+                           size_t dst_size, xrsc_diag *diag)
+{
+    mt_samplecache *s = (mt_samplecache *)m;
+    if (output == XRSC_OUTPUT_MU1 || output == XRSC_OUTPUT_MU2) {
+        if (eye > 1)
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "eye", "eye %u", eye);
+        const gpu_image *img = output == XRSC_OUTPUT_MU1 ? &s->mu1 : &s->mu2;
+        return gpu_image_read_layer(s->trace.env.gpu, img, eye, dst, dst_size, diag);
+    }
+    return mt_trace_read(&s->trace, eye, output, dst, dst_size, diag);
+}
+
+static const gpu_image *sc_output_image(const mt_method *m, xrsc_output output)
+{
+    const mt_samplecache *s = (const mt_samplecache *)m;
+    if (output == XRSC_OUTPUT_MU1)
+        return &s->mu1;
+    if (output == XRSC_OUTPUT_MU2)
+        return &s->mu2;
+    return mt_trace_output_image(&s->trace, output);
+}
+
+static uint32_t sc_timings(const mt_method *m, xrsc_pass_timing *out, uint32_t max_count)
+{
+    return mt_trace_timings(&((const mt_samplecache *)m)->trace, out, max_count);
+}
+
+static uint64_t sc_rays(const mt_method *m)
+{
+    return ((const mt_samplecache *)m)->trace.rays;
+}
+
+static void sc_destroy(mt_method *m)
+{
+    mt_samplecache *s = (mt_samplecache *)m;
+    gpu_context *ctx = s->trace.env.gpu;
+    if (ctx) {
+        vkDeviceWaitIdle(ctx->device);
+        for (int i = 0; i < PROG_COUNT; i++)
+            gpu_compute_program_destroy(ctx, &s->prog[i]);
+        gpu_rt_program_destroy(ctx, &s->shade);
+        gpu_image_destroy(ctx, &s->mu2);
+        gpu_image_destroy(ctx, &s->mu1);
+        gpu_buffer_destroy(ctx, &s->shade_list);
+        gpu_buffer_destroy(ctx, &s->stats);
+        gpu_buffer_destroy(ctx, &s->plan);
+        gpu_buffer_destroy(ctx, &s->src);
+        gpu_buffer_destroy(ctx, &s->depth_max);
+        gpu_buffer_destroy(ctx, &s->depth_min);
+        gpu_buffer_destroy(ctx, &s->rad);
+        gpu_buffer_destroy(ctx, &s->fh);
+        gpu_buffer_destroy(ctx, &s->mask);
+        gpu_buffer_destroy(ctx, &s->params);
+        mt_trace_fini(&s->trace);
+    }
+    free(s);
+}
+
+static xrsc_result create_storage(gpu_context *ctx, VkDeviceSize size, gpu_buffer *out,
+                                  xrsc_diag *diag)
+{
+    return gpu_buffer_create(ctx, size,
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                             GPU_MEMORY_DEVICE, out, diag);
+}
+
+xrsc_result mt_samplecache_create(const mt_env *env, const xrsc_samplecache_options *options,
+                                  mt_method **out, xrsc_diag *diag)
+{
+    *out = NULL;
+    xrsc_samplecache_options o = {0};
+    if (options)
+        o = *options;
+    fill_defaults(&o);
+    uint64_t plane = 2ull * env->width * env->height;
+    if (o.slots > XS_SC_MAX_SLOTS)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "slots",
+                          "%u slots > %u (2 mask bits per slot in 32 bits)", o.slots,
+                          XS_SC_MAX_SLOTS);
+    if (o.slots * plane >= XS_SC_SRC_ADDR_MASK)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "slots",
+                          "%u slots x %ux%u x 2 eyes exceed the 31-bit sample addresses", o.slots,
+                          env->width, env->height);
+    if (env->cpu_scene && env->cpu_scene->material_count > XS_SC_MAX_MATERIALS)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "materials",
+                          "%u materials > %u (Listing 1 packs 16 material bits)",
+                          env->cpu_scene->material_count, XS_SC_MAX_MATERIALS);
+    if (o.n_target < 1.0f || o.delta < 0.0f || o.eps0 < 0.0f || o.eps1 < 0.0f ||
+        o.shade_rate < 0.0f || !(o.alpha_fixed > 0.0f && o.alpha_fixed <= 1.0f) ||
+        o.trace > XRSC_SC_TRACE_ADAPTIVE || o.reproject > XRSC_SC_REPROJECT_2PASS ||
+        o.shade > XRSC_SC_SHADE_ADAPTIVE || o.alpha > XRSC_SC_ALPHA_FIXED)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "samplecache",
+                          "option out of range");
+
+    mt_samplecache *s = calloc(1, sizeof(*s));
+    if (!s)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+    s->opt = o;
+    s->plane = (uint32_t)plane;
+    s->p = (xs_sc_params){
+        .slots = o.slots,
+        .trace_mode = (uint32_t)o.trace - 1u,
+        .two_pass = o.reproject == XRSC_SC_REPROJECT_2PASS ? 1u : 0u,
+        .shade_cache = o.no_shading_cache ? 0u : 1u,
+        .shade_mode = (uint32_t)o.shade - 1u,
+        .alpha_mode = (uint32_t)o.alpha - 1u,
+        .block = o.block,
+        .n_target = o.n_target,
+        .delta = o.delta,
+        .eps0 = o.eps0,
+        .eps1 = o.eps1,
+        .shade_rate = o.shade_rate,
+        .alpha_fixed = o.alpha_fixed,
+    };
+    s->p.shade_capacity = shade_capacity(&o, env->width, env->height);
+    s->base = (mt_method){
+        .name = "samplecache",
+        .render = sc_render,
+        .output_size = sc_output_size,
+        .read = sc_read,
+        .timings = sc_timings,
+        .rays_last_frame = sc_rays,
+        .destroy = sc_destroy,
+        .output_image = sc_output_image,
+    };
+    gpu_context *ctx = env->gpu;
+    xrsc_result res;
+    gpu_rt_program_desc trace_desc = {
+        .raygen = "sc_trace.rgen", .set1 = cache_bindings, .set1_count = CACHE_BINDING_COUNT};
+    if ((res = mt_trace_init_program(&s->trace, env, &trace_desc, diag)) != XRSC_OK) {
+        free(s);
+        return res;
+    }
+    /* from here on sc_destroy frees whatever was created */
+    VkDeviceSize slot_plane = (VkDeviceSize)o.slots * plane;
+    /* the 2-pass address buffer only when used (a 16-byte stub keeps the binding valid) */
+    VkDeviceSize src_size = s->p.two_pass ? slot_plane * sizeof(uint32_t) : 0;
+    if ((res = gpu_buffer_create(ctx, sizeof(xs_sc_params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                 GPU_MEMORY_UPLOAD, &s->params, diag)) != XRSC_OK ||
+        (res = create_storage(ctx, 2 * plane * sizeof(uint32_t), &s->mask, diag)) != XRSC_OK ||
+        (res = create_storage(ctx, 2 * slot_plane * 16, &s->fh, diag)) != XRSC_OK ||
+        (res = create_storage(ctx, (s->p.shade_cache ? 2 : 1) * slot_plane * 16, &s->rad, diag)) !=
+            XRSC_OK ||
+        (res = create_storage(ctx, plane * sizeof(uint64_t), &s->depth_min, diag)) != XRSC_OK ||
+        (res = create_storage(ctx, plane * sizeof(uint32_t), &s->depth_max, diag)) != XRSC_OK ||
+        (res = create_storage(ctx, src_size, &s->src, diag)) != XRSC_OK ||
+        (res = create_storage(ctx, plane * 16, &s->plan, diag)) != XRSC_OK ||
+        (res = create_storage(ctx, 4 * sizeof(xs_sc_stats), &s->stats, diag)) != XRSC_OK ||
+        (res = create_storage(
+             ctx, (XS_SC_SHADE_LIST_HEADER + (VkDeviceSize)s->p.shade_capacity) * sizeof(uint32_t),
+             &s->shade_list, diag)) != XRSC_OK ||
+        (res = gpu_image_create_storage(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, env->width, env->height,
+                                        2, &s->mu1, diag)) != XRSC_OK ||
+        (res = gpu_image_create_storage(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, env->width, env->height,
+                                        2, &s->mu2, diag)) != XRSC_OK)
+        goto fail;
+
+    gpu_rt_program_desc shade_desc = {
+        .raygen = "sc_shade.rgen", .set1 = cache_bindings, .set1_count = CACHE_BINDING_COUNT};
+    if ((res = gpu_rt_program_create(ctx, &shade_desc, &s->shade, diag)) != XRSC_OK)
+        goto fail;
+    gpu_binding cb[GPU_MAX_BINDINGS];
+    uint32_t cb_count = compute_bindings(cb);
+    for (int i = 0; i < PROG_COUNT; i++)
+        if ((res = gpu_compute_program_create(ctx, prog_shader[i], cb, cb_count, 0, &s->prog[i],
+                                              diag)) != XRSC_OK)
+            goto fail;
+
+    write_cache(s, &s->trace.program.set1);
+    write_set0(s, &s->shade.set0);
+    write_cache(s, &s->shade.set1);
+    for (int i = 0; i < PROG_COUNT; i++) {
+        write_set0(s, &s->prog[i].set0);
+        write_cache(s, &s->prog[i].set0);
+        gpu_descriptors_write_storage_image(ctx, &s->prog[i].set0, XS_SC_BIND_OUT_MU1, &s->mu1);
+        gpu_descriptors_write_storage_image(ctx, &s->prog[i].set0, XS_SC_BIND_OUT_MU2, &s->mu2);
+    }
+    *out = &s->base;
+    return XRSC_OK;
+fail:
+    sc_destroy(&s->base);
+    return res;
+}
+
+const xrsc_samplecache_options *mt_samplecache_options(const mt_method *m)
+{
+    return &((const mt_samplecache *)m)->opt;
+}
+
+void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, double *out_working)
+{
+    const mt_samplecache *s = (const mt_samplecache *)m;
+    double n = s->opt.slots;
+    double rad_copies = s->p.shade_cache ? 2.0 : 1.0;
+    /* per copy: mask 4 B, first hits 16 B per slot, radiance 16 B per slot */
+    *out_resident = 2.0 * (4.0 + 16.0 * n) + rad_copies * 16.0 * n;
+    /* depth_min 8 + depth_max 4 + plan 16, 4 B per slot for 2-pass addresses, the shade list */
+    *out_working = 8.0 + 4.0 + 16.0 + (s->p.two_pass ? 4.0 * n : 0.0) +
+                   4.0 * s->p.shade_capacity / (2.0 * s->trace.env.width * s->trace.env.height);
+}
+
+/* ---- read-back for tests ---- */
+
+/** Copies size bytes at offset of a device buffer to dst (one submission, waits). */
+static xrsc_result read_buffer(gpu_context *ctx, const gpu_buffer *b, VkDeviceSize offset,
+                               VkDeviceSize size, void *dst, xrsc_diag *diag)
+{
+    gpu_buffer rb = {0};
+    xrsc_result res = gpu_buffer_create(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                        GPU_MEMORY_READBACK, &rb, diag);
+    if (res != XRSC_OK)
+        return res;
+    VkCommandBuffer cmd;
+    if ((res = gpu_cmd_begin(ctx, &cmd, diag)) != XRSC_OK)
+        goto done;
+    gpu_cmd_barrier_all(cmd);
+    VkBufferCopy region = {offset, 0, size};
+    vkCmdCopyBuffer(cmd, b->buffer, rb.buffer, 1, &region);
+    gpu_cmd_barrier_all(cmd);
+    if ((res = gpu_cmd_submit_wait(ctx, cmd, diag)) != XRSC_OK)
+        goto done;
+    gpu_buffer_invalidate(ctx, &rb);
+    memcpy(dst, rb.mapped, size);
+done:
+    gpu_buffer_destroy(ctx, &rb);
+    return res;
+}
+
+void mt_sc_snapshot_free(mt_sc_snapshot *s)
+{
+    if (!s)
+        return;
+    free(s->mask);
+    free(s->fh);
+    free(s->rad);
+    free(s->depth_min);
+    free(s->depth_max);
+    free(s->plan);
+    memset(s, 0, sizeof(*s));
+}
+
+xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *out,
+                                    xrsc_diag *diag)
+{
+    memset(out, 0, sizeof(*out));
+    mt_samplecache *s = (mt_samplecache *)m;
+    if (eye > 1 || s->frames == 0)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "eye",
+                          "eye %u (or no frame rendered yet)", eye);
+    gpu_context *ctx = s->trace.env.gpu;
+    uint32_t w = s->trace.env.width, h = s->trace.env.height, n = s->opt.slots;
+    size_t px = (size_t)w * h;
+    uint32_t cur = (s->frames - 1) & 1u;
+    uint32_t rad_copy = s->p.shade_cache ? cur : 0u;
+    out->width = w;
+    out->height = h;
+    out->slots = n;
+    out->cur = cur;
+    out->mask = malloc(px * sizeof(uint32_t));
+    out->fh = malloc(px * n * 16);
+    out->rad = malloc(px * n * 16);
+    out->depth_min = malloc(px * sizeof(uint64_t));
+    out->depth_max = malloc(px * sizeof(uint32_t));
+    out->plan = malloc(px * 16);
+    xrsc_result res = XRSC_OK;
+    if (!out->mask || !out->fh || !out->rad || !out->depth_min || !out->depth_max || !out->plan) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+        goto fail;
+    }
+    VkDeviceSize plane = s->plane, eye_off = (VkDeviceSize)eye * px;
+    if ((res = read_buffer(ctx, &s->mask, (cur * plane + eye_off) * 4, px * 4, out->mask, diag)) !=
+            XRSC_OK ||
+        (res = read_buffer(ctx, &s->depth_min, eye_off * 8, px * 8, out->depth_min, diag)) !=
+            XRSC_OK ||
+        (res = read_buffer(ctx, &s->depth_max, eye_off * 4, px * 4, out->depth_max, diag)) !=
+            XRSC_OK ||
+        (res = read_buffer(ctx, &s->plan, eye_off * 16, px * 16, out->plan, diag)) != XRSC_OK ||
+        (res = read_buffer(ctx, &s->stats, (cur * 2 + eye) * sizeof(xs_sc_stats),
+                           sizeof(xs_sc_stats), &out->stats, diag)) != XRSC_OK ||
+        (res = read_buffer(ctx, &s->shade_list, 0, sizeof(uint32_t), &out->shade_count, diag)) !=
+            XRSC_OK)
+        goto fail;
+    for (uint32_t k = 0; k < n; k++) {
+        VkDeviceSize fh_off = ((VkDeviceSize)(cur * n + k) * plane + eye_off) * 16;
+        VkDeviceSize rad_off = ((VkDeviceSize)(rad_copy * n + k) * plane + eye_off) * 16;
+        if ((res = read_buffer(ctx, &s->fh, fh_off, px * 16, out->fh + (size_t)k * px * 4, diag)) !=
+                XRSC_OK ||
+            (res = read_buffer(ctx, &s->rad, rad_off, px * 16, out->rad + (size_t)k * px * 4,
+                               diag)) != XRSC_OK)
+            goto fail;
+    }
+    return XRSC_OK;
+fail:
+    mt_sc_snapshot_free(out);
+    return res;
+}
+
+/* ---- device self-test of xs_sc_math.h ---- */
+
+xrsc_result mt_sc_selftest_run(gpu_context *ctx, xs_sc_selftest_io *io, uint32_t count,
+                               xrsc_diag *diag)
+{
+    static const gpu_binding binding = {XS_SC_BIND_SELFTEST, GPU_BINDING_STORAGE_BUFFER, 1};
+    gpu_compute_program prog = {0};
+    gpu_buffer buf = {0};
+    VkDeviceSize size = (VkDeviceSize)count * sizeof(*io);
+    xrsc_result res = gpu_compute_program_create(ctx, "sc_selftest.comp", &binding, 1,
+                                                 sizeof(uint32_t), &prog, diag);
+    if (res != XRSC_OK)
+        return res;
+    if ((res = gpu_buffer_create_with_data(
+             ctx, io, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+             &buf, diag)) != XRSC_OK)
+        goto done;
+    gpu_descriptors_write_buffer(ctx, &prog.set0, XS_SC_BIND_SELFTEST, &buf);
+    VkCommandBuffer cmd;
+    if ((res = gpu_cmd_begin(ctx, &cmd, diag)) != XRSC_OK)
+        goto done;
+    gpu_cmd_barrier_all(cmd);
+    gpu_compute_program_cmd_dispatch(
+        cmd, &prog, &count, (count + MT_SC_SELFTEST_GROUP - 1) / MT_SC_SELFTEST_GROUP, 1, 1);
+    if ((res = gpu_cmd_submit_wait(ctx, cmd, diag)) != XRSC_OK)
+        goto done;
+    res = read_buffer(ctx, &buf, 0, size, io, diag);
+done:
+    gpu_buffer_destroy(ctx, &buf);
+    gpu_compute_program_destroy(ctx, &prog);
+    return res;
+}

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file mt_samplecache.h
+ * @brief Method `samplecache` (seed 000 §3): creation, and the internal read-back of the cache
+ *        for tests and benchmarks (masks, first hits, radiance, depth words, plans, statistics).
+ *
+ * Data per eye (xs_samplecache.h has the exact layouts): a 32-bit mask per pixel (o_s = bit s,
+ * v_s = bit 16 + s), N slots of a 128-bit first hit (Listing 1) and a 128-bit radiance + count
+ * (L_s, c_s), all double buffered; per frame a 64-bit closest depth + slope, a 32-bit farthest
+ * depth, a 128-bit plan and (2-pass) a 32-bit source address per slot. See
+ * ::mt_samplecache_bytes_per_pixel.
+ *
+ * Frame: "tlas" (scene update), "reproject" (sc_reproject.comp [+ sc_copy.comp]),
+ * "trace_mask" (sc_trace_mask.comp), "density" (sc_density.comp), "trace" (sc_trace.rgen),
+ * "shade" (sc_shade_select.comp + sc_shade.rgen), "reconstruct" (sc_reconstruct.comp).
+ */
+#pragma once
+
+#include "mt_method.h"
+#include "xs_samplecache.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Pass names (xrsc_renderer_timings), in frame order after MT_PASS_TLAS. */
+#define MT_SC_PASS_REPROJECT "reproject"
+#define MT_SC_PASS_TRACE_MASK "trace_mask"
+#define MT_SC_PASS_DENSITY "density"
+#define MT_SC_PASS_TRACE "trace"
+#define MT_SC_PASS_SHADE "shade"
+#define MT_SC_PASS_RECONSTRUCT "reconstruct"
+
+/**
+ * `samplecache` (options: ::xrsc_samplecache_options, zero fields = defaults). Errors:
+ * XRSC_ERROR_INVALID_ARGUMENT for slots > XS_SC_MAX_SLOTS, block 0 after defaults, more than
+ * XS_SC_MAX_MATERIALS materials (Listing 1 keeps 16 bits), or an image too large for the
+ * 31-bit source addresses of 2-pass reprojection.
+ */
+xrsc_result mt_samplecache_create(const mt_env *env, const xrsc_samplecache_options *options,
+                                  mt_method **out, xrsc_diag *diag);
+
+/** The options in use, defaults filled in (m must be a `samplecache` method). */
+const xrsc_samplecache_options *mt_samplecache_options(const mt_method *m);
+
+/** Cache bytes per pixel per eye: resident (both copies of mask, first hits, radiance) plus
+ *  per-frame working buffers (depth words, plan, 2-pass addresses, shade list). */
+void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, double *out_working);
+
+/**
+ * One eye's cache after the last rendered frame (the copy that frame wrote), for tests. Pixel
+ * p = y * width + x, rows top to bottom. Owned arrays: free with ::mt_sc_snapshot_free.
+ */
+typedef struct mt_sc_snapshot {
+    uint32_t width, height, slots;
+    uint32_t *mask;       /**< [p]: o_s = bit s, v_s = bit XS_SC_MAX_SLOTS + s */
+    uint32_t *fh;         /**< [(s * width * height + p) * 4 + k]: Listing 1 words x, y, z, w */
+    float *rad;           /**< [(s * width * height + p) * 4 + k]: L_s rgb, c_s */
+    uint64_t *depth_min;  /**< [p]: closest distance bits << 32 | slope bits; all ones = none */
+    uint32_t *depth_max;  /**< [p]: farthest distance bits (0 = none, +inf = background) */
+    uint32_t *plan;       /**< [p * 4 + k]: trace bits, new bits, shade bits, visible count
+                               (visible count as measured before density control) */
+    xs_sc_stats stats;    /**< importance bounds and histogram counted this frame */
+    uint32_t shade_count; /**< samples chosen for shading this frame, both eyes (may exceed the
+                               shade list's capacity: the rest were not shaded) */
+    uint32_t cur;         /**< the copy index this frame wrote */
+} mt_sc_snapshot;
+
+xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *out,
+                                    xrsc_diag *diag);
+void mt_sc_snapshot_free(mt_sc_snapshot *s);
+
+/** Runs sc_selftest.comp over io[0..count) (Listing 1 round trip, Eq. 1, Eq. 2 on the
+ *  device); the records' outputs are filled in. */
+xrsc_result mt_sc_selftest_run(gpu_context *ctx, xs_sc_selftest_io *io, uint32_t count,
+                               xrsc_diag *diag);
+
+#ifdef __cplusplus
+}
+#endif

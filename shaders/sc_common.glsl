@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file sc_common.glsl
+ * @brief What every sample-cache shader shares: the cache bindings (xs_samplecache.h), buffer
+ *        indexing, first-hit encoding/decoding (Listing 1) and projection into an eye.
+ *
+ * Include after xs_bindings.glsl (and xs_hitinfo.glsl). Ray-tracing shaders define
+ * XS_SC_SET XS_SC_RT_SET first; compute shaders get set 0 (next to the scene bindings).
+ */
+#ifndef SC_COMMON_GLSL
+#define SC_COMMON_GLSL
+
+#include "xs_samplecache.h"
+#include "xs_sc_math.h"
+
+#ifndef XS_SC_SET
+#define XS_SC_SET 0
+#endif
+
+layout(set = XS_SC_SET, binding = XS_SC_BIND_PARAMS, std140) uniform XsScParamsBlock
+{
+    xs_sc_params scp;
+};
+layout(set = XS_SC_SET, binding = XS_SC_BIND_MASK, std430) coherent buffer XsScMaskBlock
+{
+    uint sc_mask[];
+};
+layout(set = XS_SC_SET, binding = XS_SC_BIND_FH, std430) buffer XsScFhBlock
+{
+    uvec4 sc_fh[];
+};
+layout(set = XS_SC_SET, binding = XS_SC_BIND_RAD, std430) buffer XsScRadBlock
+{
+    vec4 sc_rad[];
+};
+layout(set = XS_SC_SET, binding = XS_SC_BIND_DEPTH_MIN, std430) buffer XsScDepthMinBlock
+{
+    uint64_t sc_depth_min[];
+};
+layout(set = XS_SC_SET, binding = XS_SC_BIND_DEPTH_MAX, std430) buffer XsScDepthMaxBlock
+{
+    uint sc_depth_max[];
+};
+layout(set = XS_SC_SET, binding = XS_SC_BIND_SRC, std430) buffer XsScSrcBlock
+{
+    uint sc_src[];
+};
+layout(set = XS_SC_SET, binding = XS_SC_BIND_PLAN, std430) buffer XsScPlanBlock
+{
+    uvec4 sc_plan[]; /* x trace bits, y new-sample bits, z shade bits, w visible count */
+};
+layout(set = XS_SC_SET, binding = XS_SC_BIND_STATS, std430) buffer XsScStatsBlock
+{
+    xs_sc_stats sc_stats[]; /* [copy * 2 + eye] */
+};
+
+layout(set = XS_SC_SET, binding = XS_SC_BIND_SHADE_LIST, std430) buffer XsScShadeListBlock
+{
+    uint sc_shade_count;
+    uint sc_shade_pad[XS_SC_SHADE_LIST_HEADER - 1u];
+    uint sc_shade_list[];
+};
+
+/* Background depth: distance of samples that hit the environment (sorted after every
+ * surface: a pixel mixing both fails Eq. 2; a pure background pixel is consistent). */
+#define SC_T_BACKGROUND uintBitsToFloat(0x7F800000u)
+/* depth_min "no sample" (cleared to all ones) and depth_max "no sample" (cleared to 0). */
+#define SC_DEPTH_MIN_NONE 0xFFFFFFFFFFFFFFFFul
+
+uint sc_plane() { return 2u * frame.width * frame.height; }
+uint sc_pix(uint eye, uvec2 p) { return (eye * frame.height + p.y) * frame.width + p.x; }
+uint sc_prev() { return 1u - scp.cur; }
+/** Index of the mask of copy c. */
+uint sc_mask_at(uint c, uint pix) { return c * sc_plane() + pix; }
+/** Index of slot s of copy c in fh[] / rad[]. */
+uint sc_slot_at(uint c, uint s, uint pix) { return (c * scp.slots + s) * sc_plane() + pix; }
+/** Index of slot s of copy c in rad[]: without the shading cache rad[] holds one copy. */
+uint sc_rad_at(uint c, uint s, uint pix) { return sc_slot_at(scp.shade_cache != 0u ? c : 0u, s, pix); }
+uint sc_occ(uint m) { return m & XS_SC_OCC_MASK; }
+uint sc_vis(uint m) { return m >> XS_SC_MAX_SLOTS; }
+uint sc_obit(uint s) { return 1u << s; }
+uint sc_vbit(uint s) { return 1u << (s + XS_SC_MAX_SLOTS); }
+uint sc_all_slots() { return (1u << scp.slots) - 1u; }
+float sc_phi(uint eye) { return eye == 0u ? scp.phi_left : scp.phi_right; }
+vec3 sc_eye_pos(uint eye) { return frame.eyes[eye].view_inv[3].xyz; }
+
+/** Listing 1 (xs_sc_math.h for the 24-bit barycentrics). */
+uvec4 sc_encode_hit(uint instance, uint primitive, vec2 bary, uint material)
+{
+    return uvec4(xs_sc_pack_x(bary.x, material), xs_sc_pack_y(bary.y, material), primitive,
+                 instance);
+}
+
+/** A background sample: the unit world direction of its ray. */
+uvec4 sc_encode_background(vec3 dir)
+{
+    return uvec4(floatBitsToUint(dir), XS_SC_BACKGROUND);
+}
+
+bool sc_is_background(uvec4 fh) { return fh.w == XS_SC_BACKGROUND; }
+vec2 sc_bary(uvec4 fh) { return vec2(xs_sc_unpack_bary(fh.x), xs_sc_unpack_bary(fh.y)); }
+uint sc_material(uvec4 fh) { return xs_sc_unpack_material(fh.x, fh.y); }
+vec3 sc_background_dir(uvec4 fh) { return uintBitsToFloat(fh.xyz); }
+
+/** The surface of a stored hit with the CURRENT instance transforms (App. D: moving objects
+ *  need nothing else). The material index comes from fh (Listing 1). */
+xs_surface sc_surface(uvec4 fh)
+{
+    xs_surface s = xs_surface_at(fh.w, fh.z, sc_bary(fh));
+    s.material = sc_material(fh);
+    return s;
+}
+
+/**
+ * Projects a world point (w = 1) or direction (w = 0) into eye `eye` of this frame with the
+ * camera convention of xs_camera.glsl (eye-space direction (mix(tanL, tanR, u), mix(tanU,
+ * tanD, v), -1), u, v in [0, 1] across the image). Returns false behind the eye or outside
+ * the image; pos = image position in pixels.
+ */
+bool sc_project(uint eye, vec4 p_world, out vec2 pos)
+{
+    xs_eye e = frame.eyes[eye];
+    vec3 q = (e.view * p_world).xyz;
+    pos = vec2(-1.0);
+    if (!(q.z < 0.0))
+        return false;
+    vec2 tn = q.xy / -q.z;
+    vec2 uv = vec2((tn.x - e.tan_fov.x) / (e.tan_fov.y - e.tan_fov.x),
+                   (tn.y - e.tan_fov.z) / (e.tan_fov.w - e.tan_fov.z));
+    pos = uv * vec2(frame.width, frame.height);
+    return all(greaterThanEqual(pos, vec2(0.0))) &&
+           all(lessThan(pos, vec2(frame.width, frame.height)));
+}
+
+/* Albedo channels below this are not divided out (nor multiplied back): black base colours
+ * can still reflect specularly. */
+#define SC_DEMOD_MIN 1e-3
+/** The factor radiance is demodulated by / remodulated with (§3.3). */
+vec3 sc_demod(vec3 albedo)
+{
+    return mix(vec3(1.0), albedo, greaterThanEqual(albedo, vec3(SC_DEMOD_MIN)));
+}
+
+/** Per-eye statistics of copy c. */
+uint sc_stats_at(uint c, uint eye) { return c * 2u + eye; }
+
+/** The previous frame's importance bounds of eye (§3.5); false when it had no samples. */
+bool sc_prev_bounds(uint eye, out float w_min, out float w_max)
+{
+    xs_sc_stats st = sc_stats[sc_stats_at(sc_prev(), eye)];
+    w_min = uintBitsToFloat(~st.w_min_inv);
+    w_max = uintBitsToFloat(st.w_max);
+    return st.w_min_inv != 0u && st.w_max != 0u;
+}
+
+/** Counts a sample of importance w into this frame's histogram and bounds (§3.5). */
+void sc_count_importance(uint eye, float w)
+{
+    float w_min, w_max;
+    if (!sc_prev_bounds(eye, w_min, w_max)) {
+        w_min = w;
+        w_max = w;
+    }
+    uint si = sc_stats_at(scp.cur, eye);
+    atomicAdd(sc_stats[si].hist[xs_sc_bucket(w, w_min, w_max)], 1u);
+    atomicAdd(sc_stats[si].count, 1u);
+    atomicMax(sc_stats[si].w_min_inv, ~floatBitsToUint(w));
+    atomicMax(sc_stats[si].w_max, floatBitsToUint(w));
+}
+
+/** i-th set bit at or after `start` (cyclically), or -1 when bits is 0: round robin. */
+int sc_round_robin(uint bits, uint start)
+{
+    if (bits == 0u)
+        return -1;
+    uint n = scp.slots;
+    uint rot = ((bits >> start) | (bits << (n - start))) & ((1u << n) - 1u);
+    if (start == 0u)
+        rot = bits;
+    return int((uint(findLSB(rot)) + start) % n);
+}
+
+/** The 3x3 bounds of pixel p: the neighbourhood of §3.2 and §3.4, clipped to the image. */
+void sc_neighbourhood(uvec2 p, out uvec2 lo, out uvec2 hi)
+{
+    lo = uvec2(max(ivec2(p) - 1, ivec2(0)));
+    hi = uvec2(min(ivec2(p) + 1, ivec2(frame.width, frame.height) - 1));
+}
+
+#endif

@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file sc_density.comp
+ * @brief Sample cache pass "density" (seed 000 §3.2 step 2): keeps the density of visible
+ *        samples near n_target +- delta, measured as the mean over the 3 x 3 neighbourhood.
+ *
+ * Below n_target - delta a pixel reserves ceil(n_target - mean) new samples; above
+ * n_target + delta it deletes ceil(mean - n_target) randomly chosen visible samples (cleared
+ * occupancy and visibility bits), always keeping one; a pixel without any visible sample
+ * always gets a new one (holes). New samples take free slots first, then invisible ones,
+ * picked in random order; they get their occupancy bit now and are traced through a random
+ * point of the pixel by sc_trace.rgen (plan.y). Reads the neighbours' visible counts from
+ * plan.w (written by sc_trace_mask.comp) and writes only its own pixel.
+ */
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#define XS_NO_TLAS
+#include "xs_bindings.glsl"
+#include "xs_hitinfo.glsl"
+#include "xs_rng.glsl"
+#include "sc_common.glsl"
+
+layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1) in;
+
+/* RNG stream of this pass (sample index of xs_rng_seed). */
+#define SC_DENSITY_STREAM 0x5C0DE115u
+
+/** The k-th set bit (k < bitCount(bits)). */
+uint nth_bit(uint bits, uint k)
+{
+    for (uint i = 0u; i < k; i++)
+        bits &= bits - 1u;
+    return uint(findLSB(bits));
+}
+
+void main()
+{
+    uvec3 g = gl_GlobalInvocationID;
+    if (g.x >= frame.width || g.y >= frame.height)
+        return;
+    uint eye = g.z;
+    uint pix = sc_pix(eye, g.xy);
+    uvec2 lo, hi;
+    sc_neighbourhood(g.xy, lo, hi);
+    uint sum = 0u, n = 0u;
+    for (uint y = lo.y; y <= hi.y; y++)
+        for (uint x = lo.x; x <= hi.x; x++) {
+            sum += sc_plan[sc_pix(eye, uvec2(x, y))].w;
+            n++;
+        }
+    float mean = float(sum) / float(n);
+
+    uint mi = sc_mask_at(scp.cur, pix);
+    uint m = sc_mask[mi];
+    uint all_slots = sc_all_slots();
+    uint occ = sc_occ(m) & all_slots;
+    uint vis = sc_vis(m) & all_slots;
+    uint nvis = uint(bitCount(vis));
+    uvec4 plan = sc_plan[pix];
+    xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_DENSITY_STREAM, frame.seed);
+
+    uint add = 0u;
+    if (mean < scp.n_target - scp.delta)
+        add = uint(ceil(scp.n_target - mean));
+    if (nvis == 0u)
+        add = max(add, 1u);
+    uint newbits = 0u;
+    for (uint k = 0u; k < add; k++) {
+        uint free_slots = ~occ & all_slots;
+        uint pool = free_slots != 0u ? free_slots : (occ & ~vis & ~newbits & all_slots);
+        if (pool == 0u)
+            break;
+        uint s = nth_bit(pool, xs_rng_next_uint(rng) % uint(bitCount(pool)));
+        occ |= sc_obit(s);
+        newbits |= sc_obit(s);
+    }
+
+    if (mean > scp.n_target + scp.delta && nvis > 1u) {
+        uint remove = min(uint(ceil(mean - scp.n_target)), nvis - 1u);
+        for (uint k = 0u; k < remove; k++) {
+            uint s = nth_bit(vis, xs_rng_next_uint(rng) % uint(bitCount(vis)));
+            vis &= ~sc_obit(s);
+            occ &= ~sc_obit(s);
+        }
+    }
+
+    /* new samples start invisible (sc_trace.rgen sets the bit); pruned ones are gone */
+    vis &= ~newbits;
+    sc_mask[mi] = occ | (vis << XS_SC_MAX_SLOTS);
+    /* x and y only: neighbours read w concurrently */
+    sc_plan[pix].x = plan.x & occ & ~newbits;
+    sc_plan[pix].y = newbits;
+}

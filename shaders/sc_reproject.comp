@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file sc_reproject.comp
+ * @brief Sample cache pass "reproject" (seed 000 §3.1): forward-projects every occupied sample
+ *        of the previous copy into this frame's copy of the same eye.
+ *
+ * One invocation per source pixel (x, y, eye). Each occupied slot's world position is rebuilt
+ * from its first hit with the CURRENT instance transforms (App. D) (background samples: their
+ * direction), projected into this frame's view of the eye, and stored in a slot reserved by
+ * atomic OR on the target pixel's mask (Listing 2): a lost race is retried while a free slot
+ * remains; when all are taken a visible sample overwrites an invisible one by racing on its
+ * visibility bit; an invisible sample that finds no free slot is dropped.
+ *
+ * 1-pass (scp.two_pass = 0): the winner writes fh and rad at once (the two benign races of
+ * §3.1 are accepted, as the paper does). 2-pass: the winner writes only its source address
+ * into src[] with atomicMax of (visible << 31 | address + 1), so a visible sample that took
+ * over an invisible one's slot always wins, and sc_copy.comp copies the data.
+ *
+ * Visible samples also update the target pixel's closest distance + slope (Eq. 1) in one
+ * 64-bit atomicMin and its farthest distance (atomicMax on the float bits), §3.4; the 1-pass
+ * variant counts importance (§3.5) here, the 2-pass one in sc_copy.comp.
+ */
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#define XS_NO_TLAS
+#include "xs_bindings.glsl"
+#include "xs_hitinfo.glsl"
+#include "sc_common.glsl"
+
+layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1) in;
+
+/* Listing 2, at most every slot tried twice (free, then invisible) plus one. */
+#define SC_MAX_RESERVE_TRIES (2u * XS_SC_MAX_SLOTS + 1u)
+
+/** Listing 2, choose_target_slot: a free slot, else (visible samples only) an invisible one. */
+int choose_target_slot(bool visible, uint m)
+{
+    uint free_slots = ~sc_occ(m) & sc_all_slots();
+    if (free_slots != 0u)
+        return findLSB(free_slots);
+    if (visible) {
+        uint invisible = sc_occ(m) & ~sc_vis(m) & sc_all_slots();
+        if (invisible != 0u)
+            return findLSB(invisible);
+    }
+    return -1;
+}
+
+/** Listing 2, try_reserve. */
+bool try_reserve(uint tmask, uint i, bool visible, inout uint m)
+{
+    uint o_bit = sc_obit(i);
+    uint v_bit = sc_vbit(i);
+    uint s_val = o_bit | (visible ? v_bit : 0u);
+    m = atomicOr(sc_mask[tmask], s_val);
+    bool success = (m & o_bit) == 0u;
+    if (visible && !success)
+        success = (m & v_bit) == 0u;
+    m |= s_val;
+    return success;
+}
+
+void main()
+{
+    uvec3 g = gl_GlobalInvocationID;
+    if (g.x >= frame.width || g.y >= frame.height)
+        return;
+    uint eye = g.z;
+    uint pix = sc_pix(eye, g.xy);
+    uint prev = sc_prev();
+    uint cur = scp.cur;
+    uint pm = sc_mask[sc_mask_at(prev, pix)];
+    uint occ = sc_occ(pm) & sc_all_slots();
+    vec3 eye_pos = sc_eye_pos(eye);
+
+    while (occ != 0u) {
+        uint s = uint(findLSB(occ));
+        occ &= occ - 1u;
+        bool visible = (pm & sc_vbit(s)) != 0u;
+        uint src_at = sc_slot_at(prev, s, pix);
+        uvec4 fh = sc_fh[src_at];
+
+        vec2 pos;
+        float t = SC_T_BACKGROUND;
+        float slope = 0.0;
+        bool background = sc_is_background(fh);
+        if (background) {
+            if (!sc_project(eye, vec4(sc_background_dir(fh), 0.0), pos))
+                continue;
+        } else {
+            xs_surface sf = sc_surface(fh);
+            if (!sc_project(eye, vec4(sf.p, 1.0), pos))
+                continue;
+            vec3 to_eye = eye_pos - sf.p;
+            t = length(to_eye);
+            slope = xs_sc_slope(t, abs(dot(sf.ng, to_eye / max(t, 1e-30))), sc_phi(eye));
+        }
+        uint tpix = sc_pix(eye, uvec2(pos));
+        uint tmask = sc_mask_at(cur, tpix);
+
+        /* Listing 2, write_sample */
+        uint m = sc_mask[tmask];
+        bool reserved = false;
+        uint slot = 0u;
+        for (uint tries = 0u; tries < SC_MAX_RESERVE_TRIES; tries++) {
+            int i = choose_target_slot(visible, m);
+            if (i < 0)
+                break;
+            if (try_reserve(tmask, uint(i), visible, m)) {
+                reserved = true;
+                slot = uint(i);
+                break;
+            }
+        }
+        if (!reserved)
+            continue;
+
+        uint dst_at = sc_slot_at(cur, slot, tpix);
+        if (scp.two_pass != 0u) {
+            uint addr = s * sc_plane() + pix;
+            atomicMax(sc_src[slot * sc_plane() + tpix],
+                      (visible ? XS_SC_SRC_VISIBLE : 0u) | (addr + 1u));
+        } else {
+            sc_fh[dst_at] = fh;
+            vec4 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_at(prev, s, pix)] : vec4(0.0);
+            sc_rad[sc_rad_at(cur, slot, tpix)] = rad;
+            if (visible && !background && scp.shade_mode == XS_SC_SHADE_ADAPTIVE)
+                sc_count_importance(eye, xs_sc_importance(rad.w));
+        }
+        if (visible) {
+            if (!background) {
+                uint64_t packed = (uint64_t(floatBitsToUint(t)) << 32) |
+                                  uint64_t(floatBitsToUint(slope));
+                atomicMin(sc_depth_min[tpix], packed);
+            }
+            atomicMax(sc_depth_max[tpix], floatBitsToUint(t));
+        }
+    }
+}

@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file sc_shade_select.comp
+ * @brief Sample cache pass "shade", part 1 (seed 000 §3.3, §3.5): which visible samples are
+ *        re-shaded this frame (plan.z).
+ *
+ * Candidates are the visible surface samples (background samples need no shading).
+ * - uniform: one candidate per pixel, round robin over the slots (§3.3);
+ * - adaptive: one candidate of one pixel per block x block block as base rate (as in
+ *   sc_trace_mask.comp), plus a share of all candidates chosen by importance w = 1 / (1 + c_s):
+ *   the budget B = shade_rate * width * height - (base-rate shadings) is met by walking the
+ *   histogram of this frame (counted during reprojection and tracing into XS_SC_BUCKETS
+ *   logarithmic buckets between the previous frame's w_min and w_max) from the most important
+ *   bucket down: buckets above the one where the prefix sum crosses B are all shaded, that
+ *   bucket's samples by a coin toss with probability (B - above) / count, so B samples are
+ *   shaded in expectation (§3.5, Fig. 5).
+ * The chosen samples are recorded per pixel in plan.z and compacted into the shade list (one
+ * atomicAdd per pixel), which sc_shade.rgen walks, so pixels with many chosen samples do not
+ * serialise the shading launch; entries beyond scp.shade_capacity are dropped (the count
+ * keeps the total; mt_samplecache.c sizes the capacity).
+ */
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#define XS_NO_TLAS
+#include "xs_bindings.glsl"
+#include "xs_hitinfo.glsl"
+#include "xs_rng.glsl"
+#include "sc_common.glsl"
+
+layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1) in;
+
+/* RNG stream of the coin tosses (sample index of xs_rng_seed). */
+#define SC_SHADE_STREAM 0x5EADE000u
+/* Offset of the shading round robin against the tracing one (different slots when possible). */
+#define SC_SHADE_RR_OFFSET 1u
+
+void main()
+{
+    uvec3 g = gl_GlobalInvocationID;
+    if (g.x >= frame.width || g.y >= frame.height)
+        return;
+    uint eye = g.z;
+    uint pix = sc_pix(eye, g.xy);
+    uint cur = scp.cur;
+    uint m = sc_mask[sc_mask_at(cur, pix)];
+    uint cand = 0u;
+    for (uint bits = sc_vis(m) & sc_occ(m) & sc_all_slots(); bits != 0u; bits &= bits - 1u) {
+        uint s = uint(findLSB(bits));
+        if (!sc_is_background(sc_fh[sc_slot_at(cur, s, pix)]))
+            cand |= sc_obit(s);
+    }
+    uint start = (frame.frame_index + SC_SHADE_RR_OFFSET) % scp.slots;
+    int rr = sc_round_robin(cand, start);
+    uint one = rr >= 0 ? sc_obit(uint(rr)) : 0u;
+    uint bits = 0u;
+    if (scp.shade_mode == XS_SC_SHADE_UNIFORM) {
+        bits = one;
+    } else {
+        uint b = scp.block;
+        uvec2 blk = g.xy / b;
+        uint local = (g.x % b) + (g.y % b) * b;
+        uint pick = (frame.frame_index + xs_hash(xs_hash(blk.x + eye + SC_SHADE_RR_OFFSET) + blk.y)) %
+                    (b * b);
+        bits = local == pick ? one : 0u;
+
+        uint base_count = ((frame.width + b - 1u) / b) * ((frame.height + b - 1u) / b);
+        float budget = max(scp.shade_rate * float(frame.width * frame.height) - float(base_count),
+                           0.0);
+        xs_sc_stats st = sc_stats[sc_stats_at(cur, eye)];
+        int k = -1; /* threshold bucket; -1: everything fits */
+        float p = 1.0;
+        float above = 0.0;
+        for (int j = int(XS_SC_BUCKETS) - 1; j >= 0; j--) {
+            float h = float(st.hist[j]);
+            if (above + h >= budget) {
+                k = j;
+                p = h > 0.0 ? (budget - above) / h : 0.0;
+                break;
+            }
+            above += h;
+        }
+        float w_min, w_max;
+        bool bounded = sc_prev_bounds(eye, w_min, w_max);
+        xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_SHADE_STREAM, frame.seed);
+        for (uint cb = cand; cb != 0u; cb &= cb - 1u) {
+            uint s = uint(findLSB(cb));
+            float w = xs_sc_importance(sc_rad[sc_rad_at(cur, s, pix)].w);
+            int bucket = bounded ? int(xs_sc_bucket(w, w_min, w_max)) : int(XS_SC_BUCKETS) - 1;
+            float u = xs_rng_next(rng);
+            if (bucket > k || (bucket == k && u < p))
+                bits |= sc_obit(s);
+        }
+    }
+    sc_plan[pix].z = bits;
+
+    /* compaction (§3.5: "writes out sample indices for the shading pass") */
+    uint n = uint(bitCount(bits));
+    if (n == 0u)
+        return;
+    uint at = atomicAdd(sc_shade_count, n);
+    for (; bits != 0u && at < scp.shade_capacity; bits &= bits - 1u, at++)
+        sc_shade_list[at] = (pix << XS_SC_SHADE_SLOT_BITS) | uint(findLSB(bits));
+}

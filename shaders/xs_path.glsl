@@ -1,0 +1,220 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file xs_path.glsl
+ * @brief The path tracer's path loop (factored out of spp.rgen, unchanged in behaviour):
+ *        next-event estimation of the sun and one emissive triangle with MIS, BSDF sampling,
+ *        Russian roulette (seed 000 §5.1). Used by spp.rgen (camera paths) and by the sample
+ *        cache's shading pass (paths continued from a cached first hit, sc_shade.rgen).
+ *
+ * Declares the two ray payloads at locations XS_PAYLOAD_PRIMARY / XS_PAYLOAD_SHADOW. Requires
+ * xs_bindings.glsl, xs_bsdf.glsl, xs_hitinfo.glsl and xs_rng.glsl.
+ */
+#ifndef XS_PATH_GLSL
+#define XS_PATH_GLSL
+
+layout(location = XS_PAYLOAD_PRIMARY) rayPayloadEXT xs_hit payload;
+layout(location = XS_PAYLOAD_SHADOW) rayPayloadEXT uint shadow_visible;
+
+#define XS_RAY_TMAX 1e30
+/* Survival probability bounds of Russian roulette. */
+#define XS_RR_MIN_SURVIVAL 0.05
+#define XS_RR_MAX_SURVIVAL 1.0
+
+/** 1 when the segment from (offset) origin o along unit d is free up to tmax. */
+float xs_visible(vec3 o, vec3 d, float tmax, inout uint rays)
+{
+    shadow_visible = 0u;
+    traceRayEXT(xs_tlas,
+                gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsSkipClosestHitShaderEXT |
+                    gl_RayFlagsOpaqueEXT,
+                0xFF, 0, 0, XS_MISS_INDEX_SHADOW, o, 0.0, d, tmax, XS_PAYLOAD_SHADOW);
+    rays++;
+    return float(shadow_visible);
+}
+
+/** Index of the emitter whose cdf interval holds u (first i with cdf[i] > u). */
+uint xs_pick_emitter(float u)
+{
+    uint lo = 0u;
+    uint hi = frame.emitter_count - 1u;
+    while (lo < hi) {
+        uint mid = (lo + hi) >> 1u;
+        if (emitters[mid].cdf > u)
+            hi = mid;
+        else
+            lo = mid + 1u;
+    }
+    return lo;
+}
+
+/** Light-sampling pdf (solid angle at the receiver) of a point on an emissive triangle. */
+float xs_light_pdf(float pmf, float area, float dist2, float cos_light)
+{
+    return area > 0.0 && cos_light > 0.0 ? pmf * dist2 / (area * cos_light) : 0.0;
+}
+
+/** True when wi leaves on the geometric side that its local z says (reflection above, trans-
+ *  mission below): keeps light leaks through smooth-shaded meshes out of both estimators. */
+bool xs_side_ok(vec3 wi_world, vec3 ng, float wi_local_z)
+{
+    return dot(wi_world, ng) * wi_local_z > 0.0;
+}
+
+struct xs_path_out {
+    vec3 radiance;
+    vec3 albedo; /* xs_demod_albedo of the first hit (1 for a miss) */
+    xs_hit first;
+    float depth; /* set by callers that know the camera (xs_trace_path) */
+    uint rays;
+};
+
+/**
+ * One path from origin along unit dir. With have_first, the first vertex is `first` (a hit
+ * already known, e.g. a cached first hit of the sample cache: no ray is traced for it);
+ * first.t then only matters for MIS of its emission, which first_emission = false drops
+ * (the sample cache adds the first hit's emission at reconstruction, seed 000 §3.3).
+ */
+xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
+                          bool first_emission, inout xs_rng rng)
+{
+    xs_path_out r;
+    r.radiance = vec3(0.0);
+    r.albedo = vec3(1.0);
+    r.first.instance = XS_MISS_INSTANCE;
+    r.depth = 0.0;
+    r.rays = 0u;
+
+    vec3 throughput = vec3(1.0);
+    float prev_pdf = 0.0;  /* BSDF pdf of the ray just traced (solid angle) */
+    bool prev_delta = true; /* camera rays and delta lobes: emission counts fully */
+    uint max_bounces = frame.max_bounces;
+
+    for (uint bounce = 0u;; bounce++) {
+        if (bounce == 0u && have_first) {
+            payload = first;
+        } else {
+            payload.instance = XS_MISS_INSTANCE;
+            traceRayEXT(xs_tlas, gl_RayFlagsOpaqueEXT, 0xFF, 0, 0, XS_MISS_INDEX_PRIMARY, origin,
+                        0.0, dir, XS_RAY_TMAX, XS_PAYLOAD_PRIMARY);
+            r.rays++;
+        }
+        if (bounce == 0u)
+            r.first = payload;
+        if (payload.instance == XS_MISS_INSTANCE) {
+            r.radiance += throughput * frame.environment.rgb;
+            break;
+        }
+
+        uint instance = payload.instance;
+        uint primitive = payload.primitive;
+        float t_hit = payload.t;
+        vec3 wo = -dir;
+        xs_surface s = xs_surface_at(instance, primitive, vec2(payload.bary_u, payload.bary_v));
+        xs_surface_orient(s, wo);
+        xs_mat m = xs_material_at(s.material, s.uv);
+        if (bounce == 0u)
+            r.albedo = xs_demod_albedo(m);
+
+        /* emission reached by this ray */
+        vec3 le = bounce > 0u || first_emission ? xs_emitted(m, s.outside) : vec3(0.0);
+        if (any(greaterThan(le, vec3(0.0)))) {
+            float w = 1.0;
+            uint ebase = instances[instance].emitter_base;
+            if (!prev_delta && ebase != XS_NO_EMITTER && frame.emitter_count > 0u) {
+                float pmf = emitters[ebase + primitive].pmf;
+                float pl = xs_light_pdf(pmf, s.area, t_hit * t_hit, abs(dot(wo, s.ng)));
+                w = xs_mis_power(prev_pdf, pl);
+            }
+            r.radiance += throughput * le * w;
+        }
+        if (bounce >= max_bounces)
+            break;
+
+        vec3 tb, bb;
+        xs_onb(s.ns, tb, bb);
+        vec3 wo_l = xs_to_local(wo, tb, bb, s.ns);
+        xs_bsdf bsdf = xs_bsdf_make(m.base, m.metallic, m.roughness, m.transmission, m.ior,
+                                    s.outside, xs_rng_next(rng));
+        bool delta = xs_bsdf_is_delta(bsdf);
+        vec3 o_up = xs_offset_ray(s.p, s.ng);
+
+        if (!delta) {
+            /* the sun: a delta light, no MIS */
+            if (frame.sun_direction.w > 0.0) {
+                vec3 wi = frame.sun_direction.xyz;
+                vec3 wi_l = xs_to_local(wi, tb, bb, s.ns);
+                float pdf_b;
+                vec3 fc = xs_bsdf_eval(bsdf, wo_l, wi_l, pdf_b);
+                if (any(greaterThan(fc, vec3(0.0))) && xs_side_ok(wi, s.ng, wi_l.z)) {
+                    vec3 o = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
+                    r.radiance += throughput * fc * frame.sun_radiance.rgb *
+                                  xs_visible(o, wi, XS_RAY_TMAX, r.rays);
+                }
+            }
+            /* one emissive triangle */
+            if (frame.emitter_count > 0u) {
+                float ue = xs_rng_next(rng);
+                vec2 ut = xs_rng_next2(rng);
+                xs_emitter e = emitters[xs_pick_emitter(ue)];
+                xs_surface ls = xs_surface_at(e.instance, e.primitive, xs_sample_triangle(ut));
+                vec3 to_l = ls.p - s.p;
+                float dist2 = dot(to_l, to_l);
+                if (dist2 > 0.0 && e.pmf > 0.0) {
+                    vec3 wi = to_l * inversesqrt(dist2);
+                    xs_surface_orient(ls, -wi);
+                    xs_mat lm = xs_material_at(ls.material, ls.uv);
+                    vec3 lle = xs_emitted(lm, ls.outside);
+                    float pl = xs_light_pdf(e.pmf, ls.area, dist2, dot(-wi, ls.ng));
+                    vec3 wi_l = xs_to_local(wi, tb, bb, s.ns);
+                    float pdf_b;
+                    vec3 fc = xs_bsdf_eval(bsdf, wo_l, wi_l, pdf_b);
+                    if (pl > 0.0 && any(greaterThan(fc * lle, vec3(0.0))) &&
+                        xs_side_ok(wi, s.ng, wi_l.z)) {
+                        vec3 o = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
+                        vec3 target = xs_offset_ray(ls.p, ls.ng);
+                        vec3 seg = target - o;
+                        float len = length(seg);
+                        if (len > 0.0) {
+                            float w = xs_mis_power(pl, pdf_b);
+                            vec3 c = throughput * fc * lle * (w / pl);
+                            if (xs_finite(c))
+                                r.radiance += c * xs_visible(o, seg / len, len, r.rays);
+                        }
+                    }
+                }
+            }
+        }
+
+        /* BSDF sampling of the bounce ray */
+        vec3 u3 = vec3(xs_rng_next2(rng), xs_rng_next(rng));
+        vec3 wi_l, weight;
+        float pdf;
+        bool is_delta;
+        if (!xs_bsdf_sample(bsdf, wo_l, u3, wi_l, weight, pdf, is_delta))
+            break;
+        vec3 wi = normalize(xs_to_world(wi_l, tb, bb, s.ns));
+        if (!xs_side_ok(wi, s.ng, wi_l.z))
+            break;
+        throughput *= weight;
+
+        /* Russian roulette before bounce ray number bounce + 1 */
+        if (bounce + 1u >= XS_RR_START_BOUNCE) {
+            float q = clamp(xs_max3(throughput), XS_RR_MIN_SURVIVAL, XS_RR_MAX_SURVIVAL);
+            if (xs_rng_next(rng) >= q)
+                break;
+            throughput /= q;
+        }
+        if (!xs_finite(throughput) || xs_max3(throughput) <= 0.0)
+            break;
+
+        origin = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
+        dir = wi;
+        prev_pdf = pdf;
+        prev_delta = is_delta;
+    }
+    if (!xs_finite(r.radiance))
+        r.radiance = vec3(0.0);
+    return r;
+}
+
+#endif

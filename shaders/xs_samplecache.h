@@ -1,0 +1,164 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file xs_samplecache.h
+ * @brief The sample cache (seed 000 §3): bindings, parameter/statistics layouts, limits and
+ *        defaults, shared by C and GLSL (compiled with -DXRSC_GLSL).
+ *
+ * Storage (all storage BUFFERS: 64-bit atomics exist only on buffers on lavapipe). Pixel
+ * index of eye e, pixel (x, y): pix = (e * height + y) * width + x; "plane" = 2 * width *
+ * height. Arrays with a copy index are double buffered (copy c = frame parity: the frame
+ * reads copy 1 - cur and writes copy cur, §3.1).
+ *   mask[c][pix]                 32 bits: o_s = bit s, v_s = bit s + XS_SC_MAX_SLOTS (§3)
+ *   fh[c][slot][pix]             uvec4, the first hit packed as Listing 1 (xs_sc_math.h)
+ *   rad[c][slot][pix]            vec4: demodulated radiance L_s (rgb) and count c_s (a)
+ *   depth_min[pix]               uint64: closest distance t (float bits, high 32) | slope
+ *                                Delta of that sample (Eq. 1, float bits, low 32), atomicMin
+ *   depth_max[pix]               uint: farthest distance (float bits), atomicMax
+ *   src[slot][pix]               2-pass reprojection: source address of each reserved slot
+ *   plan[pix]                    uvec4: trace bits, new-sample bits, shade bits, visible count
+ *   stats[c][eye]                xs_sc_stats: importance bounds and histogram (§3.5)
+ *   shade list                   the samples chosen for shading, compacted (§3.5): a count,
+ *                                then entries pix << XS_SC_SHADE_SLOT_BITS | slot
+ * Slot s of a pixel lives in "layer" s, as in the paper's array of textures (Fig. 3).
+ */
+#ifndef XS_SAMPLECACHE_H
+#define XS_SAMPLECACHE_H
+
+#include "xrsc_shared.h"
+
+/* The cache's own bindings: set 1 of the ray-tracing programs, set 0 (next to the scene's
+ * XS_BIND_* ones, which stay below XS_SC_BIND_FIRST) of the compute programs. */
+#define XS_SC_BIND_FIRST 16
+#define XS_SC_BIND_PARAMS 16     /* uniform xs_sc_params */
+#define XS_SC_BIND_MASK 17       /* buffer uint[2][plane] */
+#define XS_SC_BIND_FH 18         /* buffer uvec4[2][N][plane] */
+#define XS_SC_BIND_RAD 19        /* buffer vec4[2][N][plane] */
+#define XS_SC_BIND_DEPTH_MIN 20  /* buffer uint64[plane] */
+#define XS_SC_BIND_DEPTH_MAX 21  /* buffer uint[plane] */
+#define XS_SC_BIND_SRC 22        /* buffer uint[N][plane] */
+#define XS_SC_BIND_PLAN 23       /* buffer uvec4[plane] */
+#define XS_SC_BIND_STATS 24      /* buffer xs_sc_stats[2][2] */
+#define XS_SC_BIND_OUT_MU1 25    /* rgba32f image2DArray: mu_1 per pixel (Eq. 5) */
+#define XS_SC_BIND_OUT_MU2 26    /* rgba32f image2DArray: mu_2 per pixel (Eq. 5) */
+#define XS_SC_BIND_SHADE_LIST 27 /* buffer: uint count, 3 pads, uint entries[capacity] */
+#define XS_SC_BIND_SELFTEST 28   /* buffer xs_sc_selftest_io[] (sc_selftest.comp only) */
+
+/* Descriptor set of the cache bindings in ray-tracing programs (compute programs: 0). */
+#define XS_SC_RT_SET 1
+
+/* Limits (§3: 2 bits per slot in a 32-bit mask). */
+#define XS_SC_MAX_SLOTS 16u
+#define XS_SC_OCC_MASK 0xFFFFu
+/* Importance buckets of adaptive shading (§3.5: M = 13 logarithmic buckets). */
+#define XS_SC_BUCKETS 13u
+#define XS_SC_BUCKETS_STORED 16u
+
+/* Defaults (seed 000 §4, §3.2, §3.4, App. C). */
+#define XS_SC_DEFAULT_SLOTS 12u
+#define XS_SC_DEFAULT_N_TARGET 4.0
+#define XS_SC_DEFAULT_DELTA 1.0
+#define XS_SC_DEFAULT_EPS0 0.001
+#define XS_SC_DEFAULT_EPS1 0.005
+#define XS_SC_DEFAULT_BLOCK 4u
+#define XS_SC_DEFAULT_SHADE_RATE 1.0
+#define XS_SC_DEFAULT_ALPHA_FIXED 0.1
+/* App. C: alpha_min = (1 - a_GGX) * XS_SC_ALPHA_MIN_SMOOTH + a_GGX * XS_SC_ALPHA_MIN_ROUGH. */
+#define XS_SC_ALPHA_MIN_SMOOTH 0.5
+#define XS_SC_ALPHA_MIN_ROUGH 0.1
+
+/* Modes (values of xs_sc_params fields; equal to the public enums, checked in C). */
+#define XS_SC_TRACE_SINGLE 0u
+#define XS_SC_TRACE_MULTI 1u
+#define XS_SC_TRACE_ADAPTIVE 2u
+#define XS_SC_SHADE_UNIFORM 0u
+#define XS_SC_SHADE_ADAPTIVE 1u
+#define XS_SC_ALPHA_CLAMPED 0u
+#define XS_SC_ALPHA_FIXED 1u
+
+/* Instance value of a background sample (fh.xyz = unit world direction as float bits). */
+#define XS_SC_BACKGROUND XS_MISS_INSTANCE
+
+/* 2-pass source word: bit 31 = the source sample is visible, bits 0..30 = source address + 1
+ * (address = slot * plane + pix in the previous copy); 0 = nothing reserved. */
+#define XS_SC_SRC_VISIBLE 0x80000000u
+#define XS_SC_SRC_ADDR_MASK 0x7FFFFFFFu
+
+/* Shade-list entries: pixel index (both eyes' planes) above the slot. */
+#define XS_SC_SHADE_SLOT_BITS 4u
+#define XS_SC_SHADE_SLOT_MASK 0xFu
+/* uints before the entries of the shade list (count + padding to 16 bytes) */
+#define XS_SC_SHADE_LIST_HEADER 4u
+
+/* Compute workgroup size (x, y) of every sample-cache compute shader. */
+#define XS_SC_GROUP 8u
+
+XS_STRUCT(xs_sc_params)
+{
+    xs_uint slots;        /* N */
+    xs_uint cur;          /* copy written this frame (prev = 1 - cur) */
+    xs_uint trace_mode;   /* XS_SC_TRACE_* */
+    xs_uint two_pass;     /* 1: reservation writes src[], sc_copy.comp copies */
+    xs_uint shade_cache;  /* 0: radiance is not carried between frames */
+    xs_uint shade_mode;   /* XS_SC_SHADE_* */
+    xs_uint alpha_mode;   /* XS_SC_ALPHA_* */
+    xs_uint block;        /* base-rate block size (4) */
+    xs_float n_target;    /* §3.2 */
+    xs_float delta;       /* §3.2 tolerance */
+    xs_float eps0;        /* §3.2 retrace tolerance (relative distance) */
+    xs_float eps1;        /* Eq. 2 */
+    xs_float shade_rate;  /* §3.5: shadings per pixel (1 = 100 %) */
+    xs_float alpha_fixed; /* XS_SC_ALPHA_FIXED */
+    xs_float phi_left;    /* per eye: angle subtended by a pixel's diagonal (Eq. 1), rad */
+    xs_float phi_right;
+    xs_uint shade_capacity; /* entries of the shade list (more chosen samples are dropped) */
+    xs_uint pad0, pad1, pad2;
+}
+XS_END(xs_sc_params);
+
+/* Importance statistics of one eye and copy (§3.5). w_min_inv holds ~floatBitsToUint(w_min)
+ * (atomicMax of it is a min of w > 0; 0 = no sample), w_max the float bits of w_max
+ * (atomicMax; 0 = no sample), so a zero fill clears both. */
+XS_STRUCT(xs_sc_stats)
+{
+    xs_uint w_min_inv;
+    xs_uint w_max;
+    xs_uint count; /* samples counted into hist */
+    xs_uint pad0;
+    xs_uint hist[XS_SC_BUCKETS_STORED];
+}
+XS_END(xs_sc_stats);
+
+/* Self-test record (sc_selftest.comp): Listing 1 round trip and the Eq. 1 / Eq. 2 test on
+ * the device, compared by tests with the C build of xs_sc_math.h. */
+XS_STRUCT(xs_sc_selftest_io)
+{
+    /* in */
+    xs_float bary_u, bary_v;
+    xs_uint instance, primitive;
+    xs_uint material;
+    xs_float t, cos_theta, phi;  /* Eq. 1 */
+    xs_float t_min, t_max, eps1; /* Eq. 2 (with the Delta of Eq. 1) */
+    xs_uint pad0;
+    /* out */
+    xs_uvec4 packed;
+    xs_float out_u, out_v;
+    xs_uint out_instance, out_primitive;
+    xs_uint out_material;
+    xs_float out_delta;
+    xs_uint out_consistent;
+    xs_uint pad1;
+}
+XS_END(xs_sc_selftest_io);
+
+#ifndef XRSC_GLSL
+_Static_assert(sizeof(xs_sc_params) == 80, "xs_sc_params layout (std140)");
+_Static_assert(offsetof(xs_sc_params, phi_left) == 56, "xs_sc_params layout (std140)");
+_Static_assert(sizeof(xs_sc_stats) == 80, "xs_sc_stats layout (std430)");
+_Static_assert(sizeof(xs_sc_selftest_io) == 96, "xs_sc_selftest_io layout (std430)");
+_Static_assert(offsetof(xs_sc_selftest_io, packed) == 48, "xs_sc_selftest_io layout");
+_Static_assert(XS_SC_BUCKETS <= XS_SC_BUCKETS_STORED, "histogram storage");
+_Static_assert((1u << XS_SC_SHADE_SLOT_BITS) >= XS_SC_MAX_SLOTS, "shade-list slot bits");
+_Static_assert(XS_SC_BIND_FIRST > XS_BIND_RAY_COUNTER, "cache bindings after the scene's");
+#endif
+
+#endif /* XS_SAMPLECACHE_H */
