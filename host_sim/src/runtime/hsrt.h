@@ -1,0 +1,289 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hsrt.h
+ * @brief host_sim as an OpenXR 1.0 runtime (internal): handles, configuration, and the
+ *        functions the entry points of the other files share.
+ *
+ * The runtime is a shared library loaded by the Khronos loader through a manifest; it exports
+ * only xrNegotiateLoaderRuntimeInterface (hsrt_entry.c). One head-mounted system with the
+ * primary stereo view configuration, driven by a replayed pose stream and the simulated
+ * headset of xrsc_math.h. Configuration is read from the environment at xrCreateInstance
+ * (README.md in this folder lists the variables).
+ *
+ * Files: hsrt_entry.c (negotiation, xrGetInstanceProcAddr, instance, system, paths, events,
+ * view configurations), hsrt_session.c (session state machine, frame timing, spaces, views,
+ * actions), hsrt_vulkan.c (XR_KHR_vulkan_enable/enable2, swapchains, frame read-back),
+ * hsrt_capture.c (pixel conversion and writing of captured frames).
+ *
+ * Locking: each instance has one mutex; every entry point that touches an instance or its
+ * children takes it (xrWaitFrame drops it while sleeping).
+ */
+#pragma once
+
+#define XR_USE_GRAPHICS_API_VULKAN
+#include <vulkan/vulkan.h>
+#include <openxr/openxr.h>
+#include <openxr/openxr_platform.h>
+
+#include "hs_pose_stream.h"
+#include "xrsc/xrsc_math.h"
+
+#include <pthread.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#define HSRT_RUNTIME_NAME "xrsc host_sim"
+#define HSRT_SYSTEM_ID ((XrSystemId)1)
+#define HSRT_EVENT_QUEUE 64
+#define HSRT_MAX_SWAPCHAIN_IMAGES 3
+/** LOCAL's origin is this high above STAGE's (a standing user's eye height). */
+#define HSRT_EYE_HEIGHT_M 1.6f
+/** Half the side of the square STAGE bounds. */
+#define HSRT_STAGE_HALF_M 2.0f
+
+/** Tags at the start of every handle's struct, checked by each entry point. */
+typedef enum hsrt_magic {
+    HSRT_MAGIC_INSTANCE = 0x58525349,   /* "XRSI" */
+    HSRT_MAGIC_SESSION = 0x58525353,    /* "XRSS" */
+    HSRT_MAGIC_SPACE = 0x58525350,      /* "XRSP" */
+    HSRT_MAGIC_SWAPCHAIN = 0x58525357,  /* "XRSW" */
+    HSRT_MAGIC_ACTION_SET = 0x58525341, /* "XRSA" */
+    HSRT_MAGIC_ACTION = 0x58525361,     /* "XRSa" */
+} hsrt_magic;
+
+typedef enum hsrt_pace {
+    HSRT_PACE_REALTIME, /**< xrWaitFrame sleeps to the next refresh of a monotonic clock */
+    HSRT_PACE_FAST,     /**< no sleeping; display times advance one period per frame */
+} hsrt_pace;
+
+/** Everything the environment configures (README.md). */
+typedef struct hsrt_config {
+    char poses_path[1024];
+    char out_dir[1024]; /**< "" = write nothing */
+    uint64_t frames;    /**< 0 = run until the application stops */
+    uint64_t lose_after; /**< 0 = never; else the session is lost after this many frames */
+    hsrt_pace pace;
+    bool write_eyes, write_sbs, write_linear;
+    float exposure;
+    char device[256];   /**< XRSC_RT_DEVICE: part of a Vulkan device name, "" = best */
+    xrsc_headset headset;
+} hsrt_config;
+
+typedef struct hsrt_instance hsrt_instance;
+typedef struct hsrt_session hsrt_session;
+typedef struct hsrt_swapchain hsrt_swapchain;
+
+/** Loaded Vulkan entry points of the application's device (one bundle, see STYLE.md). */
+typedef struct hsrt_vk {
+    VkInstance instance;
+    VkPhysicalDevice physical;
+    VkDevice device;
+    VkQueue queue;
+    uint32_t queue_family;
+    VkCommandPool pool;
+    VkCommandBuffer cmd;
+    VkFence fence;
+    VkBuffer readback;
+    VkDeviceMemory readback_mem;
+    VkDeviceSize readback_size;
+    void *readback_map;
+    VkPhysicalDeviceMemoryProperties mem_props;
+    PFN_vkGetDeviceProcAddr GetDeviceProcAddr;
+#define HSRT_VK_DEVICE_FUNCS(X)                                                                    \
+    X(GetDeviceQueue) X(CreateCommandPool) X(DestroyCommandPool) X(AllocateCommandBuffers)         \
+    X(FreeCommandBuffers) X(BeginCommandBuffer) X(EndCommandBuffer) X(ResetCommandBuffer)          \
+    X(CmdPipelineBarrier) X(CmdCopyImageToBuffer) X(QueueSubmit) X(CreateFence) X(DestroyFence)    \
+    X(WaitForFences) X(ResetFences) X(CreateImage) X(DestroyImage) X(GetImageMemoryRequirements)   \
+    X(AllocateMemory) X(FreeMemory) X(BindImageMemory) X(CreateBuffer) X(DestroyBuffer)           \
+    X(GetBufferMemoryRequirements) X(BindBufferMemory) X(MapMemory) X(UnmapMemory)                \
+    X(InvalidateMappedMemoryRanges) X(DeviceWaitIdle)
+#define HSRT_X_DECL(name) PFN_vk##name name;
+    HSRT_VK_DEVICE_FUNCS(HSRT_X_DECL)
+#undef HSRT_X_DECL
+} hsrt_vk;
+
+struct hsrt_swapchain {
+    uint32_t magic;
+    hsrt_session *session;
+    hsrt_swapchain *next_in_session;
+    XrSwapchainCreateInfo info;
+    VkImageLayout layout; /**< the layout images are in while the application holds them */
+    uint32_t image_count;
+    VkImage images[HSRT_MAX_SWAPCHAIN_IMAGES];
+    VkDeviceMemory memory[HSRT_MAX_SWAPCHAIN_IMAGES];
+    uint32_t next_acquire;    /**< round robin */
+    uint32_t acquired;        /**< number acquired and not yet released */
+    uint32_t acquired_order[HSRT_MAX_SWAPCHAIN_IMAGES]; /**< FIFO of acquired indices */
+    bool waited;              /**< the oldest acquired image has been waited on */
+    int32_t last_released;    /**< -1 before the first release */
+};
+
+typedef enum hsrt_space_kind {
+    HSRT_SPACE_VIEW,
+    HSRT_SPACE_LOCAL,
+    HSRT_SPACE_STAGE,
+    HSRT_SPACE_ACTION, /**< never located: the runtime reports no input */
+} hsrt_space_kind;
+
+typedef struct hsrt_space {
+    uint32_t magic;
+    hsrt_session *session;
+    struct hsrt_space *next_in_session;
+    hsrt_space_kind kind;
+    XrPosef pose_in_ref;
+} hsrt_space;
+
+typedef struct hsrt_action_set hsrt_action_set;
+
+typedef struct hsrt_action {
+    uint32_t magic;
+    hsrt_action_set *set;
+    struct hsrt_action *next_in_set;
+    char name[XR_MAX_ACTION_NAME_SIZE];
+    XrActionType type;
+} hsrt_action;
+
+struct hsrt_action_set {
+    uint32_t magic;
+    hsrt_instance *instance;
+    hsrt_action_set *next_in_instance;
+    char name[XR_MAX_ACTION_SET_NAME_SIZE];
+    hsrt_action *actions;
+    bool attached; /**< attached to a session: immutable from then on */
+};
+
+struct hsrt_session {
+    uint32_t magic;
+    hsrt_instance *instance;
+    XrSessionState state;
+    bool running;          /**< between xrBeginSession and xrEndSession */
+    bool exit_requested;   /**< EXITING follows IDLE after xrEndSession */
+    bool lost;             /**< LOSS_PENDING has been queued */
+    bool actions_attached;
+    hsrt_vk vk;
+    hsrt_space *spaces;
+    hsrt_swapchain *swapchains;
+    /* frame loop */
+    int64_t period_ns;
+    XrTime clock_start;        /**< display times are start + k * period */
+    XrTime last_display_time;  /**< the last one xrWaitFrame returned, 0 before */
+    XrTime first_display_time; /**< stream time 0, set at the first xrWaitFrame */
+    uint32_t waits_pending;    /**< xrWaitFrame calls not yet followed by xrBeginFrame */
+    bool frame_begun;
+    uint64_t frames_ended;
+    FILE *frames_csv;
+};
+
+struct hsrt_instance {
+    uint32_t magic;
+    pthread_mutex_t lock;
+    hsrt_config cfg;
+    hs_pose_stream *poses;
+    XrPosef local_in_stream; /**< LOCAL's origin in the stream's coordinates */
+    bool ext_vulkan, ext_vulkan2, ext_depth;
+    char app_name[XR_MAX_APPLICATION_NAME_SIZE];
+    /* paths: XrPath k (k >= 1) is paths[k - 1] */
+    char **paths;
+    uint32_t path_count, path_cap;
+    /* event queue (ring) */
+    XrEventDataBuffer events[HSRT_EVENT_QUEUE];
+    uint32_t event_head, event_count;
+    hsrt_session *session; /**< at most one at a time */
+    hsrt_action_set *action_sets;
+    bool graphics_requirements_queried;
+    PFN_vkGetInstanceProcAddr vk_gipa; /**< from xrCreateVulkanInstanceKHR, else libvulkan's */
+    VkInstance vk_instance;            /**< the last one created or asked about */
+    VkPhysicalDevice vk_physical;      /**< the one xrGetVulkanGraphicsDevice(2)KHR chose */
+};
+
+/* ---- hsrt_entry.c ---- */
+/** Logs "xrsc runtime: <function>: <message>" as an error and returns result. */
+XrResult hsrt_fail(XrResult result, const char *function, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+const char *hsrt_result_name(XrResult result);
+/** Validates an XrInstance handle (not locked). */
+hsrt_instance *hsrt_instance_from(XrInstance handle);
+/** Queues a session state change (locked by the caller). */
+void hsrt_push_state(hsrt_session *s, XrSessionState state);
+/** Queues an event (locked by the caller); the oldest is dropped when the queue is full. */
+void hsrt_push_event(hsrt_instance *inst, const void *event, size_t size);
+/** The string of a path, NULL if the path is not one of this instance's. */
+const char *hsrt_path_string(hsrt_instance *inst, XrPath path);
+/** Monotonic clock in ns. */
+XrTime hsrt_now_ns(void);
+
+/* ---- hsrt_session.c: the core entry points implemented there ---- */
+#define HSRT_SESSION_FUNCS(X)                                                                      \
+    X(CreateSession) X(DestroySession) X(BeginSession) X(EndSession) X(RequestExitSession)         \
+    X(EnumerateReferenceSpaces) X(CreateReferenceSpace) X(GetReferenceSpaceBoundsRect)             \
+    X(CreateActionSpace) X(LocateSpace) X(DestroySpace) X(WaitFrame) X(BeginFrame) X(EndFrame)      \
+    X(LocateViews) X(CreateActionSet) X(DestroyActionSet) X(CreateAction) X(DestroyAction)          \
+    X(SuggestInteractionProfileBindings) X(AttachSessionActionSets)                                \
+    X(GetCurrentInteractionProfile) X(GetActionStateBoolean) X(GetActionStateFloat)                \
+    X(GetActionStateVector2f) X(GetActionStatePose) X(SyncActions)                                 \
+    X(EnumerateBoundSourcesForAction) X(GetInputSourceLocalizedName) X(ApplyHapticFeedback)        \
+    X(StopHapticFeedback)
+/** The core function `name` implemented in hsrt_session.c, NULL if it is not one of them. */
+PFN_xrVoidFunction hsrt_session_proc(const char *name);
+/** Frees the action sets of an instance (at xrDestroyInstance). */
+void hsrt_action_sets_free(hsrt_instance *inst);
+/** Head pose in the stream's coordinates at an XrTime. */
+XrPosef hsrt_head_pose(hsrt_session *s, XrTime time);
+
+/* ---- hsrt_vulkan.c ---- */
+#define HSRT_VULKAN_FUNCS(X)                                                                       \
+    X(GetVulkanInstanceExtensionsKHR) X(GetVulkanDeviceExtensionsKHR)                              \
+    X(GetVulkanGraphicsDeviceKHR) X(GetVulkanGraphicsRequirementsKHR)
+#define HSRT_VULKAN2_FUNCS(X)                                                                      \
+    X(CreateVulkanInstanceKHR) X(CreateVulkanDeviceKHR) X(GetVulkanGraphicsDevice2KHR)             \
+    X(GetVulkanGraphicsRequirements2KHR)
+#define HSRT_SWAPCHAIN_FUNCS(X)                                                                    \
+    X(EnumerateSwapchainFormats) X(CreateSwapchain) X(DestroySwapchain)                            \
+    X(EnumerateSwapchainImages) X(AcquireSwapchainImage) X(WaitSwapchainImage)                     \
+    X(ReleaseSwapchainImage)
+/**
+ * A function implemented in hsrt_vulkan.c (the swapchain core functions and those of the two
+ * Vulkan extensions), NULL if none; *out_ext says 0 core, 1 XR_KHR_vulkan_enable,
+ * 2 XR_KHR_vulkan_enable2.
+ */
+PFN_xrVoidFunction hsrt_vulkan_proc(const char *name, int *out_ext);
+/** Sets up s->vk from the session's graphics binding (command pool, fence, queue). */
+XrResult hsrt_vk_session_init(hsrt_session *s, const XrGraphicsBindingVulkanKHR *binding);
+/** Destroys the session's swapchains and Vulkan objects (not the application's device). */
+void hsrt_vk_session_fini(hsrt_session *s);
+void hsrt_swapchain_free(hsrt_swapchain *sc);
+
+/** One eye's captured pixels. */
+typedef struct hsrt_eye_image {
+    uint32_t w, h;
+    float *rgba;   /**< linear, w*h*4 */
+    uint8_t *rgb;  /**< display-referred sRGB, w*h*3 */
+} hsrt_eye_image;
+/**
+ * Reads back the released image of each view of a projection layer (at most 2) into
+ * out_eyes; frees nothing on failure beyond what it allocated itself.
+ */
+XrResult hsrt_vk_capture(hsrt_session *s, const XrCompositionLayerProjection *layer,
+                         hsrt_eye_image out_eyes[2]);
+
+/* ---- hsrt_capture.c ---- */
+/** Bytes per texel of a supported swapchain format, 0 for others. */
+uint32_t hsrt_format_size(VkFormat format);
+bool hsrt_format_is_depth(VkFormat format);
+/** The formats offered, colour first in order of preference. */
+extern const VkFormat hsrt_formats[];
+extern const uint32_t hsrt_format_count;
+/**
+ * Converts read-back texels (rows top to bottom, row pitch w*size) into linear floats and
+ * display sRGB bytes: 8-bit sRGB formats are decoded/kept; UNORM is linear [0,1]; float
+ * formats are linear HDR and tone-mapped with hs_tonemap (ACES + sRGB, exposure).
+ */
+bool hsrt_convert(VkFormat format, const void *texels, uint32_t w, uint32_t h, float exposure,
+                  hsrt_eye_image *out);
+void hsrt_eye_image_free(hsrt_eye_image *img);
+/** Writes frame_NNNNN_{left,right}.png/.pfm and _sbs.png as the configuration says. */
+bool hsrt_write_frame(const hsrt_config *cfg, uint64_t frame, hsrt_eye_image eyes[2]);

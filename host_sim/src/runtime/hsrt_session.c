@@ -1,0 +1,1184 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hsrt_session.c
+ * @brief The session state machine and its events, frame timing on a simulated clock,
+ *        VIEW/LOCAL/STAGE reference spaces located from the replayed pose stream, xrLocateViews
+ *        with the simulated headset's eyes, and an action system that accepts bindings and
+ *        reports no input.
+ *
+ * States: xrCreateSession queues IDLE and READY; the first xrWaitFrame after xrBeginSession
+ * queues SYNCHRONIZED, the first xrEndFrame VISIBLE and FOCUSED. An exit (the application's
+ * xrRequestExitSession, or XRSC_RT_FRAMES frames ended) walks down to STOPPING; xrEndSession
+ * then queues IDLE and EXITING. XRSC_RT_LOSE_AFTER frames queue LOSS_PENDING, after which the
+ * session's functions return XR_ERROR_SESSION_LOST until it is destroyed.
+ *
+ * Spaces: the stream's coordinates are the tracking space. LOCAL's origin is the stream's
+ * first pose turned only about +Y; STAGE's origin lies HSRT_EYE_HEIGHT_M below LOCAL's;
+ * VIEW follows the head. Display time t maps to stream time t - (first predicted display
+ * time), wrapping around at the stream's end.
+ */
+#include "hsrt.h"
+
+#include "u_diag.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+static hsrt_session *session_from(XrSession handle)
+{
+    hsrt_session *s = (hsrt_session *)(uintptr_t)handle;
+    if (!s || s->magic != HSRT_MAGIC_SESSION)
+        return NULL;
+    return s;
+}
+
+/*
+ * Looks up the session, takes its instance's lock, and fails on a lost session (unless
+ * allow_lost). Every path after a successful LOCK_SESSION must UNLOCK.
+ */
+#define LOCK_SESSION(var, handle, fn, allow_lost)                                                  \
+    hsrt_session *var = session_from(handle);                                                      \
+    if (!var)                                                                                      \
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrSession of this runtime");         \
+    pthread_mutex_lock(&var->instance->lock);                                                      \
+    if (var->lost && !(allow_lost)) {                                                              \
+        pthread_mutex_unlock(&var->instance->lock);                                                \
+        return hsrt_fail(XR_ERROR_SESSION_LOST, fn, "the session was lost");                       \
+    }
+#define UNLOCK(var) pthread_mutex_unlock(&var->instance->lock)
+
+static bool pose_valid(XrPosef p)
+{
+    XrQuaternionf q = p.orientation;
+    float n = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w;
+    return isfinite(n) && fabsf(n - 1.0f) < 0.01f && isfinite(p.position.x) &&
+           isfinite(p.position.y) && isfinite(p.position.z);
+}
+
+/* ---- poses ---- */
+
+XrPosef hsrt_head_pose(hsrt_session *s, XrTime time)
+{
+    const hs_pose_stream *ps = s->instance->poses;
+    int64_t t = s->first_display_time ? time - s->first_display_time : 0;
+    int64_t dur = hs_pose_stream_duration_ns(ps);
+    if (dur > 0) {
+        t %= dur;
+        if (t < 0)
+            t += dur;
+    } else {
+        t = 0;
+    }
+    XrPosef head;
+    hs_pose_stream_sample(ps, t, &head);
+    return head;
+}
+
+/** The pose of a space in the stream's coordinates; false for spaces that are never located. */
+static bool space_pose(hsrt_session *s, const hsrt_space *sp, XrTime time, XrPosef *out)
+{
+    XrPosef origin;
+    switch (sp->kind) {
+    case HSRT_SPACE_VIEW:
+        origin = hsrt_head_pose(s, time);
+        break;
+    case HSRT_SPACE_LOCAL:
+        origin = s->instance->local_in_stream;
+        break;
+    case HSRT_SPACE_STAGE: {
+        XrPosef down = xrsc_pose_identity();
+        down.position.y = -HSRT_EYE_HEIGHT_M;
+        origin = xrsc_pose_mul(s->instance->local_in_stream, down);
+        break;
+    }
+    default:
+        return false;
+    }
+    *out = xrsc_pose_mul(origin, sp->pose_in_ref);
+    return true;
+}
+
+/* ---- session lifecycle ---- */
+
+static void csv_open(hsrt_session *s)
+{
+    const hsrt_config *cfg = &s->instance->cfg;
+    if (!cfg->out_dir[0])
+        return;
+    if (mkdir(cfg->out_dir, 0777) != 0 && errno != EEXIST) {
+        U_LOG_E("runtime: cannot create XRSC_RT_OUT folder %s: %s", cfg->out_dir, strerror(errno));
+        return;
+    }
+    char path[1100];
+    snprintf(path, sizeof(path), "%s/frames.csv", cfg->out_dir);
+    s->frames_csv = fopen(path, "w");
+    if (!s->frames_csv) {
+        U_LOG_E("runtime: cannot write %s: %s", path, strerror(errno));
+        return;
+    }
+    fprintf(s->frames_csv, "frame,display_time_ns,stream_time_ns,px,py,pz,qx,qy,qz,qw,layers\n");
+}
+
+static XrResult XRAPI_CALL hsrt_xrCreateSession(XrInstance instance,
+                                                const XrSessionCreateInfo *createInfo,
+                                                XrSession *session)
+{
+    const char *fn = "xrCreateSession";
+    hsrt_instance *inst = hsrt_instance_from(instance);
+    if (!inst)
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrInstance of this runtime");
+    if (!createInfo || !session || createInfo->type != XR_TYPE_SESSION_CREATE_INFO)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad createInfo");
+    if (createInfo->systemId != HSRT_SYSTEM_ID)
+        return hsrt_fail(XR_ERROR_SYSTEM_INVALID, fn, "systemId %llu",
+                         (unsigned long long)createInfo->systemId);
+    const XrGraphicsBindingVulkanKHR *binding = NULL;
+    for (const XrBaseInStructure *n = createInfo->next; n; n = n->next) {
+        if (n->type == XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR)
+            binding = (const XrGraphicsBindingVulkanKHR *)n;
+    }
+    if (!binding)
+        return hsrt_fail(XR_ERROR_GRAPHICS_DEVICE_INVALID, fn,
+                         "no XrGraphicsBindingVulkanKHR (this runtime serves Vulkan only)");
+    pthread_mutex_lock(&inst->lock);
+    XrResult r = XR_SUCCESS;
+    hsrt_session *s = NULL;
+    if (!inst->graphics_requirements_queried) {
+        r = hsrt_fail(XR_ERROR_GRAPHICS_REQUIREMENTS_CALL_MISSING, fn,
+                      "xrGetVulkanGraphicsRequirements(2)KHR was not called");
+        goto out;
+    }
+    if (inst->session) {
+        r = hsrt_fail(XR_ERROR_LIMIT_REACHED, fn, "one session at a time");
+        goto out;
+    }
+    s = calloc(1, sizeof(*s));
+    if (!s) {
+        r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "session");
+        goto out;
+    }
+    s->magic = HSRT_MAGIC_SESSION;
+    s->instance = inst;
+    s->period_ns = (int64_t)llround(1e9 / (double)inst->cfg.headset.refresh_hz);
+    r = hsrt_vk_session_init(s, binding);
+    if (XR_FAILED(r)) {
+        s->magic = 0;
+        free(s);
+        s = NULL;
+        goto out;
+    }
+    inst->session = s;
+    csv_open(s);
+    hsrt_push_state(s, XR_SESSION_STATE_IDLE);
+    hsrt_push_state(s, XR_SESSION_STATE_READY);
+    *session = (XrSession)(uintptr_t)s;
+out:
+    pthread_mutex_unlock(&inst->lock);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrDestroySession(XrSession session)
+{
+    LOCK_SESSION(s, session, "xrDestroySession", true);
+    hsrt_instance *inst = s->instance;
+    while (s->spaces) {
+        hsrt_space *sp = s->spaces;
+        s->spaces = sp->next_in_session;
+        sp->magic = 0;
+        free(sp);
+    }
+    hsrt_vk_session_fini(s);
+    if (s->frames_csv)
+        fclose(s->frames_csv);
+    /* Events of this session that were not polled would name a dead handle: drop them. */
+    uint32_t kept = 0;
+    XrEventDataBuffer tmp[HSRT_EVENT_QUEUE];
+    for (uint32_t i = 0; i < inst->event_count; i++) {
+        const XrEventDataBuffer *ev = &inst->events[(inst->event_head + i) % HSRT_EVENT_QUEUE];
+        if (ev->type == XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED &&
+            ((const XrEventDataSessionStateChanged *)ev)->session == session)
+            continue;
+        tmp[kept++] = *ev;
+    }
+    memcpy(inst->events, tmp, kept * sizeof(tmp[0]));
+    inst->event_head = 0;
+    inst->event_count = kept;
+    inst->session = NULL;
+    s->magic = 0;
+    free(s);
+    pthread_mutex_unlock(&inst->lock);
+    return XR_SUCCESS;
+}
+
+static XrResult XRAPI_CALL hsrt_xrBeginSession(XrSession session, const XrSessionBeginInfo *beginInfo)
+{
+    const char *fn = "xrBeginSession";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (!beginInfo || beginInfo->type != XR_TYPE_SESSION_BEGIN_INFO)
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad beginInfo");
+    else if (beginInfo->primaryViewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
+        r = hsrt_fail(XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED, fn, "type %d",
+                      (int)beginInfo->primaryViewConfigurationType);
+    else if (s->running)
+        r = hsrt_fail(XR_ERROR_SESSION_RUNNING, fn, "already running");
+    else if (s->state != XR_SESSION_STATE_READY)
+        r = hsrt_fail(XR_ERROR_SESSION_NOT_READY, fn, "state is %d, not READY", (int)s->state);
+    if (XR_SUCCEEDED(r)) {
+        s->running = true;
+        s->clock_start = hsrt_now_ns();
+        s->last_display_time = 0;
+        s->first_display_time = 0;
+        s->waits_pending = 0;
+        s->frame_begun = false;
+        s->frames_ended = 0;
+    }
+    UNLOCK(s);
+    return r;
+}
+
+/** Walks the state down to STOPPING (locked). */
+static void stop_session(hsrt_session *s)
+{
+    s->exit_requested = true;
+    if (s->state == XR_SESSION_STATE_FOCUSED)
+        hsrt_push_state(s, XR_SESSION_STATE_VISIBLE);
+    if (s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_READY)
+        hsrt_push_state(s, XR_SESSION_STATE_SYNCHRONIZED);
+    if (s->state == XR_SESSION_STATE_SYNCHRONIZED)
+        hsrt_push_state(s, XR_SESSION_STATE_STOPPING);
+}
+
+static XrResult XRAPI_CALL hsrt_xrEndSession(XrSession session)
+{
+    const char *fn = "xrEndSession";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (!s->running)
+        r = hsrt_fail(XR_ERROR_SESSION_NOT_RUNNING, fn, "not running");
+    else if (s->state != XR_SESSION_STATE_STOPPING)
+        r = hsrt_fail(XR_ERROR_SESSION_NOT_STOPPING, fn, "state is %d, not STOPPING",
+                      (int)s->state);
+    if (XR_SUCCEEDED(r)) {
+        s->running = false;
+        hsrt_push_state(s, XR_SESSION_STATE_IDLE);
+        if (s->exit_requested)
+            hsrt_push_state(s, XR_SESSION_STATE_EXITING);
+        else
+            hsrt_push_state(s, XR_SESSION_STATE_READY);
+    }
+    UNLOCK(s);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrRequestExitSession(XrSession session)
+{
+    const char *fn = "xrRequestExitSession";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (!s->running)
+        r = hsrt_fail(XR_ERROR_SESSION_NOT_RUNNING, fn, "not running");
+    else
+        stop_session(s);
+    UNLOCK(s);
+    return r;
+}
+
+/* ---- spaces ---- */
+
+static hsrt_space *space_from(XrSpace handle)
+{
+    hsrt_space *sp = (hsrt_space *)(uintptr_t)handle;
+    if (!sp || sp->magic != HSRT_MAGIC_SPACE)
+        return NULL;
+    return sp;
+}
+
+static const XrReferenceSpaceType k_ref_spaces[] = {
+    XR_REFERENCE_SPACE_TYPE_VIEW, XR_REFERENCE_SPACE_TYPE_LOCAL, XR_REFERENCE_SPACE_TYPE_STAGE};
+
+static XrResult XRAPI_CALL hsrt_xrEnumerateReferenceSpaces(XrSession session,
+                                                           uint32_t spaceCapacityInput,
+                                                           uint32_t *spaceCountOutput,
+                                                           XrReferenceSpaceType *spaces)
+{
+    const char *fn = "xrEnumerateReferenceSpaces";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (!spaceCountOutput) {
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "NULL count");
+    } else {
+        *spaceCountOutput = 3;
+        if (spaceCapacityInput) {
+            if (spaceCapacityInput < 3 || !spaces)
+                r = XR_ERROR_SIZE_INSUFFICIENT;
+            else
+                memcpy(spaces, k_ref_spaces, sizeof(k_ref_spaces));
+        }
+    }
+    UNLOCK(s);
+    return r;
+}
+
+static XrResult add_space(hsrt_session *s, hsrt_space_kind kind, XrPosef pose, XrSpace *out)
+{
+    hsrt_space *sp = calloc(1, sizeof(*sp));
+    if (!sp)
+        return XR_ERROR_OUT_OF_MEMORY;
+    sp->magic = HSRT_MAGIC_SPACE;
+    sp->session = s;
+    sp->kind = kind;
+    sp->pose_in_ref = pose;
+    sp->next_in_session = s->spaces;
+    s->spaces = sp;
+    *out = (XrSpace)(uintptr_t)sp;
+    return XR_SUCCESS;
+}
+
+static XrResult XRAPI_CALL hsrt_xrCreateReferenceSpace(XrSession session,
+                                                       const XrReferenceSpaceCreateInfo *createInfo,
+                                                       XrSpace *space)
+{
+    const char *fn = "xrCreateReferenceSpace";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (!createInfo || !space || createInfo->type != XR_TYPE_REFERENCE_SPACE_CREATE_INFO) {
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad createInfo");
+    } else if (!pose_valid(createInfo->poseInReferenceSpace)) {
+        r = hsrt_fail(XR_ERROR_POSE_INVALID, fn, "poseInReferenceSpace is not a rigid pose");
+    } else {
+        hsrt_space_kind kind;
+        switch (createInfo->referenceSpaceType) {
+        case XR_REFERENCE_SPACE_TYPE_VIEW: kind = HSRT_SPACE_VIEW; break;
+        case XR_REFERENCE_SPACE_TYPE_LOCAL: kind = HSRT_SPACE_LOCAL; break;
+        case XR_REFERENCE_SPACE_TYPE_STAGE: kind = HSRT_SPACE_STAGE; break;
+        default:
+            r = hsrt_fail(XR_ERROR_REFERENCE_SPACE_UNSUPPORTED, fn, "type %d",
+                          (int)createInfo->referenceSpaceType);
+            UNLOCK(s);
+            return r;
+        }
+        r = add_space(s, kind, createInfo->poseInReferenceSpace, space);
+        if (XR_FAILED(r))
+            hsrt_fail(r, fn, "space");
+    }
+    UNLOCK(s);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrGetReferenceSpaceBoundsRect(XrSession session,
+                                                              XrReferenceSpaceType referenceSpaceType,
+                                                              XrExtent2Df *bounds)
+{
+    const char *fn = "xrGetReferenceSpaceBoundsRect";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (!bounds) {
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "NULL bounds");
+    } else if (referenceSpaceType == XR_REFERENCE_SPACE_TYPE_STAGE) {
+        bounds->width = bounds->height = 2.0f * HSRT_STAGE_HALF_M;
+    } else if (referenceSpaceType == XR_REFERENCE_SPACE_TYPE_VIEW ||
+               referenceSpaceType == XR_REFERENCE_SPACE_TYPE_LOCAL) {
+        bounds->width = bounds->height = 0.0f;
+        r = XR_SPACE_BOUNDS_UNAVAILABLE;
+    } else {
+        r = hsrt_fail(XR_ERROR_REFERENCE_SPACE_UNSUPPORTED, fn, "type %d", (int)referenceSpaceType);
+    }
+    UNLOCK(s);
+    return r;
+}
+
+static hsrt_action *action_from(XrAction handle)
+{
+    hsrt_action *a = (hsrt_action *)(uintptr_t)handle;
+    if (!a || a->magic != HSRT_MAGIC_ACTION)
+        return NULL;
+    return a;
+}
+
+static XrResult XRAPI_CALL hsrt_xrCreateActionSpace(XrSession session,
+                                                    const XrActionSpaceCreateInfo *createInfo,
+                                                    XrSpace *space)
+{
+    const char *fn = "xrCreateActionSpace";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    hsrt_action *a = createInfo ? action_from(createInfo->action) : NULL;
+    if (!createInfo || !space || createInfo->type != XR_TYPE_ACTION_SPACE_CREATE_INFO)
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad createInfo");
+    else if (!a)
+        r = hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrAction");
+    else if (a->type != XR_ACTION_TYPE_POSE_INPUT)
+        r = hsrt_fail(XR_ERROR_ACTION_TYPE_MISMATCH, fn, "action '%s' is not a pose", a->name);
+    else if (!pose_valid(createInfo->poseInActionSpace))
+        r = hsrt_fail(XR_ERROR_POSE_INVALID, fn, "poseInActionSpace is not a rigid pose");
+    else if (XR_FAILED(r = add_space(s, HSRT_SPACE_ACTION, createInfo->poseInActionSpace, space)))
+        hsrt_fail(r, fn, "space");
+    UNLOCK(s);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrLocateSpace(XrSpace space, XrSpace baseSpace, XrTime time,
+                                              XrSpaceLocation *location)
+{
+    const char *fn = "xrLocateSpace";
+    hsrt_space *sp = space_from(space), *base = space_from(baseSpace);
+    if (!sp || !base)
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrSpace of this runtime");
+    if (sp->session != base->session)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "spaces of different sessions");
+    LOCK_SESSION(s, (XrSession)(uintptr_t)sp->session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (!location || location->type != XR_TYPE_SPACE_LOCATION) {
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad location");
+    } else if (time <= 0) {
+        r = hsrt_fail(XR_ERROR_TIME_INVALID, fn, "time %lld", (long long)time);
+    } else {
+        XrPosef a, b;
+        if (space_pose(s, sp, time, &a) && space_pose(s, base, time, &b)) {
+            location->pose = xrsc_pose_mul(xrsc_pose_inverse(b), a);
+            location->locationFlags =
+                XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT |
+                XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT | XR_SPACE_LOCATION_POSITION_TRACKED_BIT;
+        } else {
+            location->pose = xrsc_pose_identity();
+            location->locationFlags = 0;
+        }
+        for (XrBaseOutStructure *n = location->next; n; n = n->next) {
+            if (n->type == XR_TYPE_SPACE_VELOCITY) {
+                XrSpaceVelocity *v = (XrSpaceVelocity *)n;
+                v->velocityFlags = 0;
+                memset(&v->linearVelocity, 0, sizeof(v->linearVelocity));
+                memset(&v->angularVelocity, 0, sizeof(v->angularVelocity));
+            }
+        }
+    }
+    UNLOCK(s);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrDestroySpace(XrSpace space)
+{
+    hsrt_space *sp = space_from(space);
+    if (!sp)
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, "xrDestroySpace", "not an XrSpace");
+    LOCK_SESSION(s, (XrSession)(uintptr_t)sp->session, "xrDestroySpace", true);
+    for (hsrt_space **p = &s->spaces; *p; p = &(*p)->next_in_session) {
+        if (*p == sp) {
+            *p = sp->next_in_session;
+            break;
+        }
+    }
+    sp->magic = 0;
+    free(sp);
+    UNLOCK(s);
+    return XR_SUCCESS;
+}
+
+/* ---- frame loop ---- */
+
+static void sleep_until(XrTime t)
+{
+    struct timespec ts = {.tv_sec = (time_t)(t / 1000000000), .tv_nsec = (long)(t % 1000000000)};
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR) {
+    }
+}
+
+static XrResult XRAPI_CALL hsrt_xrWaitFrame(XrSession session, const XrFrameWaitInfo *frameWaitInfo,
+                                            XrFrameState *frameState)
+{
+    const char *fn = "xrWaitFrame";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if ((frameWaitInfo && frameWaitInfo->type != XR_TYPE_FRAME_WAIT_INFO) || !frameState ||
+        frameState->type != XR_TYPE_FRAME_STATE) {
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad frameWaitInfo or frameState");
+        UNLOCK(s);
+        return r;
+    }
+    if (!s->running) {
+        UNLOCK(s);
+        return hsrt_fail(XR_ERROR_SESSION_NOT_RUNNING, fn, "not running");
+    }
+    XrTime predicted, wake = 0;
+    if (s->instance->cfg.pace == HSRT_PACE_FAST) {
+        predicted = (s->last_display_time ? s->last_display_time : s->clock_start) + s->period_ns;
+    } else {
+        XrTime now = hsrt_now_ns();
+        int64_t k = (now - s->clock_start) / s->period_ns + 1;
+        wake = s->clock_start + k * s->period_ns;
+        predicted = wake + s->period_ns;
+        if (predicted <= s->last_display_time) {
+            predicted = s->last_display_time + s->period_ns;
+            wake = predicted - s->period_ns;
+        }
+    }
+    s->last_display_time = predicted;
+    if (!s->first_display_time)
+        s->first_display_time = predicted;
+    s->waits_pending++;
+    if (s->state == XR_SESSION_STATE_READY && !s->exit_requested)
+        hsrt_push_state(s, XR_SESSION_STATE_SYNCHRONIZED);
+    frameState->predictedDisplayTime = predicted;
+    frameState->predictedDisplayPeriod = s->period_ns;
+    frameState->shouldRender =
+        (s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED) ? XR_TRUE
+                                                                                       : XR_FALSE;
+    UNLOCK(s);
+    if (wake)
+        sleep_until(wake);
+    return XR_SUCCESS;
+}
+
+static XrResult XRAPI_CALL hsrt_xrBeginFrame(XrSession session, const XrFrameBeginInfo *frameBeginInfo)
+{
+    const char *fn = "xrBeginFrame";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (frameBeginInfo && frameBeginInfo->type != XR_TYPE_FRAME_BEGIN_INFO)
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad frameBeginInfo");
+    else if (!s->running)
+        r = hsrt_fail(XR_ERROR_SESSION_NOT_RUNNING, fn, "not running");
+    else if (!s->waits_pending)
+        r = hsrt_fail(XR_ERROR_CALL_ORDER_INVALID, fn, "no xrWaitFrame before it");
+    if (XR_SUCCEEDED(r)) {
+        s->waits_pending--;
+        if (s->frame_begun)
+            r = XR_FRAME_DISCARDED;
+        s->frame_begun = true;
+    }
+    UNLOCK(s);
+    return r;
+}
+
+static hsrt_swapchain *swapchain_of(XrSwapchain handle)
+{
+    hsrt_swapchain *sc = (hsrt_swapchain *)(uintptr_t)handle;
+    if (!sc || sc->magic != HSRT_MAGIC_SWAPCHAIN)
+        return NULL;
+    return sc;
+}
+
+static XrResult check_layer(hsrt_session *s, const XrCompositionLayerBaseHeader *l, uint32_t i)
+{
+    const char *fn = "xrEndFrame";
+    if (!l)
+        return hsrt_fail(XR_ERROR_LAYER_INVALID, fn, "layers[%u] is NULL", i);
+    if (!space_from(l->space) || space_from(l->space)->session != s)
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "layers[%u].space", i);
+    if (l->type == XR_TYPE_COMPOSITION_LAYER_QUAD) {
+        const XrCompositionLayerQuad *q = (const XrCompositionLayerQuad *)l;
+        hsrt_swapchain *sc = swapchain_of(q->subImage.swapchain);
+        if (!sc || sc->session != s)
+            return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "layers[%u] swapchain", i);
+        return XR_SUCCESS;
+    }
+    if (l->type != XR_TYPE_COMPOSITION_LAYER_PROJECTION)
+        return hsrt_fail(XR_ERROR_LAYER_INVALID, fn, "layers[%u] type %d is not supported", i,
+                         (int)l->type);
+    const XrCompositionLayerProjection *p = (const XrCompositionLayerProjection *)l;
+    if (p->viewCount != 2 || !p->views)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "layers[%u] has %u views, not 2", i,
+                         p->viewCount);
+    for (uint32_t v = 0; v < 2; v++) {
+        const XrCompositionLayerProjectionView *pv = &p->views[v];
+        if (pv->type != XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW)
+            return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "layers[%u].views[%u].type", i, v);
+        hsrt_swapchain *sc = swapchain_of(pv->subImage.swapchain);
+        if (!sc || sc->session != s)
+            return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "layers[%u].views[%u] swapchain", i, v);
+        if (sc->last_released < 0)
+            return hsrt_fail(XR_ERROR_LAYER_INVALID, fn,
+                             "layers[%u].views[%u]: no image of the swapchain was released", i, v);
+        const XrRect2Di *rc = &pv->subImage.imageRect;
+        if (rc->offset.x < 0 || rc->offset.y < 0 || rc->extent.width <= 0 ||
+            rc->extent.height <= 0 ||
+            (uint64_t)rc->offset.x + (uint64_t)rc->extent.width > sc->info.width ||
+            (uint64_t)rc->offset.y + (uint64_t)rc->extent.height > sc->info.height)
+            return hsrt_fail(XR_ERROR_SWAPCHAIN_RECT_INVALID, fn,
+                             "layers[%u].views[%u] rect is outside the %ux%u swapchain", i, v,
+                             sc->info.width, sc->info.height);
+        if (pv->subImage.imageArrayIndex >= sc->info.arraySize)
+            return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn,
+                             "layers[%u].views[%u] imageArrayIndex %u", i, v,
+                             pv->subImage.imageArrayIndex);
+        if (!pose_valid(pv->pose))
+            return hsrt_fail(XR_ERROR_POSE_INVALID, fn, "layers[%u].views[%u].pose", i, v);
+        for (const XrBaseInStructure *n = pv->next; n; n = n->next) {
+            if (n->type != XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR)
+                continue;
+            const XrCompositionLayerDepthInfoKHR *d = (const XrCompositionLayerDepthInfoKHR *)n;
+            if (!s->instance->ext_depth)
+                return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn,
+                                 "depth info without XR_KHR_composition_layer_depth");
+            hsrt_swapchain *dsc = swapchain_of(d->subImage.swapchain);
+            if (!dsc || dsc->session != s || dsc->last_released < 0)
+                return hsrt_fail(XR_ERROR_LAYER_INVALID, fn,
+                                 "layers[%u].views[%u] depth swapchain", i, v);
+            if (!(d->minDepth >= 0.0f && d->maxDepth <= 1.0f && d->minDepth <= d->maxDepth))
+                return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn,
+                                 "layers[%u].views[%u] depth range", i, v);
+        }
+    }
+    return XR_SUCCESS;
+}
+
+static void capture_frame(hsrt_session *s, const XrCompositionLayerProjection *layer)
+{
+    hsrt_eye_image eyes[2] = {{0}};
+    XrResult r = hsrt_vk_capture(s, layer, eyes);
+    if (XR_SUCCEEDED(r) && !hsrt_write_frame(&s->instance->cfg, s->frames_ended, eyes))
+        U_LOG_E("runtime: xrEndFrame: frame %llu could not be written",
+                (unsigned long long)s->frames_ended);
+    hsrt_eye_image_free(&eyes[0]);
+    hsrt_eye_image_free(&eyes[1]);
+}
+
+static XrResult XRAPI_CALL hsrt_xrEndFrame(XrSession session, const XrFrameEndInfo *frameEndInfo)
+{
+    const char *fn = "xrEndFrame";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (!frameEndInfo || frameEndInfo->type != XR_TYPE_FRAME_END_INFO)
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad frameEndInfo");
+    else if (!s->running)
+        r = hsrt_fail(XR_ERROR_SESSION_NOT_RUNNING, fn, "not running");
+    else if (!s->frame_begun)
+        r = hsrt_fail(XR_ERROR_CALL_ORDER_INVALID, fn, "no xrBeginFrame before it");
+    else if (frameEndInfo->displayTime <= 0)
+        r = hsrt_fail(XR_ERROR_TIME_INVALID, fn, "displayTime %lld",
+                      (long long)frameEndInfo->displayTime);
+    else if (frameEndInfo->environmentBlendMode != XR_ENVIRONMENT_BLEND_MODE_OPAQUE)
+        r = hsrt_fail(XR_ERROR_ENVIRONMENT_BLEND_MODE_UNSUPPORTED, fn, "blend mode %d",
+                      (int)frameEndInfo->environmentBlendMode);
+    else if (frameEndInfo->layerCount > XR_MIN_COMPOSITION_LAYERS_SUPPORTED)
+        r = hsrt_fail(XR_ERROR_LAYER_LIMIT_EXCEEDED, fn, "%u layers",
+                      frameEndInfo->layerCount);
+    else if (frameEndInfo->layerCount && !frameEndInfo->layers)
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "layers is NULL");
+    for (uint32_t i = 0; XR_SUCCEEDED(r) && i < frameEndInfo->layerCount; i++)
+        r = check_layer(s, frameEndInfo->layers[i], i);
+    if (XR_FAILED(r)) {
+        UNLOCK(s);
+        return r;
+    }
+    s->frame_begun = false;
+    const XrCompositionLayerProjection *proj = NULL;
+    for (uint32_t i = 0; i < frameEndInfo->layerCount && !proj; i++) {
+        if (frameEndInfo->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION)
+            proj = (const XrCompositionLayerProjection *)frameEndInfo->layers[i];
+    }
+    const hsrt_config *cfg = &s->instance->cfg;
+    if (proj && cfg->out_dir[0] && (cfg->write_eyes || cfg->write_sbs || cfg->write_linear))
+        capture_frame(s, proj);
+    if (s->frames_csv) {
+        XrPosef h = hsrt_head_pose(s, frameEndInfo->displayTime);
+        fprintf(s->frames_csv, "%llu,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%u\n",
+                (unsigned long long)s->frames_ended, (long long)frameEndInfo->displayTime,
+                (long long)(frameEndInfo->displayTime - s->first_display_time),
+                (double)h.position.x, (double)h.position.y, (double)h.position.z,
+                (double)h.orientation.x, (double)h.orientation.y, (double)h.orientation.z,
+                (double)h.orientation.w, frameEndInfo->layerCount);
+        fflush(s->frames_csv);
+    }
+    s->frames_ended++;
+    if (s->state == XR_SESSION_STATE_SYNCHRONIZED && !s->exit_requested) {
+        hsrt_push_state(s, XR_SESSION_STATE_VISIBLE);
+        hsrt_push_state(s, XR_SESSION_STATE_FOCUSED);
+    }
+    if (cfg->lose_after && s->frames_ended == cfg->lose_after) {
+        U_LOG_W("runtime: XRSC_RT_LOSE_AFTER=%llu frames reached: the session is lost",
+                (unsigned long long)cfg->lose_after);
+        s->lost = true;
+        hsrt_push_state(s, XR_SESSION_STATE_LOSS_PENDING);
+    } else if (cfg->frames && s->frames_ended == cfg->frames && !s->exit_requested) {
+        U_LOG_I("runtime: XRSC_RT_FRAMES=%llu frames ended: stopping the session",
+                (unsigned long long)cfg->frames);
+        stop_session(s);
+    }
+    UNLOCK(s);
+    return XR_SUCCESS;
+}
+
+static XrResult XRAPI_CALL hsrt_xrLocateViews(XrSession session, const XrViewLocateInfo *viewLocateInfo,
+                                              XrViewState *viewState, uint32_t viewCapacityInput,
+                                              uint32_t *viewCountOutput, XrView *views)
+{
+    const char *fn = "xrLocateViews";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    hsrt_space *base = viewLocateInfo ? space_from(viewLocateInfo->space) : NULL;
+    if (!viewLocateInfo || viewLocateInfo->type != XR_TYPE_VIEW_LOCATE_INFO || !viewState ||
+        viewState->type != XR_TYPE_VIEW_STATE || !viewCountOutput)
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad arguments");
+    else if (viewLocateInfo->viewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
+        r = hsrt_fail(XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED, fn, "type %d",
+                      (int)viewLocateInfo->viewConfigurationType);
+    else if (!base || base->session != s)
+        r = hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "space");
+    else if (viewLocateInfo->displayTime <= 0)
+        r = hsrt_fail(XR_ERROR_TIME_INVALID, fn, "displayTime %lld",
+                      (long long)viewLocateInfo->displayTime);
+    if (XR_FAILED(r)) {
+        UNLOCK(s);
+        return r;
+    }
+    *viewCountOutput = 2;
+    if (!viewCapacityInput) {
+        UNLOCK(s);
+        return XR_SUCCESS;
+    }
+    if (viewCapacityInput < 2 || !views) {
+        UNLOCK(s);
+        return XR_ERROR_SIZE_INSUFFICIENT;
+    }
+    const xrsc_headset *hs = &s->instance->cfg.headset;
+    XrPosef base_pose;
+    bool located = space_pose(s, base, viewLocateInfo->displayTime, &base_pose);
+    XrPosef eyes[2];
+    xrsc_headset_eye_poses(hs, hsrt_head_pose(s, viewLocateInfo->displayTime), eyes);
+    viewState->viewStateFlags =
+        located ? (XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
+                   XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT)
+                : 0;
+    for (int i = 0; i < 2; i++) {
+        if (views[i].type != XR_TYPE_VIEW) {
+            UNLOCK(s);
+            return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "views[%d].type", i);
+        }
+        views[i].pose = located ? xrsc_pose_mul(xrsc_pose_inverse(base_pose), eyes[i])
+                                : xrsc_pose_identity();
+        views[i].fov = hs->fov[i];
+    }
+    UNLOCK(s);
+    return XR_SUCCESS;
+}
+
+/* ---- actions: bindings are accepted, no input is ever reported ---- */
+
+static hsrt_action_set *action_set_from(XrActionSet handle)
+{
+    hsrt_action_set *set = (hsrt_action_set *)(uintptr_t)handle;
+    if (!set || set->magic != HSRT_MAGIC_ACTION_SET)
+        return NULL;
+    return set;
+}
+
+static bool name_well_formed(const char *s, size_t max)
+{
+    size_t n = strnlen(s, max);
+    if (!n || n == max)
+        return false;
+    for (size_t i = 0; i < n; i++) {
+        char c = s[i];
+        if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.'))
+            return false;
+    }
+    return true;
+}
+
+static void action_set_free(hsrt_action_set *set)
+{
+    while (set->actions) {
+        hsrt_action *a = set->actions;
+        set->actions = a->next_in_set;
+        a->magic = 0;
+        free(a);
+    }
+    set->magic = 0;
+    free(set);
+}
+
+void hsrt_action_sets_free(hsrt_instance *inst)
+{
+    while (inst->action_sets) {
+        hsrt_action_set *set = inst->action_sets;
+        inst->action_sets = set->next_in_instance;
+        action_set_free(set);
+    }
+}
+
+static XrResult XRAPI_CALL hsrt_xrCreateActionSet(XrInstance instance,
+                                                  const XrActionSetCreateInfo *createInfo,
+                                                  XrActionSet *actionSet)
+{
+    const char *fn = "xrCreateActionSet";
+    hsrt_instance *inst = hsrt_instance_from(instance);
+    if (!inst)
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrInstance");
+    if (!createInfo || !actionSet || createInfo->type != XR_TYPE_ACTION_SET_CREATE_INFO)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad createInfo");
+    if (!name_well_formed(createInfo->actionSetName, XR_MAX_ACTION_SET_NAME_SIZE))
+        return hsrt_fail(XR_ERROR_PATH_FORMAT_INVALID, fn, "actionSetName '%.64s'",
+                         createInfo->actionSetName);
+    if (!createInfo->localizedActionSetName[0])
+        return hsrt_fail(XR_ERROR_LOCALIZED_NAME_INVALID, fn, "empty localizedActionSetName");
+    pthread_mutex_lock(&inst->lock);
+    XrResult r = XR_SUCCESS;
+    for (hsrt_action_set *o = inst->action_sets; o; o = o->next_in_instance) {
+        if (!strcmp(o->name, createInfo->actionSetName)) {
+            r = hsrt_fail(XR_ERROR_NAME_DUPLICATED, fn, "'%s'", o->name);
+            goto out;
+        }
+    }
+    hsrt_action_set *set = calloc(1, sizeof(*set));
+    if (!set) {
+        r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "action set");
+        goto out;
+    }
+    set->magic = HSRT_MAGIC_ACTION_SET;
+    set->instance = inst;
+    snprintf(set->name, sizeof(set->name), "%s", createInfo->actionSetName);
+    set->next_in_instance = inst->action_sets;
+    inst->action_sets = set;
+    *actionSet = (XrActionSet)(uintptr_t)set;
+out:
+    pthread_mutex_unlock(&inst->lock);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrDestroyActionSet(XrActionSet actionSet)
+{
+    hsrt_action_set *set = action_set_from(actionSet);
+    if (!set)
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, "xrDestroyActionSet", "not an XrActionSet");
+    hsrt_instance *inst = set->instance;
+    pthread_mutex_lock(&inst->lock);
+    for (hsrt_action_set **p = &inst->action_sets; *p; p = &(*p)->next_in_instance) {
+        if (*p == set) {
+            *p = set->next_in_instance;
+            break;
+        }
+    }
+    action_set_free(set);
+    pthread_mutex_unlock(&inst->lock);
+    return XR_SUCCESS;
+}
+
+static XrResult XRAPI_CALL hsrt_xrCreateAction(XrActionSet actionSet,
+                                               const XrActionCreateInfo *createInfo, XrAction *action)
+{
+    const char *fn = "xrCreateAction";
+    hsrt_action_set *set = action_set_from(actionSet);
+    if (!set)
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrActionSet");
+    if (!createInfo || !action || createInfo->type != XR_TYPE_ACTION_CREATE_INFO)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad createInfo");
+    if (!name_well_formed(createInfo->actionName, XR_MAX_ACTION_NAME_SIZE))
+        return hsrt_fail(XR_ERROR_PATH_FORMAT_INVALID, fn, "actionName '%.64s'",
+                         createInfo->actionName);
+    if (!createInfo->localizedActionName[0])
+        return hsrt_fail(XR_ERROR_LOCALIZED_NAME_INVALID, fn, "empty localizedActionName");
+    switch (createInfo->actionType) {
+    case XR_ACTION_TYPE_BOOLEAN_INPUT:
+    case XR_ACTION_TYPE_FLOAT_INPUT:
+    case XR_ACTION_TYPE_VECTOR2F_INPUT:
+    case XR_ACTION_TYPE_POSE_INPUT:
+    case XR_ACTION_TYPE_VIBRATION_OUTPUT:
+        break;
+    default:
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "actionType %d",
+                         (int)createInfo->actionType);
+    }
+    hsrt_instance *inst = set->instance;
+    pthread_mutex_lock(&inst->lock);
+    XrResult r = XR_SUCCESS;
+    if (set->attached) {
+        r = hsrt_fail(XR_ERROR_ACTIONSETS_ALREADY_ATTACHED, fn, "set '%s'", set->name);
+        goto out;
+    }
+    for (uint32_t i = 0; i < createInfo->countSubactionPaths; i++) {
+        if (!createInfo->subactionPaths || !hsrt_path_string(inst, createInfo->subactionPaths[i])) {
+            r = hsrt_fail(XR_ERROR_PATH_INVALID, fn, "subactionPaths[%u]", i);
+            goto out;
+        }
+    }
+    for (hsrt_action *o = set->actions; o; o = o->next_in_set) {
+        if (!strcmp(o->name, createInfo->actionName)) {
+            r = hsrt_fail(XR_ERROR_NAME_DUPLICATED, fn, "'%s'", o->name);
+            goto out;
+        }
+    }
+    hsrt_action *a = calloc(1, sizeof(*a));
+    if (!a) {
+        r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "action");
+        goto out;
+    }
+    a->magic = HSRT_MAGIC_ACTION;
+    a->set = set;
+    a->type = createInfo->actionType;
+    snprintf(a->name, sizeof(a->name), "%s", createInfo->actionName);
+    a->next_in_set = set->actions;
+    set->actions = a;
+    *action = (XrAction)(uintptr_t)a;
+out:
+    pthread_mutex_unlock(&inst->lock);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrDestroyAction(XrAction action)
+{
+    hsrt_action *a = action_from(action);
+    if (!a)
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, "xrDestroyAction", "not an XrAction");
+    hsrt_instance *inst = a->set->instance;
+    pthread_mutex_lock(&inst->lock);
+    for (hsrt_action **p = &a->set->actions; *p; p = &(*p)->next_in_set) {
+        if (*p == a) {
+            *p = a->next_in_set;
+            break;
+        }
+    }
+    a->magic = 0;
+    free(a);
+    pthread_mutex_unlock(&inst->lock);
+    return XR_SUCCESS;
+}
+
+static XrResult XRAPI_CALL hsrt_xrSuggestInteractionProfileBindings(
+    XrInstance instance, const XrInteractionProfileSuggestedBinding *suggestedBindings)
+{
+    const char *fn = "xrSuggestInteractionProfileBindings";
+    hsrt_instance *inst = hsrt_instance_from(instance);
+    if (!inst)
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrInstance");
+    if (!suggestedBindings ||
+        suggestedBindings->type != XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING ||
+        !suggestedBindings->countSuggestedBindings || !suggestedBindings->suggestedBindings)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad suggestedBindings");
+    pthread_mutex_lock(&inst->lock);
+    XrResult r = XR_SUCCESS;
+    const char *profile = hsrt_path_string(inst, suggestedBindings->interactionProfile);
+    if (!profile || strncmp(profile, "/interaction_profiles/", 22) != 0) {
+        r = hsrt_fail(XR_ERROR_PATH_INVALID, fn, "interactionProfile is not an interaction profile");
+        goto out;
+    }
+    for (uint32_t i = 0; i < suggestedBindings->countSuggestedBindings; i++) {
+        const XrActionSuggestedBinding *b = &suggestedBindings->suggestedBindings[i];
+        hsrt_action *a = action_from(b->action);
+        if (!a || a->set->instance != inst) {
+            r = hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "suggestedBindings[%u].action", i);
+            goto out;
+        }
+        if (a->set->attached) {
+            r = hsrt_fail(XR_ERROR_ACTIONSETS_ALREADY_ATTACHED, fn, "action '%s'", a->name);
+            goto out;
+        }
+        const char *bp = hsrt_path_string(inst, b->binding);
+        if (!bp || strncmp(bp, "/user/", 6) != 0) {
+            r = hsrt_fail(XR_ERROR_PATH_INVALID, fn, "suggestedBindings[%u].binding", i);
+            goto out;
+        }
+    }
+    U_LOG_D("runtime: %u bindings for %s accepted (no input is reported)",
+            suggestedBindings->countSuggestedBindings, profile);
+out:
+    pthread_mutex_unlock(&inst->lock);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrAttachSessionActionSets(XrSession session,
+                                                          const XrSessionActionSetsAttachInfo *attachInfo)
+{
+    const char *fn = "xrAttachSessionActionSets";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (!attachInfo || attachInfo->type != XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO ||
+        !attachInfo->countActionSets || !attachInfo->actionSets)
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad attachInfo");
+    else if (s->actions_attached)
+        r = hsrt_fail(XR_ERROR_ACTIONSETS_ALREADY_ATTACHED, fn, "already attached");
+    for (uint32_t i = 0; XR_SUCCEEDED(r) && i < attachInfo->countActionSets; i++) {
+        if (!action_set_from(attachInfo->actionSets[i]))
+            r = hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "actionSets[%u]", i);
+    }
+    if (XR_SUCCEEDED(r)) {
+        for (uint32_t i = 0; i < attachInfo->countActionSets; i++)
+            action_set_from(attachInfo->actionSets[i])->attached = true;
+        s->actions_attached = true;
+    }
+    UNLOCK(s);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrGetCurrentInteractionProfile(
+    XrSession session, XrPath topLevelUserPath, XrInteractionProfileState *interactionProfile)
+{
+    const char *fn = "xrGetCurrentInteractionProfile";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (!interactionProfile || interactionProfile->type != XR_TYPE_INTERACTION_PROFILE_STATE)
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad interactionProfile");
+    else if (!hsrt_path_string(s->instance, topLevelUserPath))
+        r = hsrt_fail(XR_ERROR_PATH_INVALID, fn, "topLevelUserPath");
+    else if (!s->actions_attached)
+        r = hsrt_fail(XR_ERROR_ACTIONSET_NOT_ATTACHED, fn, "no action sets attached");
+    else
+        interactionProfile->interactionProfile = XR_NULL_PATH;
+    UNLOCK(s);
+    return r;
+}
+
+/** Checks an action query (locked). */
+static XrResult check_action(hsrt_session *s, const XrActionStateGetInfo *info, XrActionType type,
+                             const char *fn)
+{
+    if (!info || info->type != XR_TYPE_ACTION_STATE_GET_INFO)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad getInfo");
+    hsrt_action *a = action_from(info->action);
+    if (!a)
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrAction");
+    if (!a->set->attached || !s->actions_attached)
+        return hsrt_fail(XR_ERROR_ACTIONSET_NOT_ATTACHED, fn, "action '%s'", a->name);
+    if (a->type != type)
+        return hsrt_fail(XR_ERROR_ACTION_TYPE_MISMATCH, fn, "action '%s'", a->name);
+    if (info->subactionPath != XR_NULL_PATH && !hsrt_path_string(s->instance, info->subactionPath))
+        return hsrt_fail(XR_ERROR_PATH_INVALID, fn, "subactionPath");
+    return XR_SUCCESS;
+}
+
+#define ACTION_STATE_FN(Name, StateT, stype, atype)                                                \
+    static XrResult XRAPI_CALL hsrt_xrGetActionState##Name(                                        \
+        XrSession session, const XrActionStateGetInfo *getInfo, StateT *state)                     \
+    {                                                                                              \
+        const char *fn = "xrGetActionState" #Name;                                                 \
+        LOCK_SESSION(s, session, fn, false);                                                       \
+        XrResult r = check_action(s, getInfo, atype, fn);                                          \
+        if (XR_SUCCEEDED(r) && (!state || state->type != stype))                                   \
+            r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad state");                           \
+        if (XR_SUCCEEDED(r)) {                                                                     \
+            void *next = state->next;                                                              \
+            memset(state, 0, sizeof(*state));                                                      \
+            state->type = stype;                                                                   \
+            state->next = next;                                                                    \
+        }                                                                                          \
+        UNLOCK(s);                                                                                 \
+        return r;                                                                                  \
+    }
+ACTION_STATE_FN(Boolean, XrActionStateBoolean, XR_TYPE_ACTION_STATE_BOOLEAN,
+                XR_ACTION_TYPE_BOOLEAN_INPUT)
+ACTION_STATE_FN(Float, XrActionStateFloat, XR_TYPE_ACTION_STATE_FLOAT, XR_ACTION_TYPE_FLOAT_INPUT)
+ACTION_STATE_FN(Vector2f, XrActionStateVector2f, XR_TYPE_ACTION_STATE_VECTOR2F,
+                XR_ACTION_TYPE_VECTOR2F_INPUT)
+ACTION_STATE_FN(Pose, XrActionStatePose, XR_TYPE_ACTION_STATE_POSE, XR_ACTION_TYPE_POSE_INPUT)
+
+static XrResult XRAPI_CALL hsrt_xrSyncActions(XrSession session, const XrActionsSyncInfo *syncInfo)
+{
+    const char *fn = "xrSyncActions";
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    if (!syncInfo || syncInfo->type != XR_TYPE_ACTIONS_SYNC_INFO ||
+        (syncInfo->countActiveActionSets && !syncInfo->activeActionSets))
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad syncInfo");
+    for (uint32_t i = 0; XR_SUCCEEDED(r) && i < syncInfo->countActiveActionSets; i++) {
+        hsrt_action_set *set = action_set_from(syncInfo->activeActionSets[i].actionSet);
+        if (!set)
+            r = hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "activeActionSets[%u]", i);
+        else if (!set->attached || !s->actions_attached)
+            r = hsrt_fail(XR_ERROR_ACTIONSET_NOT_ATTACHED, fn, "set '%s'", set->name);
+    }
+    if (XR_SUCCEEDED(r) && s->state != XR_SESSION_STATE_FOCUSED)
+        r = XR_SESSION_NOT_FOCUSED;
+    UNLOCK(s);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrEnumerateBoundSourcesForAction(
+    XrSession session, const XrBoundSourcesForActionEnumerateInfo *enumerateInfo,
+    uint32_t sourceCapacityInput, uint32_t *sourceCountOutput, XrPath *sources)
+{
+    const char *fn = "xrEnumerateBoundSourcesForAction";
+    (void)sourceCapacityInput;
+    (void)sources;
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    hsrt_action *a = enumerateInfo ? action_from(enumerateInfo->action) : NULL;
+    if (!enumerateInfo || enumerateInfo->type != XR_TYPE_BOUND_SOURCES_FOR_ACTION_ENUMERATE_INFO ||
+        !sourceCountOutput)
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad arguments");
+    else if (!a)
+        r = hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrAction");
+    else if (!a->set->attached || !s->actions_attached)
+        r = hsrt_fail(XR_ERROR_ACTIONSET_NOT_ATTACHED, fn, "action '%s'", a->name);
+    else
+        *sourceCountOutput = 0;
+    UNLOCK(s);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrGetInputSourceLocalizedName(
+    XrSession session, const XrInputSourceLocalizedNameGetInfo *getInfo,
+    uint32_t bufferCapacityInput, uint32_t *bufferCountOutput, char *buffer)
+{
+    const char *fn = "xrGetInputSourceLocalizedName";
+    (void)bufferCapacityInput;
+    (void)bufferCountOutput;
+    (void)buffer;
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r;
+    if (!getInfo || getInfo->type != XR_TYPE_INPUT_SOURCE_LOCALIZED_NAME_GET_INFO)
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad getInfo");
+    else if (!s->actions_attached)
+        r = hsrt_fail(XR_ERROR_ACTIONSET_NOT_ATTACHED, fn, "no action sets attached");
+    else /* no source is ever bound, so no path names one */
+        r = hsrt_fail(XR_ERROR_PATH_UNSUPPORTED, fn, "this runtime binds no input sources");
+    UNLOCK(s);
+    return r;
+}
+
+static XrResult haptic_check(XrSession session, const XrHapticActionInfo *info, const char *fn)
+{
+    LOCK_SESSION(s, session, fn, false);
+    XrResult r = XR_SUCCESS;
+    hsrt_action *a = info ? action_from(info->action) : NULL;
+    if (!info || info->type != XR_TYPE_HAPTIC_ACTION_INFO)
+        r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad hapticActionInfo");
+    else if (!a)
+        r = hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrAction");
+    else if (!a->set->attached || !s->actions_attached)
+        r = hsrt_fail(XR_ERROR_ACTIONSET_NOT_ATTACHED, fn, "action '%s'", a->name);
+    else if (a->type != XR_ACTION_TYPE_VIBRATION_OUTPUT)
+        r = hsrt_fail(XR_ERROR_ACTION_TYPE_MISMATCH, fn, "action '%s'", a->name);
+    else if (s->state != XR_SESSION_STATE_FOCUSED)
+        r = XR_SESSION_NOT_FOCUSED;
+    UNLOCK(s);
+    return r;
+}
+
+static XrResult XRAPI_CALL hsrt_xrApplyHapticFeedback(XrSession session,
+                                                      const XrHapticActionInfo *hapticActionInfo,
+                                                      const XrHapticBaseHeader *hapticFeedback)
+{
+    if (!hapticFeedback)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, "xrApplyHapticFeedback", "NULL feedback");
+    return haptic_check(session, hapticActionInfo, "xrApplyHapticFeedback");
+}
+
+static XrResult XRAPI_CALL hsrt_xrStopHapticFeedback(XrSession session,
+                                                     const XrHapticActionInfo *hapticActionInfo)
+{
+    return haptic_check(session, hapticActionInfo, "xrStopHapticFeedback");
+}
+
+/* ---- lookup ---- */
+
+PFN_xrVoidFunction hsrt_session_proc(const char *name)
+{
+    static const struct {
+        const char *name;
+        PFN_xrVoidFunction fn;
+    } procs[] = {
+#define HSRT_X_PROC(n) {"xr" #n, (PFN_xrVoidFunction)hsrt_xr##n},
+        HSRT_SESSION_FUNCS(HSRT_X_PROC)
+#undef HSRT_X_PROC
+    };
+    for (size_t i = 0; i < sizeof(procs) / sizeof(procs[0]); i++) {
+        if (!strcmp(procs[i].name, name))
+            return procs[i].fn;
+    }
+    return NULL;
+}

@@ -1,0 +1,293 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file test_xr_app.c
+ * @brief The plugin as an OpenXR application on host_sim's runtime: frames through OpenXR
+ *        equal the direct path's bit for bit; zero messages from
+ *        XR_APILAYER_LUNARG_core_validation and zero Vulkan validation errors; a bad pose
+ *        stream, a missing manifest and a lost session end with clear errors and clean
+ *        shutdowns; sessions end and start again on one instance.
+ */
+#include "hs_replay.h"
+#include "hs_xr_replay.h"
+#include "testing.h"
+#include "xrsc/xrsc_xr.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#define SCENE XRSC_SOURCE_DIR "/scenes/cornell.gltf"
+#define POSES XRSC_SOURCE_DIR "/poses/orbit_cornell.xrpose"
+#define EYE_PX 48u
+/** Steps without a state change after which a test gives up (each step waits <= 1 frame). */
+#define MAX_STEPS 400
+
+static void runtime_env(void)
+{
+    setenv("XR_RUNTIME_JSON", XRSC_RUNTIME_JSON, 1);
+    setenv("XRSC_RT_POSES", POSES, 1);
+    setenv("XRSC_RT_PACE", "fast", 1);
+    setenv("XRSC_RT_OUT", "", 1);
+    unsetenv("XRSC_RT_FRAMES");
+    unsetenv("XRSC_RT_LOSE_AFTER");
+    char size[32];
+    snprintf(size, sizeof(size), "%ux%u", EYE_PX, EYE_PX);
+    setenv("XRSC_RT_EYE_SIZE", size, 1);
+}
+
+static char *read_file(const char *path, size_t *out_size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc(n > 0 ? (size_t)n : 1);
+    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
+        free(buf);
+        buf = NULL;
+    }
+    fclose(f);
+    *out_size = (size_t)n;
+    return buf;
+}
+
+/* ---- the same poses and seed through OpenXR and directly: equal PFM files ---- */
+
+static void test_pixel_identical(void)
+{
+    runtime_env();
+    static const char *const dir_xr = XRSC_TEST_OUT "/app_identical_xr";
+    static const char *const dir_direct = XRSC_TEST_OUT "/app_identical_direct";
+    hs_replay_options opt = {
+        .scene_path = SCENE,
+        .poses_path = POSES,
+        .write_linear = true,
+        /* The stream starts at the origin facing -Z, so LOCAL (its first pose, yaw only) is
+         * the stream's own frame: without anchoring both paths see the same eye poses. */
+        .no_anchor = true,
+        .renderer = {.method = XRSC_METHOD_SPP, .width = EYE_PX, .height = EYE_PX, .seed = 7,
+                     .spp = {.samples_per_pixel = 2}},
+    };
+    xrsc_headset_default(&opt.headset);
+    opt.headset.refresh_hz = 100.0f; /* a whole number of ns per frame on both clocks */
+    opt.context.validation = true;
+
+    const uint32_t frames = 3;
+    hs_replay_stats st;
+    xrsc_diag d = {0};
+    opt.out_dir = dir_xr;
+    opt.frames = frames; /* OpenXR: frames 1..3 (frame 0 is the unshown SYNCHRONIZED one) */
+    xrsc_result r = hs_xr_replay_run(&opt, &st, &d);
+    CHECK_MSG(r == XRSC_OK, "%s: %s", xrsc_result_name(r), d.message);
+    CHECK_EQ_INT(st.frames, frames);
+    CHECK_EQ_INT(st.validation_errors, 0);
+    opt.out_dir = dir_direct;
+    opt.frames = frames + 1; /* direct: frames 0..3 */
+    r = hs_replay_run(&opt, &st, &d);
+    CHECK_MSG(r == XRSC_OK, "%s: %s", xrsc_result_name(r), d.message);
+
+    for (uint32_t k = 1; k <= frames; k++) {
+        for (int e = 0; e < 2; e++) {
+            char a[512], b[512];
+            const char *eye = e ? "right" : "left";
+            snprintf(a, sizeof(a), "%s/frame_%05u_%s.pfm", dir_xr, k, eye);
+            snprintf(b, sizeof(b), "%s/frame_%05u_%s.pfm", dir_direct, k, eye);
+            size_t na = 0, nb = 0;
+            char *fa = read_file(a, &na), *fb = read_file(b, &nb);
+            CHECK_MSG(fa && fb, "missing %s or %s", a, b);
+            if (fa && fb) {
+                CHECK_MSG(na == nb && memcmp(fa, fb, na) == 0, "frame %u %s differs", k, eye);
+                CHECK(na > (size_t)EYE_PX * EYE_PX * 12); /* RGB float32 PFM */
+            }
+            free(fa);
+            free(fb);
+        }
+    }
+}
+
+/* ---- sessions on one instance; validation layers ---- */
+
+typedef struct app {
+    xrsc_xr *xr;
+    xrsc_scene *scene;
+    xrsc_renderer *renderer;
+} app;
+
+static bool app_create(app *a, xrsc_diag *d)
+{
+    memset(a, 0, sizeof(*a));
+    xrsc_xr_options xo = {.application_name = "test_xr_app", .context = {.validation = true}};
+    xrsc_result r = xrsc_xr_create(&xo, &a->xr, d);
+    CHECK_MSG(r == XRSC_OK, "%s: %s", xrsc_result_name(r), d->message);
+    if (r != XRSC_OK)
+        return false;
+    r = xrsc_scene_load(xrsc_xr_context(a->xr), SCENE, NULL, &a->scene, d);
+    CHECK(r == XRSC_OK);
+    xrsc_renderer_options ro = {.method = XRSC_METHOD_PRIMARY, .width = EYE_PX, .height = EYE_PX};
+    if (r == XRSC_OK)
+        r = xrsc_renderer_create(xrsc_xr_context(a->xr), a->scene, &ro, &a->renderer, d);
+    CHECK(r == XRSC_OK);
+    return r == XRSC_OK;
+}
+
+/** Destroys everything; returns the Vulkan validation errors seen. */
+static uint32_t app_destroy(app *a)
+{
+    xrsc_renderer_destroy(&a->renderer);
+    xrsc_scene_destroy(&a->scene);
+    uint32_t errors = xrsc_context_validation_errors(xrsc_xr_context(a->xr));
+    xrsc_xr_destroy(&a->xr);
+    CHECK(a->xr == NULL);
+    return errors;
+}
+
+/** Steps until EXITED/LOST or an error; counts rendered frames; asks for exit after
+ *  exit_after rendered frames (0: never). */
+static xrsc_result run_session(xrsc_xr_session *s, uint32_t exit_after, uint32_t *out_rendered,
+                               xrsc_xr_status *out_last, xrsc_diag *d)
+{
+    uint32_t rendered = 0;
+    xrsc_result r = XRSC_OK;
+    xrsc_xr_frame_info fi = {0};
+    for (int i = 0; i < MAX_STEPS; i++) {
+        r = xrsc_xr_session_step(s, &fi, d);
+        if (r != XRSC_OK || fi.status == XRSC_XR_EXITED)
+            break;
+        if (fi.status == XRSC_XR_RENDERED) {
+            rendered++;
+            CHECK_EQ_INT(fi.scene_time_ns, (int64_t)fi.frame_index * 11111111);
+        }
+        if (exit_after && rendered == exit_after) {
+            CHECK(xrsc_xr_session_request_exit(s, d) == XRSC_OK);
+            exit_after = 0;
+        }
+    }
+    *out_rendered = rendered;
+    *out_last = fi.status;
+    return r;
+}
+
+static void test_sessions_and_validation(void)
+{
+    runtime_env();
+    setenv("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation", 1);
+    app a;
+    xrsc_diag d = {0};
+    if (!app_create(&a, &d)) {
+        unsetenv("XR_ENABLE_API_LAYERS");
+        return;
+    }
+    /* Two sessions, one after the other: each ends on request and a new one starts. */
+    for (int round = 0; round < 2; round++) {
+        xrsc_xr_session *s = NULL;
+        xrsc_xr_session_options so = {.anchor = true};
+        xrsc_scene_info info;
+        xrsc_scene_get_info(a.scene, &info);
+        so.viewpoint = info.viewpoint;
+        xrsc_result r = xrsc_xr_session_create(a.xr, a.renderer, &so, &s, &d);
+        CHECK_MSG(r == XRSC_OK, "round %d: %s: %s", round, xrsc_result_name(r), d.message);
+        if (r != XRSC_OK)
+            break;
+        uint32_t rendered = 0;
+        xrsc_xr_status last;
+        r = run_session(s, 4, &rendered, &last, &d);
+        CHECK_MSG(r == XRSC_OK, "round %d: %s", round, d.message);
+        CHECK_EQ_INT(last, XRSC_XR_EXITED);
+        CHECK_EQ_INT(rendered, 4);
+        xrsc_xr_session_destroy(&s);
+        CHECK(s == NULL);
+    }
+    uint32_t errors = 0, warnings = 0, validation = 0;
+    uint32_t all = xrsc_xr_debug_messages(a.xr, &errors, &warnings, &validation);
+    fprintf(stderr, "  OpenXR debug messages: %u (errors %u, warnings %u, validation %u)\n", all,
+            errors, warnings, validation);
+    CHECK_EQ_INT(errors, 0);
+    CHECK_EQ_INT(warnings, 0);
+    CHECK_EQ_INT(validation, 0);
+    CHECK_EQ_INT(app_destroy(&a), 0);
+    unsetenv("XR_ENABLE_API_LAYERS");
+}
+
+/* ---- failures end cleanly ---- */
+
+static void test_lost_session(void)
+{
+    runtime_env();
+    setenv("XRSC_RT_LOSE_AFTER", "3", 1);
+    app a;
+    xrsc_diag d = {0};
+    if (!app_create(&a, &d))
+        return;
+    for (int round = 0; round < 2; round++) {
+        xrsc_xr_session *s = NULL;
+        xrsc_result r = xrsc_xr_session_create(a.xr, a.renderer, NULL, &s, &d);
+        CHECK_MSG(r == XRSC_OK, "%s", d.message);
+        if (r != XRSC_OK)
+            break;
+        uint32_t rendered = 0;
+        xrsc_xr_status last;
+        r = run_session(s, 0, &rendered, &last, &d);
+        CHECK_EQ_INT(r, XRSC_ERROR_XR_SESSION_LOST);
+        CHECK_EQ_INT(last, XRSC_XR_LOST);
+        CHECK(rendered >= 1);
+        CHECK(strstr(d.message, "lost") != NULL);
+        xrsc_xr_session_destroy(&s); /* and a new session works after a lost one */
+    }
+    CHECK_EQ_INT(app_destroy(&a), 0);
+    unsetenv("XRSC_RT_LOSE_AFTER");
+}
+
+static void test_missing_manifest(void)
+{
+    runtime_env();
+    setenv("XR_RUNTIME_JSON", XRSC_TEST_OUT "/no_such_runtime.json", 1);
+    xrsc_xr *xr = NULL;
+    xrsc_diag d = {0};
+    xrsc_result r = xrsc_xr_create(NULL, &xr, &d);
+    CHECK_EQ_INT(r, XRSC_ERROR_XR_RUNTIME_UNAVAILABLE);
+    CHECK(xr == NULL);
+    CHECK(strstr(d.message, "XR_RUNTIME_JSON") != NULL);
+    CHECK(strcmp(d.field, "XR_RUNTIME_JSON") == 0);
+
+    hs_replay_options opt = {.scene_path = SCENE, .poses_path = POSES, .frames = 1};
+    r = hs_xr_replay_run(&opt, NULL, &d);
+    CHECK_EQ_INT(r, XRSC_ERROR_XR_RUNTIME_UNAVAILABLE);
+    CHECK(strstr(d.message, "XR_RUNTIME_JSON") != NULL);
+    runtime_env();
+}
+
+static void test_bad_pose_stream(void)
+{
+    runtime_env();
+    const char *bad = t_temp_file("bad.xrpose",
+                                  "xrsc-poses 1\ncolumns t_ns px py pz qx qy qz qw\n"
+                                  "0 0 0 0 0 0 0 1\n10 0 0 0 0 0 nan 1\n");
+    /* The replay reads the stream first: file, line and field, no runtime started. */
+    hs_replay_options opt = {.scene_path = SCENE, .poses_path = bad, .frames = 1};
+    xrsc_diag d = {0};
+    xrsc_result r = hs_xr_replay_run(&opt, NULL, &d);
+    CHECK_EQ_INT(r, XRSC_ERROR_NAN);
+    CHECK_EQ_INT(d.line, 4);
+    CHECK(strcmp(d.field, "qz") == 0);
+    /* The runtime given the bad stream itself refuses the instance: a clean XR error. */
+    setenv("XRSC_RT_POSES", bad, 1);
+    xrsc_xr *xr = NULL;
+    r = xrsc_xr_create(NULL, &xr, &d);
+    CHECK(r == XRSC_ERROR_XR || r == XRSC_ERROR_XR_RUNTIME_UNAVAILABLE);
+    CHECK(xr == NULL);
+    runtime_env();
+}
+
+int main(void)
+{
+    mkdir(XRSC_TEST_OUT, 0777);
+    RUN(test_missing_manifest);
+    RUN(test_bad_pose_stream);
+    RUN(test_lost_session);
+    RUN(test_sessions_and_validation);
+    RUN(test_pixel_identical);
+    return t_finish();
+}
