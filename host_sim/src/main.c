@@ -4,13 +4,20 @@
  * @brief The `xrsc` program: replays a head-pose stream over a glTF scene and writes the
  *        stereo result (per-eye and side-by-side PNG, linear PFM, per-frame timing).
  */
+#include "hs_metrics_cmd.h"
 #include "hs_replay.h"
+#include "hs_xr_replay.h"
 #include "u_diag.h"
 
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#ifndef HS_XR_DEFAULT_MANIFEST
+#define HS_XR_DEFAULT_MANIFEST "host_sim/src/runtime/xrsc_runtime.json"
+#endif
+#define HS_XR_DEFAULT_MANIFEST_TEXT HS_XR_DEFAULT_MANIFEST
 
 #ifndef XRSC_SOURCE_DIR
 #define XRSC_SOURCE_DIR "."
@@ -29,6 +36,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
 "usage: xrsc [replay] [options]\n"
+"       xrsc metrics --ref DIR --test DIR [options]   (image metrics; xrsc metrics --help)\n"
 "\n"
 "Replays a recorded head-pose stream over a glTF 2.0 scene, ray traces both eyes with\n"
 "Vulkan and writes the stereo result: per-eye and side-by-side PNG (tone-mapped), linear\n"
@@ -37,14 +45,14 @@ static void usage(FILE *f)
 "Input:\n"
 "  --scene PATH        glTF scene (.gltf/.glb)        [scenes/cornell.gltf]\n"
 "  --poses PATH        pose stream                    [poses/orbit_cornell.xrpose]\n"
-"  --pose-format F     auto | xrsc | pred6dof | 360video   [auto]\n"
+"  --pose-format F     auto | xrsc | pred6dof | 360video | librnr   [auto]\n"
 "  --no-anchor         use the stream's coordinates as they are (default: its first pose\n"
 "                      is placed at the scene's viewpoint)\n"
 "  --start S           start S seconds into the stream [0]\n"
 "  --frames N          render N frames (0 = until the stream ends) [0]\n"
 "\n"
 "Rendering:\n"
-"  --method M          spp | primary                  [spp]\n"
+"  --method M          spp | primary | samplecache    [spp]\n"
 "  --spp N             samples per pixel per frame    [%d]\n"
 "  --bounces N         bounces after the first hit    [3]\n"
 "  --resolution WxH    render size per eye            [%dx%d]\n"
@@ -52,6 +60,28 @@ static void usage(FILE *f)
 "  --env R,G,B         constant environment radiance (default: the scene's)\n"
 "  --device D          cpu | gpu | index | name part  [$XRSC_DEVICE, else a GPU, else lavapipe]\n"
 "  --validation        enable the Vulkan validation layer\n"
+"\n"
+"Sample cache (--method samplecache; seed 000 section 3, defaults of section 4):\n"
+"  --sc-slots N        slots per pixel, 1..16         [12]\n"
+"  --sc-target X       target samples per pixel       [4]\n"
+"  --sc-delta X        density tolerance              [1]\n"
+"  --sc-eps0 X         retrace tolerance (relative)   [0.001]\n"
+"  --sc-eps1 X         edge test epsilon (Eq. 2)      [0.005]\n"
+"  --sc-block N        base-rate block size           [4]\n"
+"  --sc-trace T        single | multi | adaptive      [adaptive]\n"
+"  --sc-reproject R    1pass | 2pass                  [1pass]\n"
+"  --sc-shading-cache  on | off                       [on]\n"
+"  --sc-shade S        uniform | adaptive             [uniform]\n"
+"  --sc-shade-rate P   adaptive shading rate, percent of the pixels [100]\n"
+"  --sc-alpha A        clamped | fixed (temporal blend, App. C) [clamped]\n"
+"  --sc-alpha-fixed X  alpha of --sc-alpha fixed      [0.1]\n"
+"\n"
+"OpenXR (the default path):\n"
+"  The plugin runs as an OpenXR application (XR_KHR_vulkan_enable2) on the runtime that\n"
+"  XR_RUNTIME_JSON names, or, when it is unset, on this build's host_sim runtime\n"
+"  (" HS_XR_DEFAULT_MANIFEST_TEXT "); the runtime replays the poses and writes\n"
+"  the frames it is given. --start and --ipd need --direct.\n"
+"  --direct            render in-process without OpenXR (tests, benchmarks)\n"
 "\n"
 "Simulated headset:\n"
 "  --ipd MM            interpupillary distance in mm  [63]\n"
@@ -78,6 +108,9 @@ static const char *const value_options[] = {
     "--scene", "--poses",   "--pose-format", "--start", "--frames", "--method",
     "--spp",   "--bounces", "--resolution",  "--seed",  "--env",    "--device",
     "--ipd",   "--refresh", "--out",         "--write", "--exposure",
+    "--sc-slots", "--sc-target", "--sc-delta", "--sc-eps0", "--sc-eps1", "--sc-block",
+    "--sc-trace", "--sc-reproject", "--sc-shading-cache", "--sc-shade", "--sc-shade-rate",
+    "--sc-alpha", "--sc-alpha-fixed",
 };
 
 static bool takes_value(const char *flag)
@@ -110,8 +143,92 @@ static bool parse_f(const char *s, double *out)
     return true;
 }
 
+/* Positive float option; returns 0 or the exit code of bad_arg. */
+static int parse_positive(const char *flag, const char *v, float max, float *out)
+{
+    double d;
+    if (!parse_f(v, &d) || !(d > 0) || d > max) {
+        char why[64];
+        snprintf(why, sizeof(why), "expected a number in (0, %g]", max);
+        return bad_arg(flag, v, why);
+    }
+    *out = (float)d;
+    return 0;
+}
+
+/* The --sc-* options (xrsc_samplecache_options); returns 0 or the exit code of bad_arg. */
+static int parse_samplecache(const char *a, const char *v, xrsc_samplecache_options *sc)
+{
+    uint32_t u;
+    if (!strcmp(a, "--sc-slots")) {
+        if (!parse_u32(v, &u) || u < 1 || u > 16)
+            return bad_arg(a, v, "expected 1..16");
+        sc->slots = u;
+    } else if (!strcmp(a, "--sc-block")) {
+        if (!parse_u32(v, &u) || u < 1 || u > 64)
+            return bad_arg(a, v, "expected 1..64");
+        sc->block = u;
+    } else if (!strcmp(a, "--sc-target")) {
+        return parse_positive(a, v, 16.0f, &sc->n_target);
+    } else if (!strcmp(a, "--sc-delta")) {
+        return parse_positive(a, v, 16.0f, &sc->delta);
+    } else if (!strcmp(a, "--sc-eps0")) {
+        return parse_positive(a, v, 1.0f, &sc->eps0);
+    } else if (!strcmp(a, "--sc-eps1")) {
+        return parse_positive(a, v, 1.0f, &sc->eps1);
+    } else if (!strcmp(a, "--sc-alpha-fixed")) {
+        return parse_positive(a, v, 1.0f, &sc->alpha_fixed);
+    } else if (!strcmp(a, "--sc-shade-rate")) {
+        int r = parse_positive(a, v, 1600.0f, &sc->shade_rate);
+        sc->shade_rate *= 0.01f; /* percent -> shadings per pixel */
+        return r;
+    } else if (!strcmp(a, "--sc-trace")) {
+        if (!strcmp(v, "single"))
+            sc->trace = XRSC_SC_TRACE_SINGLE;
+        else if (!strcmp(v, "multi"))
+            sc->trace = XRSC_SC_TRACE_MULTI;
+        else if (!strcmp(v, "adaptive"))
+            sc->trace = XRSC_SC_TRACE_ADAPTIVE;
+        else
+            return bad_arg(a, v, "expected single, multi or adaptive");
+    } else if (!strcmp(a, "--sc-reproject")) {
+        if (!strcmp(v, "1pass"))
+            sc->reproject = XRSC_SC_REPROJECT_1PASS;
+        else if (!strcmp(v, "2pass"))
+            sc->reproject = XRSC_SC_REPROJECT_2PASS;
+        else
+            return bad_arg(a, v, "expected 1pass or 2pass");
+    } else if (!strcmp(a, "--sc-shading-cache")) {
+        if (!strcmp(v, "on"))
+            sc->no_shading_cache = false;
+        else if (!strcmp(v, "off"))
+            sc->no_shading_cache = true;
+        else
+            return bad_arg(a, v, "expected on or off");
+    } else if (!strcmp(a, "--sc-shade")) {
+        if (!strcmp(v, "uniform"))
+            sc->shade = XRSC_SC_SHADE_UNIFORM;
+        else if (!strcmp(v, "adaptive"))
+            sc->shade = XRSC_SC_SHADE_ADAPTIVE;
+        else
+            return bad_arg(a, v, "expected uniform or adaptive");
+    } else if (!strcmp(a, "--sc-alpha")) {
+        if (!strcmp(v, "clamped"))
+            sc->alpha = XRSC_SC_ALPHA_CLAMPED;
+        else if (!strcmp(v, "fixed"))
+            sc->alpha = XRSC_SC_ALPHA_FIXED;
+        else
+            return bad_arg(a, v, "expected clamped or fixed");
+    } else {
+        return bad_arg(a, NULL, "unknown option");
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && strcmp(argv[1], "metrics") == 0)
+        return hs_metrics_main(argc - 1, argv + 1);
     hs_replay_options opt = {
         .scene_path = DEFAULT_SCENE,
         .poses_path = DEFAULT_POSES,
@@ -124,6 +241,7 @@ int main(int argc, char **argv)
     };
     xrsc_headset_default(&opt.headset);
     bool quiet = false;
+    bool direct = false; /* --direct: in-process, no OpenXR */
 
     int i = 1;
     if (i < argc && strcmp(argv[i], "replay") == 0)
@@ -136,6 +254,10 @@ int main(int argc, char **argv)
         }
         if (!strcmp(a, "--no-anchor")) {
             opt.no_anchor = true;
+            continue;
+        }
+        if (!strcmp(a, "--direct")) {
+            direct = true;
             continue;
         }
         if (!strcmp(a, "--validation")) {
@@ -169,8 +291,10 @@ int main(int argc, char **argv)
                 opt.pose_format = HS_POSE_FORMAT_PRED6DOF;
             else if (!strcmp(v, "360video"))
                 opt.pose_format = HS_POSE_FORMAT_360VIDEO;
+            else if (!strcmp(v, "librnr"))
+                opt.pose_format = HS_POSE_FORMAT_LIBRNR;
             else
-                return bad_arg(a, v, "expected auto, xrsc, pred6dof or 360video");
+                return bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
         } else if (!strcmp(a, "--start")) {
             if (!parse_f(v, &d) || d < 0)
                 return bad_arg(a, v, "expected seconds >= 0");
@@ -180,7 +304,7 @@ int main(int argc, char **argv)
                 return bad_arg(a, v, "expected a count");
         } else if (!strcmp(a, "--method")) {
             if (xrsc_method_from_name(v, &opt.renderer.method) != XRSC_OK)
-                return bad_arg(a, v, "unknown method (spp, primary)");
+                return bad_arg(a, v, "unknown method (spp, primary, samplecache)");
         } else if (!strcmp(a, "--spp")) {
             if (!parse_u32(v, &u) || u == 0 || u > 4096)
                 return bad_arg(a, v, "expected 1..4096");
@@ -189,6 +313,7 @@ int main(int argc, char **argv)
             if (!parse_u32(v, &u) || u > 16)
                 return bad_arg(a, v, "expected 0..16");
             opt.renderer.spp.max_bounces = u ? u : XRSC_BOUNCES_NONE;
+            opt.renderer.samplecache.max_bounces = opt.renderer.spp.max_bounces;
         } else if (!strcmp(a, "--resolution")) {
             unsigned w = 0, h = 0;
             char tail;
@@ -239,6 +364,10 @@ int main(int argc, char **argv)
             if (!parse_f(v, &d) || d <= 0)
                 return bad_arg(a, v, "expected a positive number");
             opt.exposure = (float)d;
+        } else if (!strncmp(a, "--sc-", 5)) {
+            int r = parse_samplecache(a, v, &opt.renderer.samplecache);
+            if (r)
+                return r;
         } else {
             return bad_arg(a, NULL, "unknown option");
         }
@@ -250,7 +379,7 @@ int main(int argc, char **argv)
                 opt.renderer.height);
     hs_replay_stats st;
     xrsc_diag diag = {0};
-    xrsc_result res = hs_replay_run(&opt, &st, &diag);
+    xrsc_result res = direct ? hs_replay_run(&opt, &st, &diag) : hs_xr_replay_run(&opt, &st, &diag);
     if (res != XRSC_OK) {
         char msg[1400];
         fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));

@@ -56,7 +56,7 @@ expect_run(NAME missing_poses EXIT 1 STDERR "XRSC_ERROR_IO"
            ARGS --poses "${OUT_DIR}/none.xrpose" --frames 1 --out "${OUT_DIR}/x" --quiet)
 
 expect_run(NAME tiny_run EXIT 0 STDOUT "frames: 2"
-           ARGS --frames 2 --resolution 16x16 --spp 1 --write eyes,sbs,linear
+           ARGS --direct --frames 2 --resolution 16x16 --spp 1 --write eyes,sbs,linear
                 --out "${OUT_DIR}/run")
 foreach(f frame_00000_left.png frame_00000_right.png frame_00001_sbs.png frame_00001_right.pfm
           frames.csv)
@@ -72,6 +72,17 @@ if(EXISTS "${OUT_DIR}/run/frames.csv")
     math(EXPR failures "${failures} + 1")
   endif()
 endif()
+
+# The default path: OpenXR on this build's host_sim runtime (frames 1..2: a session's first
+# frame is not shown), the runtime writing the frames.
+expect_run(NAME tiny_xr_run EXIT 0 STDOUT "frames: 2"
+           ARGS --frames 2 --resolution 16x16 --spp 1 --write eyes,linear
+                --out "${OUT_DIR}/xrrun")
+foreach(f frame_00001_left.png frame_00002_right.png frame_00002_left.pfm frames.csv)
+  expect_file(tiny_xr_run_${f} "${OUT_DIR}/xrrun/${f}")
+endforeach()
+expect_run(NAME xr_start_needs_direct EXIT 1 STDERR "--direct"
+           ARGS --frames 1 --start 0.5 --resolution 16x16 --quiet)
 
 if(failures GREATER 0)
   message(FATAL_ERROR "${failures} failed (output kept in ${OUT_DIR})")

@@ -589,6 +589,272 @@ static xrsc_result parse_360video(hs_parser *p)
     return XRSC_OK;
 }
 
+/* ---- importer: librnr ------------------------------------------------------------------- */
+
+/** librnr `v` body fields after "timestamp type path" (poses/README.md, "Importer: librnr"). */
+static const char *const hs_librnr_v_names[13] = {"ox", "oy", "oz",   "ow",   "px",    "py",   "pz",
+                                                  "up", "right", "down", "left", "type", "index"};
+static const char *const hs_librnr_s_names[8] = {"ox", "oy", "oz", "ow",
+                                                 "px", "py", "pz", "basespace"};
+static const char *const hs_librnr_head_names[3] = {"timestamp", "type", "path"};
+/** XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, the only view configuration imported. */
+#define HS_LIBRNR_STEREO_TYPE 2
+/** |FOV angle| must stay below a right angle (tan is taken of it). */
+#define HS_LIBRNR_MAX_FOV_RAD 1.5707
+/** Longest path / space name kept for comparisons. */
+#define HS_LIBRNR_MAX_NAME 256
+
+static bool field_equals(hs_field f, const char *text)
+{
+    return f.len == strlen(text) && memcmp(f.begin, text, f.len) == 0;
+}
+
+/** A head pose recorded as a space: the VIEW reference space or a /user/head path. */
+static bool librnr_is_head_space(hs_field path)
+{
+    static const char head[] = "/user/head";
+    return field_equals(path, "XR_REFERENCE_SPACE_TYPE_VIEW") ||
+           (path.len >= sizeof(head) - 1 && memcmp(path.begin, head, sizeof(head) - 1) == 0);
+}
+
+/** Remembers the first name seen in *keep; true if f equals it (or is the first). */
+static bool librnr_same_name(char keep[HS_LIBRNR_MAX_NAME], hs_field f)
+{
+    size_t n = f.len < HS_LIBRNR_MAX_NAME - 1 ? f.len : HS_LIBRNR_MAX_NAME - 1;
+    if (keep[0] == '\0') {
+        memcpy(keep, f.begin, n);
+        keep[n] = '\0';
+        return true;
+    }
+    return strlen(keep) == n && memcmp(keep, f.begin, n) == 0;
+}
+
+/** Parses the 7 pose numbers ox oy oz ow px py pz starting at f[0]. */
+static xrsc_result librnr_pose(hs_parser *p, const hs_field *f, const char *const *names,
+                               XrPosef *out)
+{
+    double v[7];
+    for (int i = 0; i < 7; i++) {
+        xrsc_result r = parse_double(p, f[i], names[i], &v[i]);
+        if (r != XRSC_OK)
+            return r;
+    }
+    out->orientation = (XrQuaternionf){(float)v[0], (float)v[1], (float)v[2], (float)v[3]};
+    out->position = (XrVector3f){(float)v[4], (float)v[5], (float)v[6]};
+    return check_quat(p, &out->orientation, "ox oy oz ow");
+}
+
+/** Appends (or, at an equal time, replaces) a sample with its eye views. */
+static xrsc_result librnr_push_views(hs_parser *p, int64_t raw, const hs_view_sample *views,
+                                     size_t *views_capacity)
+{
+    hs_pose_stream *s = p->stream;
+    /* Head pose: the eyes' midpoint, the orientation halfway between them. */
+    XrPosef head;
+    head.position.x = 0.5f * (views->pose[0].position.x + views->pose[1].position.x);
+    head.position.y = 0.5f * (views->pose[0].position.y + views->pose[1].position.y);
+    head.position.z = 0.5f * (views->pose[0].position.z + views->pose[1].position.z);
+    head.orientation = xrsc_quat_normalize(
+        xrsc_quat_slerp(views->pose[0].orientation, views->pose[1].orientation, 0.5f));
+    int64_t t_ns;
+    xrsc_result r = time_from_raw(p, raw, 1, "timestamp", &t_ns);
+    if (r != XRSC_OK)
+        return r;
+    r = push_sample(p, t_ns, head);
+    if (r != XRSC_OK)
+        return r;
+    if (*views_capacity < p->capacity) {
+        hs_view_sample *n = realloc(s->views, p->capacity * sizeof(*n));
+        if (!n)
+            return u_diag_set(p->diag, XRSC_ERROR_OUT_OF_MEMORY, p->name, p->line, "",
+                              "cannot grow the view array to %zu samples", p->capacity);
+        s->views = n;
+        *views_capacity = p->capacity;
+    }
+    s->views[s->count - 1] = *views;
+    return XRSC_OK;
+}
+
+/** librnr's OpenXR record text (poses/README.md, "Importer: librnr"). */
+static xrsc_result parse_librnr(hs_parser *p)
+{
+    const char *line;
+    size_t len;
+    xrsc_result r = XRSC_OK;
+    char view_space[HS_LIBRNR_MAX_NAME] = "", head_base[HS_LIBRNR_MAX_NAME] = "";
+    size_t views_capacity = 0;
+    /* The pair of `v` records being collected: both eyes share one timestamp. */
+    hs_view_sample pending = {0};
+    int64_t pending_time = 0, last_view_time = INT64_MIN, last_head_time = INT64_MIN;
+    bool have[2] = {false, false};
+    /* `s` head records, kept aside: used only when the file has no stereo `v` pairs. */
+    hs_pose_sample *heads = NULL;
+    size_t head_count = 0, head_capacity = 0;
+    uint32_t skipped = 0, incomplete = 0;
+    bool any = false;
+
+    while (next_content_line(p, &line, &len)) {
+        hs_field f[17];
+        size_t n = split_fields(line, len, 0, f, 17);
+        if (n < 3) {
+            r = u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
+                           hs_librnr_head_names[n], "%zu of at least 3 fields", n);
+            goto done;
+        }
+        any = true;
+        int64_t t;
+        if ((r = parse_int64(p, f[0], "timestamp", &t)) != XRSC_OK)
+            goto done;
+        if (f[1].len != 1 || !strchr("svbf", f[1].begin[0])) {
+            r = u_diag_set(p->diag, XRSC_ERROR_UNKNOWN_COLUMN, p->name, p->line, "type",
+                           "unknown record type '%.*s' (librnr has s, v, b and f)",
+                           (int)(f[1].len < 16 ? f[1].len : 16), f[1].begin);
+            goto done;
+        }
+        char type = f[1].begin[0];
+        if (type == 'b' || type == 'f')
+            continue; /* input actions: not poses */
+        if (type == 's') {
+            if (n < 11) {
+                r = u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
+                               hs_librnr_s_names[n - 3], "%zu of 11 fields", n);
+                goto done;
+            }
+            if (n > 11) {
+                r = extra_field(p, 11, n);
+                goto done;
+            }
+            XrPosef pose;
+            if ((r = librnr_pose(p, &f[3], hs_librnr_s_names, &pose)) != XRSC_OK)
+                goto done;
+            if (!librnr_is_head_space(f[2]) || !librnr_same_name(head_base, f[10])) {
+                skipped++;
+                continue;
+            }
+            if (t < last_head_time) {
+                r = u_diag_set(p->diag, XRSC_ERROR_TIME_BACKWARDS, p->name, p->line, "timestamp",
+                               "timestamp %" PRId64 " is earlier than the previous head "
+                               "record's %" PRId64,
+                               t, last_head_time);
+                goto done;
+            }
+            last_head_time = t;
+            if (head_count == head_capacity) {
+                size_t cap = head_capacity ? head_capacity * 2 : HS_INITIAL_CAPACITY;
+                hs_pose_sample *nh = realloc(heads, cap * sizeof(*nh));
+                if (!nh) {
+                    r = u_diag_set(p->diag, XRSC_ERROR_OUT_OF_MEMORY, p->name, p->line, "",
+                                   "cannot grow the head record array to %zu", cap);
+                    goto done;
+                }
+                heads = nh;
+                head_capacity = cap;
+            }
+            heads[head_count].time_ns = t;
+            heads[head_count].pose = pose;
+            head_count++;
+            continue;
+        }
+        /* type == 'v' */
+        if (n < 16) {
+            r = u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
+                           hs_librnr_v_names[n - 3], "%zu of 16 fields", n);
+            goto done;
+        }
+        if (n > 16) {
+            r = extra_field(p, 16, n);
+            goto done;
+        }
+        XrPosef pose;
+        if ((r = librnr_pose(p, &f[3], hs_librnr_v_names, &pose)) != XRSC_OK)
+            goto done;
+        double a[4]; /* up right down left, in the file's order */
+        for (int i = 0; i < 4; i++) {
+            if ((r = parse_double(p, f[10 + i], hs_librnr_v_names[7 + i], &a[i])) != XRSC_OK)
+                goto done;
+            if (fabs(a[i]) >= HS_LIBRNR_MAX_FOV_RAD) {
+                r = u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line,
+                               hs_librnr_v_names[7 + i],
+                               "%.9g rad is not a field-of-view angle (|angle| < pi/2)", a[i]);
+                goto done;
+            }
+        }
+        if (!(a[0] > a[2]) || !(a[1] > a[3])) {
+            r = u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, "up right down left",
+                           "empty field of view (needs up > down and right > left)");
+            goto done;
+        }
+        int64_t vtype, index;
+        if ((r = parse_int64(p, f[14], "type", &vtype)) != XRSC_OK ||
+            (r = parse_int64(p, f[15], "index", &index)) != XRSC_OK)
+            goto done;
+        if (vtype != HS_LIBRNR_STEREO_TYPE) {
+            r = u_diag_set(p->diag, XRSC_ERROR_UNKNOWN_COLUMN, p->name, p->line, "type",
+                           "view configuration type %" PRId64 " is not imported (only %d, "
+                           "PRIMARY_STEREO)",
+                           vtype, HS_LIBRNR_STEREO_TYPE);
+            goto done;
+        }
+        if (index != 0 && index != 1) {
+            r = u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, "index",
+                           "view index %" PRId64 " of a stereo pair (0 left, 1 right)", index);
+            goto done;
+        }
+        if (!librnr_same_name(view_space, f[2])) {
+            skipped++;
+            continue;
+        }
+        if (t < last_view_time) {
+            r = u_diag_set(p->diag, XRSC_ERROR_TIME_BACKWARDS, p->name, p->line, "timestamp",
+                           "timestamp %" PRId64 " is earlier than the previous view's %" PRId64,
+                           t, last_view_time);
+            goto done;
+        }
+        last_view_time = t;
+        if (t != pending_time || (!have[0] && !have[1])) {
+            if (have[0] != have[1])
+                incomplete++;
+            have[0] = have[1] = false;
+            pending_time = t;
+        }
+        pending.pose[index] = pose;
+        pending.fov[index] = (XrFovf){.angleLeft = (float)a[3], .angleRight = (float)a[1],
+                                      .angleUp = (float)a[0], .angleDown = (float)a[2]};
+        have[index] = true;
+        if (have[0] && have[1] &&
+            (r = librnr_push_views(p, t, &pending, &views_capacity)) != XRSC_OK)
+            goto done;
+    }
+    if (have[0] != have[1])
+        incomplete++;
+    if (!any) {
+        r = u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "", "empty file");
+        goto done;
+    }
+    if (p->stream->count == 0) {
+        for (size_t i = 0; i < head_count; i++) {
+            int64_t t_ns;
+            if ((r = time_from_raw(p, heads[i].time_ns, 1, "timestamp", &t_ns)) != XRSC_OK ||
+                (r = push_sample(p, t_ns, heads[i].pose)) != XRSC_OK)
+                goto done;
+        }
+    }
+    if (p->stream->count == 0) {
+        r = u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "",
+                       "no head poses: no stereo pair of `v` records and no `s` record of "
+                       "/user/head or XR_REFERENCE_SPACE_TYPE_VIEW");
+        goto done;
+    }
+    if (skipped > 0 || incomplete > 0)
+        U_LOG_W("%s: librnr import used the %s records of '%s'; skipped %u records of other "
+                "spaces or devices and %u incomplete eye pairs",
+                p->name, p->stream->views ? "view" : "head space",
+                p->stream->views ? view_space : head_base, skipped, incomplete);
+done:
+    free(heads);
+    return r;
+}
+
 /** The first line that is neither blank nor a comment decides the format. */
 static hs_pose_format detect_format(const char *data, size_t size)
 {
@@ -607,6 +873,17 @@ static hs_pose_format detect_format(const char *data, size_t size)
             return HS_POSE_FORMAT_PRED6DOF;
         if (line_equals(line, len, HS_360VIDEO_HEADER))
             return HS_POSE_FORMAT_360VIDEO;
+        /* librnr has no header: its first record is "<integer> <s|v|b|f> <path> ...". */
+        hs_field f[3];
+        if (split_fields(line, len, 0, f, 3) >= 3 && f[1].len == 1 &&
+            strchr("svbf", f[1].begin[0])) {
+            size_t i = f[0].begin[0] == '-' ? 1 : 0;
+            bool digits = f[0].len > i;
+            for (; i < f[0].len && digits; i++)
+                digits = f[0].begin[i] >= '0' && f[0].begin[i] <= '9';
+            if (digits)
+                return HS_POSE_FORMAT_LIBRNR;
+        }
         return HS_POSE_FORMAT_AUTO;
     }
     return HS_POSE_FORMAT_AUTO;
@@ -625,6 +902,8 @@ const char *hs_pose_format_name(hs_pose_format format)
         return "pred6dof";
     case HS_POSE_FORMAT_360VIDEO:
         return "360video";
+    case HS_POSE_FORMAT_LIBRNR:
+        return "librnr";
     }
     return "unknown";
 }
@@ -665,8 +944,10 @@ xrsc_result hs_pose_stream_parse(const char *name, const char *data, size_t size
                 return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, name, 0, "",
                                   "only comments, no header and no samples");
             return u_diag_set(diag, XRSC_ERROR_BAD_HEADER, name, q.line, "header",
-                              "unknown format: expected '%s %d', '%s' or '%s'", HS_CANONICAL_MAGIC,
-                              HS_CANONICAL_VERSION, HS_PRED6DOF_HEADER, HS_360VIDEO_HEADER);
+                              "unknown format: expected '%s %d', '%s', '%s' or librnr "
+                              "records ('<t_ns> <s|v|b|f> <path> ...')",
+                              HS_CANONICAL_MAGIC, HS_CANONICAL_VERSION, HS_PRED6DOF_HEADER,
+                              HS_360VIDEO_HEADER);
         }
     }
 
@@ -685,6 +966,9 @@ xrsc_result hs_pose_stream_parse(const char *name, const char *data, size_t size
         break;
     case HS_POSE_FORMAT_360VIDEO:
         r = parse_360video(&p);
+        break;
+    case HS_POSE_FORMAT_LIBRNR:
+        r = parse_librnr(&p);
         break;
     default:
         r = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, name, 0, "", "unknown format %d",
@@ -786,6 +1070,7 @@ void hs_pose_stream_destroy(hs_pose_stream **stream)
     if (!stream || !*stream)
         return;
     free((*stream)->samples);
+    free((*stream)->views);
     free(*stream);
     *stream = NULL;
 }
@@ -847,5 +1132,55 @@ void hs_pose_stream_anchor(hs_pose_stream *stream, XrPosef viewpoint)
         p->orientation = xrsc_quat_normalize(p->orientation);
         if (stream->orientation_only)
             p->position = viewpoint.position;
+        for (int e = 0; stream->views && e < 2; e++) {
+            XrPosef *v = &stream->views[i].pose[e];
+            *v = xrsc_pose_mul(delta, *v);
+            v->orientation = xrsc_quat_normalize(v->orientation);
+        }
     }
+}
+
+static XrFovf fov_lerp(XrFovf a, XrFovf b, float t)
+{
+    return (XrFovf){.angleLeft = a.angleLeft + (b.angleLeft - a.angleLeft) * t,
+                    .angleRight = a.angleRight + (b.angleRight - a.angleRight) * t,
+                    .angleUp = a.angleUp + (b.angleUp - a.angleUp) * t,
+                    .angleDown = a.angleDown + (b.angleDown - a.angleDown) * t};
+}
+
+hs_lookup hs_pose_stream_sample_views(const hs_pose_stream *stream, int64_t time_ns,
+                                      hs_view_sample *out_views)
+{
+    if (!stream || !stream->views || stream->count == 0 || !out_views)
+        return HS_LOOKUP_CLAMPED;
+    const hs_pose_sample *s = stream->samples;
+    const hs_view_sample *v = stream->views;
+    size_t n = stream->count;
+    if (time_ns <= s[0].time_ns) {
+        *out_views = v[0];
+        return time_ns == s[0].time_ns ? HS_LOOKUP_EXACT : HS_LOOKUP_CLAMPED;
+    }
+    if (time_ns >= s[n - 1].time_ns) {
+        *out_views = v[n - 1];
+        return time_ns == s[n - 1].time_ns ? HS_LOOKUP_EXACT : HS_LOOKUP_CLAMPED;
+    }
+    size_t lo = 0, hi = n - 1; /* s[lo].time_ns <= time_ns < s[hi].time_ns */
+    while (hi - lo > 1) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (s[mid].time_ns <= time_ns)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    if (s[lo].time_ns == time_ns) {
+        *out_views = v[lo];
+        return HS_LOOKUP_EXACT;
+    }
+    float t = (float)(((double)time_ns - (double)s[lo].time_ns) /
+                      ((double)s[hi].time_ns - (double)s[lo].time_ns));
+    for (int e = 0; e < 2; e++) {
+        out_views->pose[e] = xrsc_pose_interpolate(v[lo].pose[e], v[hi].pose[e], t);
+        out_views->fov[e] = fov_lerp(v[lo].fov[e], v[hi].fov[e], t);
+    }
+    return HS_LOOKUP_INTERPOLATED;
 }

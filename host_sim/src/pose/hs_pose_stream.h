@@ -28,6 +28,8 @@ typedef enum hs_pose_format {
     HS_POSE_FORMAT_XRSC,     /**< canonical "xrsc-poses 1" text */
     HS_POSE_FORMAT_PRED6DOF, /**< HoloLens CSV: timestamp(.NET ticks),x,y,z,qx,qy,qz,qw; LH +Z fwd */
     HS_POSE_FORMAT_360VIDEO, /**< "timestamp viewpoint w x y z": seconds, orientation only */
+    HS_POSE_FORMAT_LIBRNR,   /**< librnr's OpenXR trace: "t_ns type path ..." records; per-eye
+                              *   views (`v`) with FOV, or head spaces (`s`) */
 } hs_pose_format;
 
 typedef struct hs_pose_sample {
@@ -35,15 +37,28 @@ typedef struct hs_pose_sample {
     XrPosef pose;
 } hs_pose_sample;
 
+/**
+ * The two eye views recorded with a head sample (librnr `v` records): eye poses in the
+ * stream's coordinates and the per-eye field of view the recording runtime reported.
+ */
+typedef struct hs_view_sample {
+    XrPosef pose[2]; /**< [0] left, [1] right */
+    XrFovf fov[2];
+} hs_view_sample;
+
 typedef struct hs_pose_stream {
     hs_pose_sample *samples;
+    /** NULL, or `count` entries parallel to samples: the recorded eye views. The head pose of
+     *  such a sample is derived from them (poses/README.md, "Importer: librnr"). Not written
+     *  by hs_pose_stream_save (the canonical format v1 has head poses only). */
+    hs_view_sample *views;
     size_t count;
     bool orientation_only; /**< positions carry no information (3-DoF capture) */
     hs_pose_format format; /**< the format it was read from */
     uint32_t dropped_duplicates; /**< samples dropped because their timestamp repeated */
 } hs_pose_stream;
 
-/** A short lower-case name of the format ("auto", "xrsc", "pred6dof", "360video"). */
+/** A short lower-case name of the format ("auto", "xrsc", "pred6dof", "360video", "librnr"). */
 const char *hs_pose_format_name(hs_pose_format format);
 
 /** Loads a stream; on error returns a negative result with file/line/field in diag. */
@@ -70,9 +85,17 @@ typedef enum hs_lookup {
 hs_lookup hs_pose_stream_sample(const hs_pose_stream *stream, int64_t time_ns, XrPosef *out_pose);
 
 /**
+ * Eye views at time_ns for a stream that carries them (stream->views != NULL): eye poses
+ * interpolated as head poses are, FOV angles linearly; returns the lookup kind. For a stream
+ * without views it returns HS_LOOKUP_CLAMPED and leaves the outputs untouched.
+ */
+hs_lookup hs_pose_stream_sample_views(const hs_pose_stream *stream, int64_t time_ns,
+                                      hs_view_sample *out_views);
+
+/**
  * Re-anchors the stream in place so that its first pose becomes `viewpoint`:
- * every pose p becomes viewpoint * inverse(first) * p. For orientation-only streams the
- * position of every sample is set to viewpoint's position.
+ * every pose p becomes viewpoint * inverse(first) * p (recorded eye views too). For
+ * orientation-only streams the position of every sample is set to viewpoint's position.
  */
 void hs_pose_stream_anchor(hs_pose_stream *stream, XrPosef viewpoint);
 

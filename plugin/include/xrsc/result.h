@@ -35,7 +35,10 @@ extern "C" {
     X(XRSC_ERROR_VULKAN, -18, "a Vulkan call failed")                                              \
     X(XRSC_ERROR_SHADER, -19, "a SPIR-V shader module cannot be loaded")                           \
     X(XRSC_ERROR_UNKNOWN_METHOD, -20, "unknown rendering method")                                  \
-    X(XRSC_ERROR_DEVICE_NOT_FOUND, -21, "the requested Vulkan device does not exist")
+    X(XRSC_ERROR_DEVICE_NOT_FOUND, -21, "the requested Vulkan device does not exist")          \
+    X(XRSC_ERROR_XR, -22, "an OpenXR call failed")                                                 \
+    X(XRSC_ERROR_XR_RUNTIME_UNAVAILABLE, -23, "no OpenXR runtime (see XR_RUNTIME_JSON)")           \
+    X(XRSC_ERROR_XR_SESSION_LOST, -24, "the OpenXR runtime lost the session or instance")
 
 typedef enum xrsc_result {
 #define XRSC_X_ENUM(name, value, text) name = value,

@@ -5,8 +5,11 @@
  */
 #include "xrsc/xrsc.h"
 
+#include "xrsc_core_internal.h"
+
 #include "gpu_scene.h"
 #include "mt_method.h"
+#include "mt_samplecache.h"
 #include "sc_scene.h"
 #include "u_diag.h"
 
@@ -181,13 +184,16 @@ const char *xrsc_method_name(xrsc_method method)
         return "spp";
     case XRSC_METHOD_PRIMARY:
         return "primary";
+    case XRSC_METHOD_SAMPLECACHE:
+        return "samplecache";
     }
     return NULL;
 }
 
 xrsc_result xrsc_method_from_name(const char *name, xrsc_method *out_method)
 {
-    static const xrsc_method all[] = {XRSC_METHOD_SPP, XRSC_METHOD_PRIMARY};
+    static const xrsc_method all[] = {XRSC_METHOD_SPP, XRSC_METHOD_PRIMARY,
+                                      XRSC_METHOD_SAMPLECACHE};
     for (size_t i = 0; name && i < sizeof(all) / sizeof(all[0]); i++) {
         if (!strcmp(name, xrsc_method_name(all[i]))) {
             if (out_method)
@@ -236,6 +242,9 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
         break;
     case XRSC_METHOD_PRIMARY:
         res = mt_primary_create(&env, &r->method, out_diag);
+        break;
+    case XRSC_METHOD_SAMPLECACHE:
+        res = mt_samplecache_create(&env, &r->opt.samplecache, &r->method, out_diag);
         break;
     default:
         res = u_diag_set(out_diag, XRSC_ERROR_UNKNOWN_METHOD, "", 0, "method",
@@ -293,4 +302,41 @@ uint32_t xrsc_renderer_timings(const xrsc_renderer *renderer, xrsc_pass_timing *
 uint64_t xrsc_renderer_rays_last_frame(const xrsc_renderer *renderer)
 {
     return renderer ? mt_method_rays_last_frame(renderer->method) : 0;
+}
+
+/* ---- internal (xrsc_core_internal.h): the OpenXR front end's access ---- */
+
+xrsc_result xrsc_context_create_hooked(const xrsc_context_options *options,
+                                       const gpu_context_hooks *hooks, xrsc_context **out_ctx,
+                                       xrsc_diag *out_diag)
+{
+    if (!out_ctx)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "out_ctx", "NULL");
+    *out_ctx = NULL;
+    xrsc_context *ctx = calloc(1, sizeof(*ctx));
+    if (!ctx)
+        return u_diag_set(out_diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+    gpu_context_options go = {.validation = options && options->validation};
+    xrsc_result res = gpu_context_create_hooked(&go, hooks, &ctx->gpu, out_diag);
+    if (res != XRSC_OK) {
+        free(ctx);
+        return res;
+    }
+    *out_ctx = ctx;
+    return XRSC_OK;
+}
+
+gpu_context *xrsc_context_gpu(xrsc_context *ctx) { return ctx ? ctx->gpu : NULL; }
+
+void xrsc_renderer_size(const xrsc_renderer *renderer, uint32_t *out_width, uint32_t *out_height)
+{
+    if (out_width)
+        *out_width = renderer ? renderer->opt.width : 0;
+    if (out_height)
+        *out_height = renderer ? renderer->opt.height : 0;
+}
+
+const gpu_image *xrsc_renderer_output_image(const xrsc_renderer *renderer, xrsc_output output)
+{
+    return renderer ? mt_method_output_image(renderer->method, output) : NULL;
 }

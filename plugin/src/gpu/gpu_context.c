@@ -320,8 +320,29 @@ static void load_device_functions(gpu_context *ctx)
 #undef GPU_LOAD
 }
 
+static xrsc_result context_create(const gpu_context_options *options,
+                                  const gpu_context_hooks *hooks, gpu_context **out,
+                                  xrsc_diag *diag);
+
 xrsc_result gpu_context_create(const gpu_context_options *options, gpu_context **out,
                                xrsc_diag *diag)
+{
+    return context_create(options, NULL, out, diag);
+}
+
+xrsc_result gpu_context_create_hooked(const gpu_context_options *options,
+                                      const gpu_context_hooks *hooks, gpu_context **out,
+                                      xrsc_diag *diag)
+{
+    if (!hooks || !hooks->create_instance || !hooks->physical_device || !hooks->create_device)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "hooks",
+                          "a creation hook is NULL");
+    return context_create(options, hooks, out, diag);
+}
+
+static xrsc_result context_create(const gpu_context_options *options,
+                                  const gpu_context_hooks *hooks, gpu_context **out,
+                                  xrsc_diag *diag)
 {
     if (!out)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "out", "out is NULL");
@@ -386,7 +407,10 @@ xrsc_result gpu_context_create(const gpu_context_options *options, gpu_context *
         .enabledExtensionCount = inst_ext_count,
         .ppEnabledExtensionNames = inst_ext,
     };
-    GPU_CHECK(res, diag, fail, vkCreateInstance(&ici, NULL, &ctx->instance));
+    if (hooks)
+        GPU_CHECK(res, diag, fail, hooks->create_instance(hooks->user, &ici, &ctx->instance));
+    else
+        GPU_CHECK(res, diag, fail, vkCreateInstance(&ici, NULL, &ctx->instance));
     if (ctx->validation) {
         ctx->vk.CreateDebugUtilsMessengerEXT = (PFN_vkCreateDebugUtilsMessengerEXT)
             vkGetInstanceProcAddr(ctx->instance, "vkCreateDebugUtilsMessengerEXT");
@@ -410,9 +434,29 @@ xrsc_result gpu_context_create(const gpu_context_options *options, gpu_context *
     for (uint32_t i = 0; i < n; i++)
         query_caps(pds[i], &caps[i]);
     uint32_t index = 0;
-    res = select_device(opt.device, caps, n, &index, diag);
-    if (res != XRSC_OK)
-        goto fail;
+    if (hooks) {
+        VkPhysicalDevice want = VK_NULL_HANDLE;
+        GPU_CHECK(res, diag, fail, hooks->physical_device(hooks->user, ctx->instance, &want));
+        index = UINT32_MAX;
+        for (uint32_t i = 0; i < n && index == UINT32_MAX; i++)
+            if (pds[i] == want)
+                index = i;
+        if (index == UINT32_MAX) {
+            res = u_diag_set(diag, XRSC_ERROR_DEVICE_NOT_FOUND, "", 0, "device",
+                             "the required physical device is not one of the instance's %u", n);
+            goto fail;
+        }
+        if (caps[index].lacks[0]) {
+            res = u_diag_set(diag, XRSC_ERROR_NO_RAY_TRACING_DEVICE, "", 0, "device",
+                             "the device the XR runtime requires, %s, lacks what xrsc needs (%s)",
+                             caps[index].name, caps[index].lacks);
+            goto fail;
+        }
+    } else {
+        res = select_device(opt.device, caps, n, &index, diag);
+        if (res != XRSC_OK)
+            goto fail;
+    }
     ctx->device_index = index;
     ctx->physical_device = pds[index];
     ctx->is_cpu = caps[index].is_cpu;
@@ -438,6 +482,12 @@ xrsc_result gpu_context_create(const gpu_context_options *options, gpu_context *
         qn = 16;
     vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical_device, &qn, qf);
     ctx->queue_family = UINT32_MAX;
+    /* Through XR the queue is also the runtime's (XrGraphicsBindingVulkan2KHR): prefer one
+     * that has graphics too. */
+    const VkQueueFlags gc = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
+    for (uint32_t i = 0; hooks && i < qn && ctx->queue_family == UINT32_MAX; i++)
+        if ((qf[i].queueFlags & gc) == gc)
+            ctx->queue_family = i;
     for (uint32_t i = 0; i < qn && ctx->queue_family == UINT32_MAX; i++)
         if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT)
             ctx->queue_family = i;
@@ -515,7 +565,12 @@ xrsc_result gpu_context_create(const gpu_context_options *options, gpu_context *
         .enabledExtensionCount = dev_ext_count,
         .ppEnabledExtensionNames = dev_ext,
     };
-    GPU_CHECK(res, diag, fail, vkCreateDevice(ctx->physical_device, &dci, NULL, &ctx->device));
+    if (hooks)
+        GPU_CHECK(res, diag, fail,
+                  hooks->create_device(hooks->user, ctx->physical_device, &dci, &ctx->device));
+    else
+        GPU_CHECK(res, diag, fail,
+                  vkCreateDevice(ctx->physical_device, &dci, NULL, &ctx->device));
     vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
     load_device_functions(ctx);
 

@@ -70,12 +70,41 @@ typedef struct gpu_context_options {
 } gpu_context_options;
 
 /**
+ * Creation through someone else's Vulkan creation functions: an OpenXR runtime's
+ * XR_KHR_vulkan_enable2 (xrCreateVulkanInstanceKHR, xrGetVulkanGraphicsDevice2KHR,
+ * xrCreateVulkanDeviceKHR) wraps vkCreateInstance / vkCreateDevice, adding what it needs.
+ * The gpu layer still builds every create-info (layers, extensions, features, queues) and
+ * owns the objects it gets back (gpu_context_destroy destroys them); the hooks only forward
+ * the calls. Each hook returns the VkResult of the wrapped call, or a Vulkan error code when
+ * the wrapper itself failed (it logs why).
+ */
+typedef struct gpu_context_hooks {
+    void *user;
+    VkResult (*create_instance)(void *user, const VkInstanceCreateInfo *info,
+                                VkInstance *out_instance);
+    /** The physical device the wrapper requires (it is not chosen by the gpu layer). */
+    VkResult (*physical_device)(void *user, VkInstance instance,
+                                VkPhysicalDevice *out_physical_device);
+    VkResult (*create_device)(void *user, VkPhysicalDevice physical_device,
+                              const VkDeviceCreateInfo *info, VkDevice *out_device);
+} gpu_context_hooks;
+
+/**
  * Creates the instance and device. Errors: XRSC_ERROR_DEVICE_NOT_FOUND (selector matches no
  * device), XRSC_ERROR_NO_RAY_TRACING_DEVICE (message names what each device lacks),
  * XRSC_ERROR_VULKAN.
  */
 xrsc_result gpu_context_create(const gpu_context_options *options, gpu_context **out,
                                xrsc_diag *diag);
+/**
+ * As gpu_context_create, with the instance and device created through hooks (see
+ * ::gpu_context_hooks); options->device is ignored (the hooks' device is used). A device that
+ * lacks what xrsc needs is XRSC_ERROR_NO_RAY_TRACING_DEVICE. The queue family prefers one
+ * with graphics and compute (a compositor's queue), else compute.
+ */
+xrsc_result gpu_context_create_hooked(const gpu_context_options *options,
+                                      const gpu_context_hooks *hooks, gpu_context **out,
+                                      xrsc_diag *diag);
 /** Waits for the device to go idle and destroys everything; accepts NULL, sets *ctx NULL. */
 void gpu_context_destroy(gpu_context **ctx);
 

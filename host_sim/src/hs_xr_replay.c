@@ -1,0 +1,303 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_xr_replay.c
+ * @brief The OpenXR path of `xrsc replay`: configure the runtime, then run the plugin's
+ *        OpenXR frame loop until the runtime ends the session.
+ */
+#include "hs_xr_replay.h"
+
+#include "u_diag.h"
+#include "xrsc/xrsc_xr.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#ifndef HS_XR_DEFAULT_MANIFEST
+#define HS_XR_DEFAULT_MANIFEST ""
+#endif
+
+#define NS_PER_S 1e9
+/** As hs_replay.c: renderer size 0 means 256 pixels; display refresh 0 means 90 Hz. */
+#define DEFAULT_EYE_SIZE_PX 256u
+#define DEFAULT_REFRESH_HZ 90.0
+/** A session that renders nothing for this long has stalled (the runtime never started it). */
+#define STALL_LIMIT_S 30.0
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static bool file_exists(const char *path)
+{
+    struct stat st;
+    return path && *path && stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+static xrsc_result set_env(const char *name, const char *value, xrsc_diag *diag)
+{
+    if (setenv(name, value, 1) != 0)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, name, "setenv failed: %s",
+                          strerror(errno));
+    return XRSC_OK;
+}
+
+static xrsc_result make_dirs(const char *path, xrsc_diag *diag)
+{
+    char buf[1024];
+    if ((size_t)snprintf(buf, sizeof(buf), "%s", path) >= sizeof(buf))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path, 0, "--out", "too long");
+    for (char *p = buf + 1;; p++) {
+        bool end = *p == '\0';
+        if (*p != '/' && !end)
+            continue;
+        *p = '\0';
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return u_diag_set(diag, XRSC_ERROR_IO, buf, 0, "--out", "cannot create folder: %s",
+                              strerror(errno));
+        if (end)
+            return XRSC_OK;
+        *p = '/';
+    }
+}
+
+/** Picks the runtime: XR_RUNTIME_JSON as given, else this build's manifest. */
+static xrsc_result choose_runtime(xrsc_diag *diag)
+{
+    const char *json = getenv("XR_RUNTIME_JSON");
+    if (json && *json) {
+        if (!file_exists(json))
+            return u_diag_set(diag, XRSC_ERROR_XR_RUNTIME_UNAVAILABLE, json, 0,
+                              "XR_RUNTIME_JSON",
+                              "XR_RUNTIME_JSON names no runtime manifest file ('%s'); unset it "
+                              "to use this build's (%s), or run with --direct",
+                              json, HS_XR_DEFAULT_MANIFEST);
+        return XRSC_OK;
+    }
+    if (!file_exists(HS_XR_DEFAULT_MANIFEST))
+        return u_diag_set(diag, XRSC_ERROR_XR_RUNTIME_UNAVAILABLE, HS_XR_DEFAULT_MANIFEST, 0,
+                          "XR_RUNTIME_JSON",
+                          "XR_RUNTIME_JSON is unset and this build's runtime manifest '%s' is "
+                          "missing (build the target xrsc_runtime), or run with --direct",
+                          HS_XR_DEFAULT_MANIFEST);
+    return set_env("XR_RUNTIME_JSON", HS_XR_DEFAULT_MANIFEST, diag);
+}
+
+/** Sets the runtime's configuration from the options (hs_xr_replay.h). */
+static xrsc_result configure_runtime(const hs_replay_options *opt, const hs_pose_stream *stream,
+                                     uint32_t w, uint32_t h, double refresh_hz,
+                                     uint32_t session_frames, xrsc_diag *diag)
+{
+    xrsc_result res;
+    char buf[1100];
+    if ((res = set_env("XRSC_RT_POSES", opt->poses_path, diag)) != XRSC_OK)
+        return res;
+    snprintf(buf, sizeof(buf), "%u", session_frames);
+    if ((res = set_env("XRSC_RT_FRAMES", buf, diag)) != XRSC_OK)
+        return res;
+    bool write = opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear);
+    if ((res = set_env("XRSC_RT_OUT", write ? opt->out_dir : "", diag)) != XRSC_OK)
+        return res;
+    snprintf(buf, sizeof(buf), "%s%s%s", opt->write_eyes ? "eyes," : "",
+             opt->write_sbs ? "sbs," : "", opt->write_linear ? "linear," : "");
+    if (buf[0])
+        buf[strlen(buf) - 1] = '\0';
+    if (write && (res = set_env("XRSC_RT_WRITE", buf, diag)) != XRSC_OK)
+        return res;
+    snprintf(buf, sizeof(buf), "%.9g", opt->exposure > 0.0f ? (double)opt->exposure : 1.0);
+    if ((res = set_env("XRSC_RT_EXPOSURE", buf, diag)) != XRSC_OK)
+        return res;
+    snprintf(buf, sizeof(buf), "%ux%u", w, h);
+    if ((res = set_env("XRSC_RT_EYE_SIZE", buf, diag)) != XRSC_OK)
+        return res;
+    snprintf(buf, sizeof(buf), "%.9g", refresh_hz);
+    if ((res = set_env("XRSC_RT_REFRESH_HZ", buf, diag)) != XRSC_OK)
+        return res;
+    const char *dev = opt->context.device && *opt->context.device ? opt->context.device
+                                                                   : getenv("XRSC_DEVICE");
+    if (dev && *dev && (res = set_env("XRSC_RT_DEVICE", dev, diag)) != XRSC_OK)
+        return res;
+    const char *pace = getenv("XRSC_RT_PACE");
+    if ((!pace || !*pace) && (res = set_env("XRSC_RT_PACE", "fast", diag)) != XRSC_OK)
+        return res;
+    (void)stream;
+    return XRSC_OK;
+}
+
+/** Options only the direct path has. */
+static xrsc_result check_supported(const hs_replay_options *opt, xrsc_diag *diag)
+{
+    if (opt->start_s != 0.0)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--start",
+                          "a start offset is not available through OpenXR (the runtime replays "
+                          "from the stream's start); use --direct");
+    xrsc_headset def;
+    xrsc_headset_default(&def);
+    if (opt->headset.ipd_m != 0.0f && fabsf(opt->headset.ipd_m - def.ipd_m) > 1e-7f)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--ipd",
+                          "the IPD is the runtime's headset's through OpenXR (%.1f mm); use "
+                          "--direct to change it",
+                          (double)def.ipd_m * 1e3);
+    return XRSC_OK;
+}
+
+xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_stats,
+                             xrsc_diag *diag)
+{
+    double t_start = now_s();
+    hs_replay_stats local_stats;
+    hs_replay_stats *st = out_stats ? out_stats : &local_stats;
+    memset(st, 0, sizeof(*st));
+    if (!opt || !opt->scene_path || !opt->poses_path)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "",
+                          "replay needs a scene and a pose stream");
+    if (opt->out_dir && opt->out_dir[0] == '\0')
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--out",
+                          "output folder name is empty (NULL writes nothing)");
+    xrsc_result res;
+    hs_pose_stream *stream = NULL;
+    xrsc_xr *xr = NULL;
+    xrsc_scene *scene = NULL;
+    xrsc_renderer *r = NULL;
+    xrsc_xr_session *session = NULL;
+
+    if ((res = check_supported(opt, diag)) != XRSC_OK)
+        return res;
+    /* The stream is read here too: a bad one is reported with file, line and field before any
+     * runtime starts, and its duration gives the frame count. The runtime reads it by format
+     * detection, so a forced format must be the one detected. */
+    if ((res = hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag)) != XRSC_OK)
+        goto done;
+    if (opt->pose_format != HS_POSE_FORMAT_AUTO) {
+        hs_pose_stream *probe = NULL;
+        xrsc_diag pd = {0};
+        bool same = hs_pose_stream_load(opt->poses_path, HS_POSE_FORMAT_AUTO, &probe, &pd) ==
+                        XRSC_OK &&
+                    probe->format == opt->pose_format;
+        hs_pose_stream_destroy(&probe);
+        if (!same) {
+            res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->poses_path, 0,
+                             "--pose-format",
+                             "the runtime detects the format itself and would not read this "
+                             "file as %s; use --direct",
+                             hs_pose_format_name(opt->pose_format));
+            goto done;
+        }
+    }
+    uint32_t w = opt->renderer.width ? opt->renderer.width : DEFAULT_EYE_SIZE_PX;
+    uint32_t h = opt->renderer.height ? opt->renderer.height : DEFAULT_EYE_SIZE_PX;
+    double refresh = opt->headset.refresh_hz > 0 ? opt->headset.refresh_hz : DEFAULT_REFRESH_HZ;
+    double period_ns = NS_PER_S / refresh;
+    int64_t span_ns = hs_pose_stream_duration_ns(stream);
+    /* A session's first frame is not shown (SYNCHRONIZED, shouldRender false): frame k >= 1
+     * is rendered at stream time k / refresh, as the direct path's frame k. --frames N renders
+     * frames 1..N (a session of N + 1); the whole stream renders frames 1..K-1 of the direct
+     * path's 0..K-1 (the first sample's moment is the unshown frame). */
+    uint32_t frames = opt->frames;
+    uint32_t session_frames = frames + 1;
+    if (frames == 0) {
+        session_frames = span_ns > 0 ? (uint32_t)(span_ns / period_ns) + 1 : 2;
+        frames = session_frames - 1;
+    }
+
+    if ((res = choose_runtime(diag)) != XRSC_OK)
+        goto done;
+    if ((res = configure_runtime(opt, stream, w, h, refresh, session_frames, diag)) != XRSC_OK)
+        goto done;
+    if (opt->out_dir && (res = make_dirs(opt->out_dir, diag)) != XRSC_OK)
+        goto done;
+
+    xrsc_xr_options xo = {.application_name = "xrsc replay", .context = opt->context};
+    if ((res = xrsc_xr_create(&xo, &xr, diag)) != XRSC_OK)
+        goto done;
+    xrsc_context *ctx = xrsc_xr_context(xr);
+    snprintf(st->device, sizeof(st->device), "%s", xrsc_context_device_name(ctx));
+    if ((res = xrsc_scene_load(ctx, opt->scene_path, &opt->scene, &scene, diag)) != XRSC_OK)
+        goto done;
+    xrsc_scene_info info;
+    xrsc_scene_get_info(scene, &info);
+    xrsc_renderer_options ropt = opt->renderer;
+    ropt.width = w;
+    ropt.height = h;
+    if ((res = xrsc_renderer_create(ctx, scene, &ropt, &r, diag)) != XRSC_OK)
+        goto done;
+    xrsc_xr_session_options so = {.anchor = !opt->no_anchor, .viewpoint = info.viewpoint};
+    if ((res = xrsc_xr_session_create(xr, r, &so, &session, diag)) != XRSC_OK)
+        goto done;
+    st->load_s = now_s() - t_start;
+
+    double last_progress = now_s();
+    bool exit_requested = false;
+    for (;;) {
+        xrsc_xr_frame_info fi;
+        if ((res = xrsc_xr_session_step(session, &fi, diag)) != XRSC_OK)
+            goto done;
+        if (fi.status == XRSC_XR_EXITED)
+            break;
+        if (fi.status == XRSC_XR_RENDERED && st->frames >= frames) {
+            st->frames = frames + 1; /* past the end: not counted, only ends the session */
+        } else if (fi.status == XRSC_XR_RENDERED) {
+            last_progress = now_s();
+            st->render_ms_mean += fi.render_ms;
+            if (fi.render_ms > st->render_ms_max)
+                st->render_ms_max = fi.render_ms;
+            xrsc_pass_timing passes[XRSC_MAX_PASSES];
+            uint32_t np = xrsc_renderer_timings(r, passes, XRSC_MAX_PASSES);
+            if (st->frames == 0) {
+                st->pass_count = np;
+                for (uint32_t p = 0; p < np; p++)
+                    st->pass_mean[p].name = passes[p].name;
+            }
+            for (uint32_t p = 0; p < np && p < st->pass_count; p++)
+                st->pass_mean[p].gpu_ms += passes[p].gpu_ms;
+            st->rays_per_frame += (double)xrsc_renderer_rays_last_frame(r);
+            st->frames++;
+            if (opt->progress && st->frames % 30 == 0)
+                fprintf(stderr, "frame %u/%u\n", st->frames, frames);
+        } else if (fi.status == XRSC_XR_WAITING && now_s() - last_progress > STALL_LIMIT_S) {
+            res = u_diag_set(diag, XRSC_ERROR_XR, "", 0, "session",
+                             "the runtime did not run the session for %.0f s (state %d)",
+                             STALL_LIMIT_S, (int)fi.state);
+            goto done;
+        }
+        /* The runtime stops after XRSC_RT_FRAMES (its next state change is STOPPING); a
+         * runtime that keeps going past them is asked to end. */
+        if (st->frames > frames && !exit_requested) {
+            if ((res = xrsc_xr_session_request_exit(session, diag)) != XRSC_OK)
+                goto done;
+            exit_requested = true;
+        }
+    }
+    if (st->frames > frames)
+        st->frames = frames;
+    if (st->frames) {
+        st->render_ms_mean /= st->frames;
+        st->rays_per_frame /= st->frames;
+        for (uint32_t p = 0; p < st->pass_count; p++)
+            st->pass_mean[p].gpu_ms /= st->frames;
+    }
+    res = XRSC_OK;
+
+done:
+    xrsc_xr_session_destroy(&session);
+    xrsc_renderer_destroy(&r);
+    xrsc_scene_destroy(&scene);
+    st->validation_errors = xrsc_context_validation_errors(xrsc_xr_context(xr));
+    if (st->validation_errors > 0)
+        U_LOG_W("the Vulkan validation layer reported %u errors", st->validation_errors);
+    uint32_t xr_errors = 0;
+    xrsc_xr_debug_messages(xr, &xr_errors, NULL, NULL);
+    if (xr_errors > 0)
+        U_LOG_W("OpenXR reported %u error messages", xr_errors);
+    xrsc_xr_destroy(&xr);
+    hs_pose_stream_destroy(&stream);
+    st->total_s = now_s() - t_start;
+    return res;
+}
