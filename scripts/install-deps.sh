@@ -10,7 +10,7 @@ set -euo pipefail
 PKGS=(
   build-essential cmake pkg-config clang libclang-rt-14-dev
   libvulkan-dev vulkan-validationlayers glslang-tools spirv-tools
-  libglfw3-dev libcglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libpng-dev
+  libglfw3-dev libx11-dev libcglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libpng-dev
   libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation
   xvfb xauth gnuplot-nox mesa-vulkan-drivers
 )

@@ -13,7 +13,8 @@
  * Files: hsrt_entry.c (negotiation, xrGetInstanceProcAddr, instance, system, paths, events,
  * view configurations), hsrt_session.c (session state machine, frame timing, spaces, views,
  * actions), hsrt_vulkan.c (XR_KHR_vulkan_enable/enable2, swapchains, frame read-back),
- * hsrt_capture.c (pixel conversion and writing of captured frames).
+ * hsrt_capture.c (pixel conversion and writing of captured frames), hsrt_preview.c (the optional
+ * GLFW/Vulkan preview window, XRSC_RT_PREVIEW=1).
  *
  * Locking: each instance has one mutex; every entry point that touches an instance or its
  * children takes it (xrWaitFrame drops it while sleeping).
@@ -68,7 +69,15 @@ typedef struct hsrt_config {
     float exposure;
     char device[256];   /**< XRSC_RT_DEVICE: part of a Vulkan device name, "" = best */
     xrsc_headset headset;
+    /* the preview window (hsrt_preview.c); off unless XRSC_RT_PREVIEW=1 */
+    bool preview;
+    uint32_t preview_w, preview_h;      /**< XRSC_RT_PREVIEW_SIZE; 0 = from the eyes' aspect */
+    int64_t preview_hold_frame;         /**< XRSC_RT_PREVIEW_HOLD_FRAME; -1 = none */
+    bool preview_swapped, preview_diff; /**< XRSC_RT_PREVIEW_VIEW: swap / diff at start */
+    char preview_device[256];           /**< XRSC_RT_PREVIEW_DEVICE; "" = CPU device first */
 } hsrt_config;
+
+typedef struct hsrt_preview hsrt_preview;
 
 typedef struct hsrt_instance hsrt_instance;
 typedef struct hsrt_session hsrt_session;
@@ -173,6 +182,7 @@ struct hsrt_session {
     bool frame_begun;
     uint64_t frames_ended;
     FILE *frames_csv;
+    hsrt_preview *preview; /**< NULL unless XRSC_RT_PREVIEW=1 */
 };
 
 struct hsrt_instance {
@@ -287,3 +297,29 @@ bool hsrt_convert(VkFormat format, const void *texels, uint32_t w, uint32_t h, f
 void hsrt_eye_image_free(hsrt_eye_image *img);
 /** Writes frame_NNNNN_{left,right}.png/.pfm and _sbs.png as the configuration says. */
 bool hsrt_write_frame(const hsrt_config *cfg, uint64_t frame, hsrt_eye_image eyes[2]);
+
+/* ---- hsrt_preview.c ---- */
+/** What the preview window starts with (from hsrt_config). */
+typedef struct hsrt_preview_options {
+    uint32_t width, height; /**< window size in screen coordinates */
+    int64_t hold_frame;     /**< pause once this frame is submitted; -1 = never */
+    bool swapped, diff;     /**< initial view */
+    char device[256];       /**< Vulkan device for the window: cpu, gpu, index, name part, "" */
+} hsrt_preview_options;
+/**
+ * Opens the preview window on a thread of its own and waits until it is up. *out stays NULL
+ * (with XR_SUCCESS) when another session of the process already shows one. Fails with an
+ * error logged when the window cannot open (no X server, no Vulkan device that presents).
+ */
+XrResult hsrt_preview_create(const hsrt_preview_options *opt, hsrt_preview **out);
+/** Closes the window and joins its thread; accepts NULL and sets *p to NULL. */
+void hsrt_preview_destroy(hsrt_preview **p);
+/** Hands over frame `frame`'s eyes (their buffers are taken; eyes[] is zeroed). */
+void hsrt_preview_submit(hsrt_preview *p, uint64_t frame, hsrt_eye_image eyes[2]);
+/**
+ * Blocks while the preview is paused (until resumed, a single step, an exit request or the
+ * window closing); returns the nanoseconds it blocked. Call without the instance's lock.
+ */
+int64_t hsrt_preview_wait(hsrt_preview *p);
+/** True once after Esc/Q or closing the window: the session should walk down to STOPPING. */
+bool hsrt_preview_take_exit(hsrt_preview *p);

@@ -178,6 +178,52 @@ static bool parse_u64(const char *s, uint64_t *out)
     return true;
 }
 
+/** The preview window's settings (hsrt_preview.c); headless unless XRSC_RT_PREVIEW=1. */
+static XrResult preview_config_from_env(hsrt_config *cfg)
+{
+    const char *fn = "xrCreateInstance";
+    cfg->preview_hold_frame = -1;
+    const char *v = getenv("XRSC_RT_PREVIEW");
+    if (!v || !*v || !strcmp(v, "0") || !strcmp(v, "off"))
+        cfg->preview = false;
+    else if (!strcmp(v, "1") || !strcmp(v, "on"))
+        cfg->preview = true;
+    else
+        return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, fn,
+                         "XRSC_RT_PREVIEW='%s' is neither 1/on nor 0/off", v);
+    v = getenv("XRSC_RT_PREVIEW_SIZE");
+    if (v && *v) {
+        unsigned w = 0, h = 0;
+        char tail = 0;
+        if (sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192)
+            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, fn,
+                             "XRSC_RT_PREVIEW_SIZE='%s' is not WxH (16..8192)", v);
+        cfg->preview_w = w;
+        cfg->preview_h = h;
+    }
+    v = getenv("XRSC_RT_PREVIEW_HOLD_FRAME");
+    if (v && *v) {
+        uint64_t n = 0;
+        if (!parse_u64(v, &n) || n > (uint64_t)INT64_MAX)
+            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, fn,
+                             "XRSC_RT_PREVIEW_HOLD_FRAME='%s' is not a frame number", v);
+        cfg->preview_hold_frame = (int64_t)n;
+    }
+    v = getenv("XRSC_RT_PREVIEW_VIEW");
+    if (v && *v) {
+        if (!strcmp(v, "swap"))
+            cfg->preview_swapped = true;
+        else if (!strcmp(v, "diff"))
+            cfg->preview_diff = true;
+        else if (strcmp(v, "sbs"))
+            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, fn,
+                             "XRSC_RT_PREVIEW_VIEW='%s' is not sbs, swap or diff", v);
+    }
+    v = getenv("XRSC_RT_PREVIEW_DEVICE");
+    snprintf(cfg->preview_device, sizeof(cfg->preview_device), "%s", v ? v : "");
+    return XR_SUCCESS;
+}
+
 static XrResult config_from_env(hsrt_config *cfg)
 {
     memset(cfg, 0, sizeof(*cfg));
@@ -255,7 +301,7 @@ static XrResult config_from_env(hsrt_config *cfg)
     }
     v = getenv("XRSC_RT_DEVICE");
     snprintf(cfg->device, sizeof(cfg->device), "%s", v ? v : "");
-    return XR_SUCCESS;
+    return preview_config_from_env(cfg);
 }
 
 /** LOCAL's origin: the first pose's position, turned only about +Y (gravity aligned). */
@@ -485,12 +531,12 @@ static XrResult XRAPI_CALL hsrt_xrCreateInstance(const XrInstanceCreateInfo *cre
     snprintf(inst->app_name, sizeof(inst->app_name), "%s",
              createInfo->applicationInfo.applicationName);
     U_LOG_I("runtime: instance for '%s': poses %s (%zu samples), %ux%u per eye at %.1f Hz, "
-            "pace %s, frames %llu, capture %s",
+            "pace %s, frames %llu, capture %s, preview window %s",
             inst->app_name, inst->cfg.poses_path, inst->poses->count, inst->cfg.headset.width_px,
             inst->cfg.headset.height_px, (double)inst->cfg.headset.refresh_hz,
             inst->cfg.pace == HSRT_PACE_FAST ? "fast" : "realtime",
             (unsigned long long)inst->cfg.frames,
-            inst->cfg.out_dir[0] ? inst->cfg.out_dir : "(off)");
+            inst->cfg.out_dir[0] ? inst->cfg.out_dir : "(off)", inst->cfg.preview ? "on" : "off");
     *instance = (XrInstance)(uintptr_t)inst;
     return XR_SUCCESS;
 }

@@ -123,6 +123,24 @@ static void csv_open(hsrt_session *s)
     fprintf(s->frames_csv, "frame,display_time_ns,stream_time_ns,px,py,pz,qx,qy,qz,qw,layers\n");
 }
 
+/** Opens the preview window (XRSC_RT_PREVIEW=1); default size: 1280 wide, the eyes' aspect. */
+static XrResult preview_open(hsrt_session *s)
+{
+    const hsrt_config *cfg = &s->instance->cfg;
+    hsrt_preview_options opt = {.width = cfg->preview_w,
+                                .height = cfg->preview_h,
+                                .hold_frame = cfg->preview_hold_frame,
+                                .swapped = cfg->preview_swapped,
+                                .diff = cfg->preview_diff};
+    snprintf(opt.device, sizeof(opt.device), "%s", cfg->preview_device);
+    if (!opt.width || !opt.height) {
+        opt.width = 1280;
+        double h = 640.0 * cfg->headset.height_px / cfg->headset.width_px;
+        opt.height = (uint32_t)lround(h < 16.0 ? 16.0 : h > 8192.0 ? 8192.0 : h);
+    }
+    return hsrt_preview_create(&opt, &s->preview);
+}
+
 static XrResult XRAPI_CALL hsrt_xrCreateSession(XrInstance instance,
                                                 const XrSessionCreateInfo *createInfo,
                                                 XrSession *session)
@@ -171,6 +189,16 @@ static XrResult XRAPI_CALL hsrt_xrCreateSession(XrInstance instance,
         s = NULL;
         goto out;
     }
+    if (inst->cfg.preview) {
+        r = preview_open(s);
+        if (XR_FAILED(r)) {
+            hsrt_vk_session_fini(s);
+            s->magic = 0;
+            free(s);
+            s = NULL;
+            goto out;
+        }
+    }
     inst->session = s;
     csv_open(s);
     hsrt_push_state(s, XR_SESSION_STATE_IDLE);
@@ -191,6 +219,7 @@ static XrResult XRAPI_CALL hsrt_xrDestroySession(XrSession session)
         sp->magic = 0;
         free(sp);
     }
+    hsrt_preview_destroy(&s->preview);
     hsrt_vk_session_fini(s);
     if (s->frames_csv)
         fclose(s->frames_csv);
@@ -504,6 +533,25 @@ static XrResult XRAPI_CALL hsrt_xrWaitFrame(XrSession session, const XrFrameWait
         UNLOCK(s);
         return hsrt_fail(XR_ERROR_SESSION_NOT_RUNNING, fn, "not running");
     }
+    if (s->preview) {
+        /* The preview's pause holds the frame loop here. The stream's clock stands still
+         * meanwhile (realtime pace), so a step moves the head by one refresh period. */
+        hsrt_preview *pv = s->preview;
+        UNLOCK(s);
+        int64_t blocked_ns = hsrt_preview_wait(pv);
+        pthread_mutex_lock(&s->instance->lock);
+        if (s->first_display_time && s->instance->cfg.pace == HSRT_PACE_REALTIME)
+            s->first_display_time += blocked_ns / s->period_ns * s->period_ns; /* on the grid */
+        if (hsrt_preview_take_exit(pv) && s->running && !s->exit_requested) {
+            U_LOG_I("runtime: the preview asked to exit: stopping the session");
+            stop_session(s);
+        }
+        if (s->lost || !s->running) {
+            UNLOCK(s);
+            return hsrt_fail(s->lost ? XR_ERROR_SESSION_LOST : XR_ERROR_SESSION_NOT_RUNNING, fn,
+                             "the session stopped while xrWaitFrame waited");
+        }
+    }
     XrTime predicted, wake = 0;
     if (s->instance->cfg.pace == HSRT_PACE_FAST) {
         predicted = (s->last_display_time ? s->last_display_time : s->clock_start) + s->period_ns;
@@ -627,13 +675,16 @@ static XrResult check_layer(hsrt_session *s, const XrCompositionLayerBaseHeader 
     return XR_SUCCESS;
 }
 
-static void capture_frame(hsrt_session *s, const XrCompositionLayerProjection *layer)
+/** Reads the layer's views back; writes them (XRSC_RT_OUT) and hands them to the preview. */
+static void capture_frame(hsrt_session *s, const XrCompositionLayerProjection *layer, bool write)
 {
     hsrt_eye_image eyes[2] = {{0}};
     XrResult r = hsrt_vk_capture(s, layer, eyes);
-    if (XR_SUCCEEDED(r) && !hsrt_write_frame(&s->instance->cfg, s->frames_ended, eyes))
+    if (XR_SUCCEEDED(r) && write && !hsrt_write_frame(&s->instance->cfg, s->frames_ended, eyes))
         U_LOG_E("runtime: xrEndFrame: frame %llu could not be written",
                 (unsigned long long)s->frames_ended);
+    if (XR_SUCCEEDED(r) && s->preview)
+        hsrt_preview_submit(s->preview, s->frames_ended, eyes); /* takes the pixels */
     hsrt_eye_image_free(&eyes[0]);
     hsrt_eye_image_free(&eyes[1]);
 }
@@ -673,8 +724,9 @@ static XrResult XRAPI_CALL hsrt_xrEndFrame(XrSession session, const XrFrameEndIn
             proj = (const XrCompositionLayerProjection *)frameEndInfo->layers[i];
     }
     const hsrt_config *cfg = &s->instance->cfg;
-    if (proj && cfg->out_dir[0] && (cfg->write_eyes || cfg->write_sbs || cfg->write_linear))
-        capture_frame(s, proj);
+    bool write = cfg->out_dir[0] && (cfg->write_eyes || cfg->write_sbs || cfg->write_linear);
+    if (proj && (write || s->preview))
+        capture_frame(s, proj, write);
     if (s->frames_csv) {
         XrPosef h = hsrt_head_pose(s, frameEndInfo->displayTime);
         fprintf(s->frames_csv, "%llu,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%u\n",
@@ -698,6 +750,10 @@ static XrResult XRAPI_CALL hsrt_xrEndFrame(XrSession session, const XrFrameEndIn
     } else if (cfg->frames && s->frames_ended == cfg->frames && !s->exit_requested) {
         U_LOG_I("runtime: XRSC_RT_FRAMES=%llu frames ended: stopping the session",
                 (unsigned long long)cfg->frames);
+        stop_session(s);
+    }
+    if (s->preview && !s->lost && hsrt_preview_take_exit(s->preview) && !s->exit_requested) {
+        U_LOG_I("runtime: the preview asked to exit: stopping the session");
         stop_session(s);
     }
     UNLOCK(s);

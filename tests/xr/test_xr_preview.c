@@ -1,0 +1,753 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file test_xr_preview.c
+ * @brief The runtime's preview window (XRSC_RT_PREVIEW=1) under Xvfb, with Debian's hello_xr
+ *        as the application: a screenshot of the X server shows the left and right eyes side
+ *        by side, matching the captured PNGs of the same frame; the keys S (swap), D
+ *        (difference), N (single step) and Q (exit) do what they say; without the setting
+ *        the runtime needs no display, and with it but no display it fails clearly.
+ *
+ * The test starts its own Xvfb (-displayfd picks a free display), so it can look at the
+ * screen itself: the screenshot is XGetImage of the root window (what `xwd -root` reads),
+ * cropped to the preview window, which it finds by its title ("xrsc preview: frame N, ...").
+ * XRSC_RT_PREVIEW_HOLD_FRAME pauses the frame loop once frame N is submitted, so the window
+ * keeps showing frame N. The expected picture is composed here from the PNGs the runtime
+ * wrote for that frame, scaled as the preview scales (each eye fitted into its half,
+ * bilinear with pixel centres aligned); keys are sent to the window with XSendEvent.
+ */
+#include "testing.h"
+
+#include <X11/Xlib.h>
+#include <X11/Xutil.h>
+#include <X11/keysym.h>
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <png.h>
+#include <signal.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+/* Mirrors hsrt_preview.c: the difference view's gain. */
+#define DIFF_GAIN 4
+#define WIN_W 800
+#define WIN_H 400
+#define EYE_W 256
+#define EYE_H 272
+#define HOLD_FRAME 5
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void sleep_s(double s)
+{
+    struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
+    nanosleep(&ts, NULL);
+}
+
+/* ---- processes ---- */
+
+typedef struct t_child {
+    pid_t pid;
+    int stdin_fd;
+    char log_path[512];
+} t_child;
+
+/** Starts hello_xr -g Vulkan2 with the runtime's manifest; env "NAME=value", "NAME=" unsets. */
+static bool start_hello(const char *const *env, const char *tag, t_child *c)
+{
+    snprintf(c->log_path, sizeof(c->log_path), "%s/preview_%s.log", XRSC_TEST_OUT, tag);
+    int in[2];
+    if (pipe(in) != 0)
+        return false;
+    c->pid = fork();
+    if (c->pid == 0) {
+        int fd = open(c->log_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(in[0], 0);
+        dup2(fd, 1);
+        dup2(fd, 2);
+        close(in[1]);
+        unsetenv("DISPLAY");
+        unsetenv("WAYLAND_DISPLAY");
+        setenv("XR_RUNTIME_JSON", XRSC_RUNTIME_JSON, 1);
+        setenv("XRSC_RT_PACE", "fast", 1);
+        for (const char *const *e = env; e && *e; e++) {
+            char name[128];
+            const char *eq = strchr(*e, '=');
+            snprintf(name, sizeof(name), "%.*s", (int)(eq - *e), *e);
+            if (eq[1])
+                setenv(name, eq + 1, 1);
+            else
+                unsetenv(name);
+        }
+        execl(XRSC_HELLO_XR, "hello_xr", "-g", "Vulkan2", (char *)NULL);
+        _exit(127);
+    }
+    close(in[0]);
+    c->stdin_fd = in[1];
+    return c->pid > 0;
+}
+
+/** Waits for the child; returns its exit code, -1 after a signal or the timeout (killed). */
+static int wait_child(t_child *c, double timeout_s, bool *timed_out)
+{
+    double t0 = now_s();
+    *timed_out = false;
+    for (;;) {
+        int status = 0;
+        pid_t w = waitpid(c->pid, &status, WNOHANG);
+        if (w == c->pid) {
+            close(c->stdin_fd);
+            return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        }
+        if (now_s() - t0 > timeout_s) {
+            *timed_out = true;
+            kill(c->pid, SIGKILL);
+            waitpid(c->pid, &status, 0);
+            close(c->stdin_fd);
+            return -1;
+        }
+        sleep_s(0.01);
+    }
+}
+
+static bool child_alive(const t_child *c)
+{
+    int status;
+    return waitpid(c->pid, &status, WNOHANG) == 0;
+}
+
+static char *read_log(const t_child *c)
+{
+    static char buf[256 * 1024];
+    buf[0] = 0;
+    FILE *f = fopen(c->log_path, "rb");
+    if (f) {
+        size_t n = fread(buf, 1, sizeof(buf) - 1, f);
+        buf[n] = 0;
+        fclose(f);
+    }
+    return buf;
+}
+
+/** Our own X server: Xvfb on a free display (written to a pipe by -displayfd). */
+static pid_t g_xvfb = -1;
+static char g_display[32];
+
+static void stop_xvfb(void)
+{
+    if (g_xvfb > 0) {
+        kill(g_xvfb, SIGTERM);
+        waitpid(g_xvfb, NULL, 0);
+        g_xvfb = -1;
+    }
+}
+
+static bool start_xvfb(void)
+{
+    int fds[2];
+    if (pipe(fds) != 0)
+        return false;
+    g_xvfb = fork();
+    if (g_xvfb == 0) {
+        close(fds[0]);
+        char fdstr[16];
+        snprintf(fdstr, sizeof(fdstr), "%d", fds[1]);
+        int devnull = open("/dev/null", O_WRONLY);
+        dup2(devnull, 1);
+        dup2(devnull, 2);
+        execl(XRSC_XVFB, "Xvfb", "-displayfd", fdstr, "-screen", "0", "1280x720x24", "-nolisten",
+              "tcp", "-noreset", (char *)NULL);
+        _exit(127);
+    }
+    close(fds[1]);
+    char num[16] = {0};
+    ssize_t n = 0;
+    double t0 = now_s();
+    while (now_s() - t0 < 20.0 && n < (ssize_t)sizeof(num) - 1) {
+        ssize_t r = read(fds[0], num + n, sizeof(num) - 1 - (size_t)n);
+        if (r <= 0)
+            break;
+        n += r;
+        if (strchr(num, '\n'))
+            break;
+    }
+    close(fds[0]);
+    if (n <= 0) {
+        stop_xvfb();
+        return false;
+    }
+    snprintf(g_display, sizeof(g_display), ":%d", atoi(num));
+    return true;
+}
+
+/* ---- images ---- */
+
+typedef struct t_img {
+    uint32_t w, h;
+    uint8_t *rgb;
+} t_img;
+
+static bool read_png(const char *path, t_img *out)
+{
+    png_image img;
+    memset(&img, 0, sizeof(img));
+    img.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_file(&img, path))
+        return false;
+    img.format = PNG_FORMAT_RGB;
+    out->w = img.width;
+    out->h = img.height;
+    out->rgb = malloc(PNG_IMAGE_SIZE(img));
+    if (!out->rgb || !png_image_finish_read(&img, NULL, out->rgb, 0, NULL)) {
+        png_image_free(&img);
+        free(out->rgb);
+        out->rgb = NULL;
+        return false;
+    }
+    return true;
+}
+
+/* The preview's scaling, restated (hsrt_preview.c: fit_rect, make_taps, bilerp). */
+typedef struct t_rect {
+    int x, y, w, h;
+} t_rect;
+
+static t_rect fit(uint32_t sw, uint32_t sh, int px, int py, int pw, int ph)
+{
+    double s = fmin((double)pw / sw, (double)ph / sh);
+    t_rect r = {0, 0, (int)lround(sw * s), (int)lround(sh * s)};
+    r.w = r.w < 1 ? 1 : (r.w > pw ? pw : r.w);
+    r.h = r.h < 1 ? 1 : (r.h > ph ? ph : r.h);
+    r.x = px + (pw - r.w) / 2;
+    r.y = py + (ph - r.h) / 2;
+    return r;
+}
+
+static float sample(const t_img *img, const t_rect *r, int dx, int dy, int c)
+{
+    float sx = ((float)dx + 0.5f) * (float)img->w / (float)r->w - 0.5f;
+    float sy = ((float)dy + 0.5f) * (float)img->h / (float)r->h - 0.5f;
+    sx = sx < 0 ? 0 : (sx > (float)(img->w - 1) ? (float)(img->w - 1) : sx);
+    sy = sy < 0 ? 0 : (sy > (float)(img->h - 1) ? (float)(img->h - 1) : sy);
+    uint32_t x0 = (uint32_t)sx, y0 = (uint32_t)sy;
+    uint32_t x1 = x0 + 1 < img->w ? x0 + 1 : x0, y1 = y0 + 1 < img->h ? y0 + 1 : y0;
+    float fx = sx - (float)x0, fy = sy - (float)y0;
+    const uint8_t *p = img->rgb;
+    float a = p[(y0 * img->w + x0) * 3 + c], b = p[(y0 * img->w + x1) * 3 + c];
+    float d = p[(y1 * img->w + x0) * 3 + c], e = p[(y1 * img->w + x1) * 3 + c];
+    float top = a + (b - a) * fx, bot = d + (e - d) * fx;
+    return top + (bot - top) * fy;
+}
+
+static void draw(const t_img *a, const t_img *b, t_rect r, uint8_t *out, int w, int h)
+{
+    for (int y = 0; y < r.h; y++) {
+        for (int x = 0; x < r.w; x++) {
+            int ox = r.x + x, oy = r.y + y;
+            if (ox < 0 || oy < 0 || ox >= w || oy >= h)
+                continue;
+            for (int c = 0; c < 3; c++) {
+                float v = sample(a, &r, x, y, c);
+                if (b)
+                    v = fabsf(v - sample(b, &r, x, y, c)) * DIFF_GAIN;
+                out[((size_t)oy * w + ox) * 3 + c] = v <= 0     ? 0
+                                                     : v >= 255 ? 255
+                                                                : (uint8_t)lrintf(v);
+            }
+        }
+    }
+}
+
+/** The expected window: "sbs", "swap" or "diff". */
+static uint8_t *expected(const t_img *l, const t_img *r, const char *view, int w, int h)
+{
+    uint8_t *out = calloc((size_t)w * h * 3, 1);
+    if (!strcmp(view, "diff")) {
+        draw(l, r, fit(l->w, l->h, 0, 0, w, h), out, w, h);
+    } else {
+        bool swap = !strcmp(view, "swap");
+        const t_img *a = swap ? r : l, *b = swap ? l : r;
+        int half = w / 2;
+        draw(a, NULL, fit(a->w, a->h, 0, 0, half, h), out, w, h);
+        draw(b, NULL, fit(b->w, b->h, half, 0, w - half, h), out, w, h);
+    }
+    return out;
+}
+
+typedef struct t_diff {
+    double mean;     /**< mean |a - b| over all channels */
+    double frac_off; /**< fraction of channel values off by more than 2 */
+} t_diff;
+
+static t_diff compare(const uint8_t *a, const uint8_t *b, size_t n)
+{
+    double sum = 0;
+    size_t off = 0;
+    for (size_t i = 0; i < n; i++) {
+        int d = abs((int)a[i] - (int)b[i]);
+        sum += d;
+        off += d > 2;
+    }
+    return (t_diff){sum / (double)n, (double)off / (double)n};
+}
+
+/* ---- the X server side: the window, its title, a screenshot, keys ---- */
+
+typedef struct t_win {
+    Window id;
+    int x, y, w, h;
+    char title[256];
+} t_win;
+
+static bool find_preview(Display *dpy, t_win *out)
+{
+    Window root = DefaultRootWindow(dpy), parent, *kids = NULL;
+    unsigned int n = 0;
+    if (!XQueryTree(dpy, root, &root, &parent, &kids, &n))
+        return false;
+    bool found = false;
+    for (unsigned int i = 0; i < n && !found; i++) {
+        char *name = NULL;
+        if (XFetchName(dpy, kids[i], &name) && name) {
+            if (!strncmp(name, "xrsc preview", 12)) {
+                XWindowAttributes wa;
+                Window child;
+                if (XGetWindowAttributes(dpy, kids[i], &wa) && wa.map_state == IsViewable &&
+                    XTranslateCoordinates(dpy, kids[i], root, 0, 0, &out->x, &out->y, &child)) {
+                    out->id = kids[i];
+                    out->w = wa.width;
+                    out->h = wa.height;
+                    snprintf(out->title, sizeof(out->title), "%s", name);
+                    found = true;
+                }
+            }
+            XFree(name);
+        }
+    }
+    if (kids)
+        XFree(kids);
+    return found;
+}
+
+/** Waits until the preview's title contains `want`; false after the timeout. */
+static bool wait_title(Display *dpy, const char *want, double timeout_s, t_win *win,
+                       const t_child *c)
+{
+    double t0 = now_s();
+    while (now_s() - t0 < timeout_s) {
+        if (find_preview(dpy, win) && strstr(win->title, want))
+            return true;
+        if (c && !child_alive(c))
+            return false;
+        sleep_s(0.05);
+    }
+    fprintf(stderr, "the preview's title never showed '%s' (last: '%s')\n", want, win->title);
+    return false;
+}
+
+/** A screenshot of the root window (as `xwd -root`), cropped to the window; RGB8. */
+static uint8_t *screenshot(Display *dpy, const t_win *win)
+{
+    XImage *img = XGetImage(dpy, DefaultRootWindow(dpy), win->x, win->y, (unsigned)win->w,
+                            (unsigned)win->h, AllPlanes, ZPixmap);
+    if (!img)
+        return NULL;
+    uint8_t *rgb = malloc((size_t)win->w * win->h * 3);
+    int shifts[3];
+    unsigned long masks[3] = {img->red_mask, img->green_mask, img->blue_mask};
+    for (int c = 0; c < 3; c++) {
+        shifts[c] = 0;
+        while (masks[c] && !((masks[c] >> shifts[c]) & 1))
+            shifts[c]++;
+    }
+    for (int y = 0; y < win->h; y++) {
+        for (int x = 0; x < win->w; x++) {
+            unsigned long px = XGetPixel(img, x, y);
+            for (int c = 0; c < 3; c++)
+                rgb[((size_t)y * win->w + x) * 3 + c] = (uint8_t)((px & masks[c]) >> shifts[c]);
+        }
+    }
+    XDestroyImage(img);
+    return rgb;
+}
+
+static void press(Display *dpy, const t_win *win, KeySym sym)
+{
+    static Time fake_time = 1000;
+    XKeyEvent ev = {.display = dpy,
+                    .window = win->id,
+                    .root = DefaultRootWindow(dpy),
+                    .subwindow = None,
+                    .x = 10,
+                    .y = 10,
+                    .x_root = win->x + 10,
+                    .y_root = win->y + 10,
+                    .same_screen = True,
+                    .keycode = XKeysymToKeycode(dpy, sym)};
+    ev.type = KeyPress;
+    ev.time = fake_time++;
+    XSendEvent(dpy, win->id, True, KeyPressMask, (XEvent *)&ev);
+    ev.type = KeyRelease;
+    ev.time = fake_time++;
+    XSendEvent(dpy, win->id, True, KeyReleaseMask, (XEvent *)&ev);
+    XFlush(dpy);
+}
+
+/**
+ * Screenshots the window until it matches the picture composed from frame `frame`'s PNGs in
+ * `view` (the present may land a moment after the title changes); checks the best match.
+ */
+static void check_screen(Display *dpy, const t_win *win, const char *dir, int frame,
+                         const char *view)
+{
+    char lp[1024], rp[1024];
+    snprintf(lp, sizeof(lp), "%s/frame_%05d_left.png", dir, frame);
+    snprintf(rp, sizeof(rp), "%s/frame_%05d_right.png", dir, frame);
+    t_img l = {0}, r = {0};
+    CHECK_MSG(read_png(lp, &l) && read_png(rp, &r), "%s / %s cannot be read", lp, rp);
+    if (!l.rgb || !r.rgb) {
+        free(l.rgb);
+        free(r.rgb);
+        return;
+    }
+    CHECK_EQ_INT(l.w, EYE_W);
+    CHECK_EQ_INT(l.h, EYE_H);
+    size_t n = (size_t)win->w * win->h * 3;
+    uint8_t *want = expected(&l, &r, view, win->w, win->h);
+    /* the wrong pictures: the eyes the other way round (or side by side for the diff view) */
+    uint8_t *wrong = expected(&l, &r,
+                              !strcmp(view, "sbs")    ? "swap"
+                              : !strcmp(view, "swap") ? "sbs"
+                                                      : "sbs",
+                              win->w, win->h);
+    t_diff best = {1e9, 1};
+    double t0 = now_s();
+    uint8_t *shot = NULL;
+    while (now_s() - t0 < 10.0) {
+        free(shot);
+        shot = screenshot(dpy, win);
+        if (!shot)
+            break;
+        t_diff d = compare(shot, want, n);
+        if (d.mean < best.mean)
+            best = d;
+        if (best.mean < 0.25 && best.frac_off < 0.001)
+            break;
+        sleep_s(0.1);
+    }
+    CHECK_MSG(shot != NULL, "no screenshot");
+    if (shot) {
+        t_diff w = compare(shot, wrong, n);
+        printf("  frame %d view %-4s: screenshot vs expected: mean |d| %.4f, %.4f%% off by >2; "
+               "vs the wrong picture: mean |d| %.3f\n",
+               frame, view, best.mean, best.frac_off * 100.0, w.mean);
+        CHECK_MSG(best.mean < 0.25 && best.frac_off < 0.001, "view %s: mean |d| %.4f, %.4f%% off",
+                  view, best.mean, best.frac_off * 100.0);
+        /* the comparison can tell the eyes apart */
+        CHECK_MSG(w.mean > 10.0 * best.mean + 0.5, "view %s: wrong picture only %.3f away", view,
+                  w.mean);
+        /* and the window is not blank: both halves hold varied content */
+        int lo = 255, hi = 0;
+        for (size_t i = 0; i < n; i++) {
+            lo = shot[i] < lo ? shot[i] : lo;
+            hi = shot[i] > hi ? shot[i] : hi;
+        }
+        CHECK_MSG(hi - lo > 50, "screenshot values %d..%d", lo, hi);
+        char path[1024];
+        snprintf(path, sizeof(path), "%s/screenshot_%s.ppm", dir, view);
+        FILE *f = fopen(path, "wb");
+        if (f) {
+            fprintf(f, "P6\n%d %d\n255\n", win->w, win->h);
+            fwrite(shot, 1, n, f);
+            fclose(f);
+        }
+    }
+    free(shot);
+    free(want);
+    free(wrong);
+    free(l.rgb);
+    free(r.rgb);
+}
+
+static void clean_dir(const char *dir)
+{
+    mkdir(XRSC_TEST_OUT, 0777);
+    mkdir(dir, 0777);
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    struct dirent *e;
+    char p[1024];
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.')
+            continue;
+        snprintf(p, sizeof(p), "%s/%s", dir, e->d_name);
+        unlink(p);
+    }
+    closedir(d);
+}
+
+static bool exists(const char *dir, int frame, const char *eye)
+{
+    char p[1024];
+    snprintf(p, sizeof(p), "%s/frame_%05d_%s.png", dir, frame, eye);
+    return access(p, F_OK) == 0;
+}
+
+/** frames.csv's display and stream time of one frame. */
+static bool read_times(const char *dir, int frame, long long *display, long long *stream)
+{
+    char p[1024], line[512];
+    snprintf(p, sizeof(p), "%s/frames.csv", dir);
+    FILE *f = fopen(p, "r");
+    bool found = false;
+    while (f && !found && fgets(line, sizeof(line), f)) {
+        long long n, d, s;
+        if (sscanf(line, "%lld,%lld,%lld", &n, &d, &s) == 3 && n == frame) {
+            *display = d;
+            *stream = s;
+            found = true;
+        }
+    }
+    if (f)
+        fclose(f);
+    return found;
+}
+
+/* ---- cases ---- */
+
+static void preview_shows_submitted_frames_side_by_side(void)
+{
+    const char *dir = XRSC_TEST_OUT "/preview";
+    clean_dir(dir);
+    CHECK_MSG(start_xvfb(), "Xvfb (%s) did not start", XRSC_XVFB);
+    if (g_xvfb <= 0)
+        return;
+    Display *dpy = NULL;
+    for (int i = 0; i < 100 && !dpy; i++) {
+        dpy = XOpenDisplay(g_display);
+        if (!dpy)
+            sleep_s(0.05);
+    }
+    CHECK_MSG(dpy != NULL, "cannot open display %s", g_display);
+    if (!dpy) {
+        stop_xvfb();
+        return;
+    }
+    char out_env[600], disp_env[64], hold_env[64], size_env[64], eye_env[64];
+    snprintf(out_env, sizeof(out_env), "XRSC_RT_OUT=%s", dir);
+    snprintf(disp_env, sizeof(disp_env), "DISPLAY=%s", g_display);
+    snprintf(hold_env, sizeof(hold_env), "XRSC_RT_PREVIEW_HOLD_FRAME=%d", HOLD_FRAME);
+    snprintf(size_env, sizeof(size_env), "XRSC_RT_PREVIEW_SIZE=%dx%d", WIN_W, WIN_H);
+    snprintf(eye_env, sizeof(eye_env), "XRSC_RT_EYE_SIZE=%dx%d", EYE_W, EYE_H);
+    const char *env[] = {out_env,  disp_env, "XRSC_RT_PREVIEW=1",  hold_env,
+                         size_env, eye_env,  "XRSC_RT_WRITE=eyes", NULL};
+    t_child c;
+    CHECK(start_hello(env, "keys", &c));
+    t_win win = {0};
+    char want[64];
+    snprintf(want, sizeof(want), "frame %d, paused, left|right", HOLD_FRAME);
+    bool held = wait_title(dpy, want, 120.0, &win, &c);
+    CHECK_MSG(held, "log:\n%s", read_log(&c));
+    if (held) {
+        CHECK_EQ_INT(win.w, WIN_W);
+        CHECK_EQ_INT(win.h, WIN_H);
+        /* paused: frame HOLD_FRAME + 1 is not begun */
+        sleep_s(0.3);
+        CHECK(exists(dir, HOLD_FRAME, "left") && exists(dir, HOLD_FRAME, "right"));
+        CHECK(!exists(dir, HOLD_FRAME + 1, "left"));
+        check_screen(dpy, &win, dir, HOLD_FRAME, "sbs");
+
+        press(dpy, &win, XK_s); /* swap */
+        snprintf(want, sizeof(want), "frame %d, paused, right|left", HOLD_FRAME);
+        bool ok = wait_title(dpy, want, 10.0, &win, &c);
+        CHECK(ok);
+        if (ok)
+            check_screen(dpy, &win, dir, HOLD_FRAME, "swap");
+
+        press(dpy, &win, XK_d); /* difference */
+        snprintf(want, sizeof(want), "frame %d, paused, difference x4", HOLD_FRAME);
+        ok = wait_title(dpy, want, 10.0, &win, &c);
+        CHECK(ok);
+        if (ok)
+            check_screen(dpy, &win, dir, HOLD_FRAME, "diff");
+        press(dpy, &win, XK_d);
+        press(dpy, &win, XK_s);
+
+        press(dpy, &win, XK_n); /* one frame through, then paused again */
+        snprintf(want, sizeof(want), "frame %d, paused, left|right", HOLD_FRAME + 1);
+        ok = wait_title(dpy, want, 30.0, &win, &c);
+        CHECK(ok);
+        if (ok) {
+            sleep_s(0.3);
+            CHECK(!exists(dir, HOLD_FRAME + 2, "left"));
+            check_screen(dpy, &win, dir, HOLD_FRAME + 1, "sbs");
+        }
+
+        press(dpy, &win, XK_q); /* exit: the session walks down to STOPPING, hello_xr ends */
+    }
+    bool timed_out = false;
+    int code = wait_child(&c, held ? 60.0 : 1.0, &timed_out);
+    const char *log = read_log(&c);
+    if (held) {
+        CHECK_MSG(!timed_out && code == 0, "exit %d (timed out %d); log:\n%s", code, timed_out,
+                  log);
+        CHECK(strstr(log, "XR_SESSION_STATE_STOPPING") != NULL);
+        CHECK(strstr(log, "XR_SESSION_STATE_EXITING") != NULL);
+        CHECK(strstr(log, "exit requested") != NULL);
+    }
+    CHECK_MSG(!strstr(log, "VUID") && !strstr(log, "validation errors"), "%s", log);
+    /* the window closed with the session */
+    t_win gone;
+    CHECK(!find_preview(dpy, &gone));
+    XCloseDisplay(dpy);
+    stop_xvfb();
+}
+
+/* The view at start from XRSC_RT_PREVIEW_VIEW, the default window size, a resize while
+ * paused, realtime pace held and resumed with Space, and Esc to exit. */
+static void preview_view_setting_resume_and_escape(void)
+{
+    const char *dir = XRSC_TEST_OUT "/preview_view";
+    clean_dir(dir);
+    CHECK(start_xvfb());
+    if (g_xvfb <= 0)
+        return;
+    Display *dpy = NULL;
+    for (int i = 0; i < 100 && !dpy; i++) {
+        dpy = XOpenDisplay(g_display);
+        if (!dpy)
+            sleep_s(0.05);
+    }
+    CHECK(dpy != NULL);
+    if (!dpy) {
+        stop_xvfb();
+        return;
+    }
+    char out_env[600], disp_env[64], eye_env[64];
+    snprintf(out_env, sizeof(out_env), "XRSC_RT_OUT=%s", dir);
+    snprintf(disp_env, sizeof(disp_env), "DISPLAY=%s", g_display);
+    snprintf(eye_env, sizeof(eye_env), "XRSC_RT_EYE_SIZE=%dx%d", EYE_W, EYE_H);
+    const char *env[] = {out_env,
+                         disp_env,
+                         "XRSC_RT_PREVIEW=1",
+                         "XRSC_RT_PREVIEW_VIEW=swap",
+                         "XRSC_RT_PREVIEW_HOLD_FRAME=3",
+                         eye_env,
+                         "XRSC_RT_WRITE=eyes",
+                         "XRSC_RT_PACE=realtime",
+                         NULL};
+    t_child c;
+    CHECK(start_hello(env, "view", &c));
+    t_win win = {0};
+    bool held = wait_title(dpy, "frame 3, paused, right|left", 120.0, &win, &c);
+    CHECK_MSG(held, "log:\n%s", read_log(&c));
+    if (held) {
+        /* default size: 1280 wide, the eyes' aspect for each half */
+        CHECK_EQ_INT(win.w, 1280);
+        CHECK_EQ_INT(win.h, (int)lround(640.0 * EYE_H / EYE_W));
+        check_screen(dpy, &win, dir, 3, "swap");
+        /* resized (no window manager: the size is what was asked): a new swapchain, redrawn
+         * while still paused, the eyes fitted into the new halves */
+        XResizeWindow(dpy, win.id, 640, 480);
+        XFlush(dpy);
+        double t0 = now_s();
+        while (now_s() - t0 < 10.0 && !(find_preview(dpy, &win) && win.w == 640 && win.h == 480))
+            sleep_s(0.05);
+        CHECK_EQ_INT(win.w, 640);
+        CHECK_EQ_INT(win.h, 480);
+        check_screen(dpy, &win, dir, 3, "swap");
+        press(dpy, &win, XK_space); /* resume */
+        CHECK(wait_title(dpy, "running", 10.0, &win, &c));
+        press(dpy, &win, XK_Escape);
+    }
+    bool timed_out = false;
+    int code = wait_child(&c, held ? 60.0 : 1.0, &timed_out);
+    const char *log = read_log(&c);
+    CHECK_MSG(!timed_out && code == 0, "exit %d; log:\n%s", code, log);
+    CHECK(strstr(log, "XR_SESSION_STATE_EXITING") != NULL);
+    /* the pause took wall time (display times jump) but not stream time (the head moves on
+     * from where it stood) */
+    long long disp[2] = {0}, stream[2] = {0};
+    if (held && read_times(dir, 3, &disp[0], &stream[0]) &&
+        read_times(dir, 4, &disp[1], &stream[1])) {
+        CHECK_MSG(disp[1] - disp[0] > 100000000LL, "display times %lld, %lld", disp[0], disp[1]);
+        CHECK_MSG(stream[1] - stream[0] > 0 && stream[1] - stream[0] < 60000000LL,
+                  "stream times %lld, %lld", stream[0], stream[1]);
+    } else {
+        CHECK_MSG(!held, "frames.csv has no rows for frames 3 and 4");
+    }
+    XCloseDisplay(dpy);
+    stop_xvfb();
+}
+
+/* Headless by default: no DISPLAY, no preview setting (or 0): runs, no window is tried. */
+static void preview_off_needs_no_display(void)
+{
+    const char *dir = XRSC_TEST_OUT "/preview_off";
+    clean_dir(dir);
+    char out_env[600];
+    snprintf(out_env, sizeof(out_env), "XRSC_RT_OUT=%s", dir);
+    for (int k = 0; k < 2; k++) {
+        const char *env[] = {out_env, "XRSC_RT_FRAMES=5", "XRSC_RT_EYE_SIZE=128x136",
+                             k ? "XRSC_RT_PREVIEW=0" : "XRSC_RT_PREVIEW=", NULL};
+        t_child c;
+        CHECK(start_hello(env, k ? "off0" : "off", &c));
+        bool timed_out = false;
+        int code = wait_child(&c, 120.0, &timed_out);
+        const char *log = read_log(&c);
+        CHECK_MSG(!timed_out && code == 0, "exit %d; log:\n%s", code, log);
+        CHECK(strstr(log, "XR_SESSION_STATE_EXITING") != NULL);
+        CHECK(strstr(log, "preview window off") != NULL);
+        CHECK_MSG(!strstr(log, "runtime: preview:"), "%s", log); /* nothing of it started */
+        CHECK(exists(dir, 4, "left"));
+    }
+}
+
+/* Asked for but impossible (no DISPLAY), or a bad setting: a clean failure naming it. */
+static void preview_failures_are_clear(void)
+{
+    const char *env[] = {"XRSC_RT_PREVIEW=1", "XRSC_RT_FRAMES=5", "XRSC_RT_EYE_SIZE=128x136", NULL};
+    t_child c;
+    CHECK(start_hello(env, "nodisplay", &c));
+    bool timed_out = false;
+    int code = wait_child(&c, 120.0, &timed_out);
+    const char *log = read_log(&c);
+    CHECK_MSG(!timed_out && code > 0, "exit %d; log:\n%s", code, log);
+    CHECK_MSG(strstr(log, "XRSC_RT_PREVIEW") && strstr(log, "DISPLAY"), "%s", log);
+
+    const char *bad[][2] = {{"XRSC_RT_PREVIEW=maybe", "XRSC_RT_PREVIEW="},
+                            {"XRSC_RT_PREVIEW_SIZE=800", "XRSC_RT_PREVIEW_SIZE"},
+                            {"XRSC_RT_PREVIEW_HOLD_FRAME=-2", "XRSC_RT_PREVIEW_HOLD_FRAME"},
+                            {"XRSC_RT_PREVIEW_VIEW=mono", "XRSC_RT_PREVIEW_VIEW"}};
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+        const char *env2[] = {bad[i][0], NULL};
+        CHECK(start_hello(env2, "bad", &c));
+        code = wait_child(&c, 60.0, &timed_out);
+        log = read_log(&c);
+        CHECK_MSG(!timed_out && code > 0, "%s: exit %d", bad[i][0], code);
+        CHECK_MSG(strstr(log, bad[i][1]) != NULL, "%s: %s", bad[i][0], log);
+    }
+}
+
+int main(void)
+{
+    signal(SIGPIPE, SIG_IGN);
+    RUN(preview_off_needs_no_display);
+    RUN(preview_failures_are_clear);
+    RUN(preview_shows_submitted_frames_side_by_side);
+    RUN(preview_view_setting_resume_and_escape);
+    stop_xvfb();
+    return t_finish();
+}
