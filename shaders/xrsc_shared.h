@@ -45,6 +45,11 @@ typedef struct xs_mat4 { float m[16]; } xs_mat4; /* column-major */
 #define XS_BIND_ACCUM 12     /* rgba32f: progressive sum (rgb) and sample count (a) */
 #define XS_BIND_RAY_COUNTER 13 /* buffer uint64 (as uvec2 lo/hi or atomic uint): rays traced */
 
+/* ---- descriptor set 1 of spp.rgen: the raw moments of each pixel's samples (seed 000 Eq. 5,
+ * for the moments stereo blend), image2DArray rgba32f with layer = eye ---- */
+#define XS_SPP_BIND_MU1 0 /* rgb = mean of the N path values, a = N (c_X with c_s = 1) */
+#define XS_SPP_BIND_MU2 1 /* rgb = mean of their squares, a = N */
+
 #define XS_MAX_TEXTURES 256
 #define XS_NO_TEXTURE 0xFFFFFFFFu
 #define XS_NO_EMITTER 0xFFFFFFFFu

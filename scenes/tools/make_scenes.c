@@ -48,6 +48,7 @@ typedef struct gltf {
     size_t bin_len, bin_cap;
     str views, accessors, meshes, materials, nodes, cameras;
     int n_views, n_accessors, n_meshes, n_materials, n_nodes, n_cameras;
+    const char *extensions; /**< top-level "extensions" object body, or NULL (none) */
 } gltf;
 
 static void sep(str *s, int count) { str_add(s, count ? ",\n    " : "\n    "); }
@@ -206,6 +207,7 @@ static int write_gltf(gltf *g, const char *path, const char *extensions_used, co
     str_add(&j, "  \"scene\": 0,\n  \"scenes\": [{%s}],\n", scene_body);
     str_add(&j, "  \"nodes\": [%s\n  ],\n", g->nodes.s);
     if (g->n_cameras) str_add(&j, "  \"cameras\": [%s\n  ],\n", g->cameras.s);
+    if (g->extensions) str_add(&j, "  \"extensions\": {%s},\n", g->extensions);
     str_add(&j, "  \"meshes\": [%s\n  ],\n", g->meshes.s);
     str_add(&j, "  \"materials\": [%s\n  ],\n", g->materials.s);
     str_add(&j, "  \"accessors\": [%s\n  ],\n", g->accessors.s);
@@ -489,12 +491,88 @@ static int make_triangles(const char *dir)
     return write_gltf(&g, path, "", "\"name\": \"triangles\", \"nodes\": [0, 1, 2, 3]");
 }
 
+/** Stereo test scene (seed 000 §5.2, seed 004 Fig. 2): a diffuse sphere and a rough metal
+ *  box over a glossy floor under a low sun and a sky-blue environment. The floor's sun highlight
+ *  and the objects' reflections in it move with the eye (view-dependent: a real stereo
+ *  difference), while its noise at low sample counts does not match between the eyes. */
+static int make_glossy(const char *dir)
+{
+    gltf g = {0};
+    int floor_mat = add_material(&g, "\"name\": \"glossy-floor\", \"pbrMetallicRoughness\": "
+                                     "{\"baseColorFactor\": [0.8, 0.8, 0.8, 1], "
+                                     "\"metallicFactor\": 1, \"roughnessFactor\": 0.35}");
+    int ball = add_material(&g, "\"name\": \"orange\", \"pbrMetallicRoughness\": "
+                                "{\"baseColorFactor\": [0.8, 0.35, 0.1, 1], "
+                                "\"metallicFactor\": 0, \"roughnessFactor\": 0.6}");
+    int box_mat = add_material(&g, "\"name\": \"blue-metal\", \"pbrMetallicRoughness\": "
+                                   "{\"baseColorFactor\": [0.3, 0.45, 0.9, 1], "
+                                   "\"metallicFactor\": 1, \"roughnessFactor\": 0.25}");
+    geom fl = {0}, bx = {0};
+    quad(&fl, (float[]){-3, 0, 1}, (float[]){6, 0, 0}, (float[]){0, 0, -6}); /* floor, +Y */
+    /* a 0.5 m cube standing on the floor, outward normals */
+    const float h = 0.25f;
+    quad(&bx, (float[]){-h, 0, h}, (float[]){2 * h, 0, 0}, (float[]){0, 2 * h, 0});   /* +Z */
+    quad(&bx, (float[]){h, 0, -h}, (float[]){-2 * h, 0, 0}, (float[]){0, 2 * h, 0});  /* -Z */
+    quad(&bx, (float[]){h, 0, h}, (float[]){0, 0, -2 * h}, (float[]){0, 2 * h, 0});   /* +X */
+    quad(&bx, (float[]){-h, 0, -h}, (float[]){0, 0, 2 * h}, (float[]){0, 2 * h, 0});  /* -X */
+    quad(&bx, (float[]){-h, 2 * h, h}, (float[]){2 * h, 0, 0}, (float[]){0, 0, -2 * h}); /* +Y */
+    int m_floor = add_mesh(&g, "floor", add_geom(&g, &fl, 5123), floor_mat);
+    int m_box = add_mesh(&g, "box", add_geom(&g, &bx, 5123), box_mat);
+    geom_free(&fl);
+    geom_free(&bx);
+    geom s = make_sphere(48, 24);
+    int m_ball = add_mesh(&g, "sphere", add_geom(&g, &s, 5123), ball);
+    geom_free(&s);
+    int cam = add_camera(&g, 1.0f, 0.05f);
+
+    char body[320];
+    snprintf(body, sizeof body, "\"name\": \"floor\", \"mesh\": %d", m_floor);
+    add_node(&g, body);
+    snprintf(body, sizeof body,
+             "\"name\": \"sphere\", \"mesh\": %d, \"translation\": [-0.3, 0.4, -1.6], "
+             "\"scale\": [0.4, 0.4, 0.4]",
+             m_ball);
+    add_node(&g, body);
+    /* the box turned 30 degrees about +Y */
+    snprintf(body, sizeof body,
+             "\"name\": \"box\", \"mesh\": %d, \"translation\": [0.55, 0, -1.2], "
+             "\"rotation\": [0, %.9g, 0, %.9g]",
+             m_box, sinf(PI_F / 12.0f), cosf(PI_F / 12.0f));
+    add_node(&g, body);
+    /* sun low in front of the camera (its light travels towards +Z and down), so its glossy
+     * reflection lies on the floor about 2.8 m ahead, partly behind the objects */
+    float sun_axis_angle = PI_F * 0.1f; /* 18 degrees above the horizon */
+    /* A directional light shines along its node's -Z: rotated 180 degrees about +Y first so it
+     * shines towards +Z (towards the camera), then tilted down. */
+    snprintf(body, sizeof body,
+             "\"name\": \"sun\", \"rotation\": [0, %.9g, %.9g, 0], "
+             "\"extensions\": {\"KHR_lights_punctual\": {\"light\": 0}}",
+             cosf(sun_axis_angle * 0.5f), sinf(sun_axis_angle * 0.5f));
+    add_node(&g, body);
+    /* camera 0.9 m up, looking down by 15 degrees towards the objects */
+    float pitch = -PI_F / 12.0f;
+    snprintf(body, sizeof body,
+             "\"name\": \"camera\", \"camera\": %d, \"translation\": [0, 0.9, 0.6], "
+             "\"rotation\": [%.9g, 0, 0, %.9g]",
+             cam, sinf(pitch * 0.5f), cosf(pitch * 0.5f));
+    add_node(&g, body);
+    g.extensions = "\"KHR_lights_punctual\": {\"lights\": [{\"name\": \"sun\", "
+                   "\"type\": \"directional\", \"color\": [1, 0.95, 0.85], "
+                   "\"intensity\": 3}]}";
+    char path[1024];
+    snprintf(path, sizeof path, "%s/glossy.gltf", dir);
+    return write_gltf(&g, path, "\"KHR_lights_punctual\"",
+                      "\"name\": \"glossy\", \"nodes\": [0, 1, 2, 3, 4], "
+                      "\"extras\": {\"xrsc_environment\": [0.35, 0.45, 0.6]}");
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
         fprintf(stderr, "usage: %s <output folder>\n", argv[0]);
         return 2;
     }
-    int fails = make_furnace(argv[1]) + make_cornell(argv[1]) + make_triangles(argv[1]);
+    int fails = make_furnace(argv[1]) + make_cornell(argv[1]) + make_triangles(argv[1]) +
+                make_glossy(argv[1]);
     return fails ? 1 : 0;
 }

@@ -168,13 +168,46 @@ typedef struct xrsc_samplecache_options {
     uint32_t max_bounces;
 } xrsc_samplecache_options;
 
-/** Renderer options. width/height per eye (default 256 x 256); seed 0 is a valid seed. */
+/**
+ * Stereo blends, run after the method's reconstruction inside the frame (pass "blend"), before
+ * any read-back or submission; each eye is improved from the other (symmetrically) with
+ * lerp(X, Y, beta) = (1 - beta) X + beta Y (seed 000 Eq. 3), Y this eye's pixel, X the other
+ * eye's reprojected by this eye's depth (disocclusions, detected by a relative depth test of
+ * 5 %, are left untouched). See shaders/xs_stereo.h and shaders/stereo_blend.comp.
+ * - XRSC_BLEND_NONE (0, the default): the eyes are left as rendered.
+ * - XRSC_BLEND_PFJ23: beta from seed 004 Eq. 4 with sigma_Y^2 and E[(X - Y)^2] estimated in
+ *   this eye's 3 x 3 neighbourhood (seed 004 Eq. 10-11); bilinear resampling of the other eye.
+ * - XRSC_BLEND_MOMENTS: beta from seed 000 Eq. 8 with the raw moments mu_1, mu_2 of the pixels'
+ *   own samples (XRSC_OUTPUT_MU1/MU2, Eq. 5-7), this eye's blurred in 3 x 3 (weight 1 - R off
+ *   centre, 1 at the centre), the other eye's resampled with Dodgson's quadratic kernel with R
+ *   as its spline parameter (seed 000 §5.2). Needs a method with moments (`spp`,
+ *   `samplecache`).
+ */
+typedef enum xrsc_blend {
+    XRSC_BLEND_NONE = 0,
+    XRSC_BLEND_PFJ23 = 1,
+    XRSC_BLEND_MOMENTS = 2,
+} xrsc_blend;
+/** "none" / "pfj23" / "moments"; NULL for unknown values. */
+const char *xrsc_blend_name(xrsc_blend blend);
+/** Parses a blend name; XRSC_ERROR_INVALID_ARGUMENT when unknown. */
+xrsc_result xrsc_blend_from_name(const char *name, xrsc_blend *out_blend);
+
+/**
+ * Renderer options. width/height per eye (default 256 x 256); seed 0 is a valid seed.
+ * blend: the stereo blend (default none). blend_r: the sharpness R in [0, 1] of the moments
+ * blend; the zero default R = 0 is the setting with the lowest error and stereo discrepancy in
+ * seed 000 §5.2 (Fig. 15: R = 0 beats R = 1 and PFJ23 on RSE and discrepancy, with CPBD
+ * sharpness closest to the reference); R = 1 is the conservative, least blurring one.
+ */
 typedef struct xrsc_renderer_options {
     xrsc_method method;
     uint32_t width, height;
     uint32_t seed;
     xrsc_spp_options spp;
     xrsc_samplecache_options samplecache;
+    xrsc_blend blend;
+    float blend_r;
 } xrsc_renderer_options;
 
 /** One eye's view. */
@@ -203,8 +236,9 @@ typedef enum xrsc_output {
     XRSC_OUTPUT_ALBEDO, /**< float RGBA, demodulated first-hit albedo */
     XRSC_OUTPUT_DEPTH,  /**< float, view-space distance along -Z (m), 0 = background */
     XRSC_OUTPUT_HIT_ID, /**< uint32 x4: instance (UINT32_MAX = miss), primitive, bary u, v bits */
-    /** float RGBA, `samplecache` only: raw moments of the pixel (seed 000 Eq. 5), rgb = mu_1
-     *  (resp. mu_2) per channel, a = c_X (Eq. 6, the pixel's effective sample count). */
+    /** float RGBA, `samplecache` and `spp`: raw moments of the pixel's samples (seed 000
+     *  Eq. 5), rgb = mu_1 (resp. mu_2) per channel, a = c_X (Eq. 6, the pixel's effective
+     *  sample count). `spp`: the N path values of this frame's samples, c_s = 1, c_X = N. */
     XRSC_OUTPUT_MU1,
     XRSC_OUTPUT_MU2,
 } xrsc_output;
@@ -229,7 +263,8 @@ typedef struct xrsc_pass_timing {
  * (animated) instances and of the TLAS, about 0 ms when nothing moved (static scenes, or the
  * same display time as the last frame). Then the method's passes: `spp` and `primary` have
  * one, "trace" (both eyes); `samplecache` has "reproject", "trace_mask", "density", "trace",
- * "shade", "reconstruct". Read-back copies for xrsc_renderer_read are not timed.
+ * "shade", "reconstruct". With a stereo blend other than none, "blend" comes last (the copy
+ * of the colour and the blend dispatch). Read-back copies for xrsc_renderer_read are not timed.
  */
 uint32_t xrsc_renderer_timings(const xrsc_renderer *renderer, xrsc_pass_timing *out,
                                uint32_t max_count);

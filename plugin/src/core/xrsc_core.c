@@ -11,6 +11,7 @@
 #include "mt_method.h"
 #include "mt_samplecache.h"
 #include "sc_scene.h"
+#include "st_blend.h"
 #include "u_diag.h"
 
 #include <stdlib.h>
@@ -37,6 +38,8 @@ struct xrsc_renderer {
     xrsc_scene *scene;
     mt_method *method;
     xrsc_renderer_options opt;
+    st_blend *blend; /**< NULL for XRSC_BLEND_NONE */
+    mt_post post;    /**< records the blend into the method's frame (env.post) */
 };
 
 /* ---- context ---- */
@@ -204,6 +207,40 @@ xrsc_result xrsc_method_from_name(const char *name, xrsc_method *out_method)
     return XRSC_ERROR_UNKNOWN_METHOD;
 }
 
+/* ---- stereo blends ---- */
+
+const char *xrsc_blend_name(xrsc_blend blend)
+{
+    switch (blend) {
+    case XRSC_BLEND_NONE:
+        return "none";
+    case XRSC_BLEND_PFJ23:
+        return "pfj23";
+    case XRSC_BLEND_MOMENTS:
+        return "moments";
+    }
+    return NULL;
+}
+
+xrsc_result xrsc_blend_from_name(const char *name, xrsc_blend *out_blend)
+{
+    static const xrsc_blend all[] = {XRSC_BLEND_NONE, XRSC_BLEND_PFJ23, XRSC_BLEND_MOMENTS};
+    for (size_t i = 0; name && i < sizeof(all) / sizeof(all[0]); i++) {
+        if (!strcmp(name, xrsc_blend_name(all[i]))) {
+            if (out_blend)
+                *out_blend = all[i];
+            return XRSC_OK;
+        }
+    }
+    return XRSC_ERROR_INVALID_ARGUMENT;
+}
+
+/** mt_post: the blend pass after the method's last pass, in its command buffer and timer. */
+static void blend_record(void *user, VkCommandBuffer cmd, gpu_timer *timer, const xs_frame *xf)
+{
+    st_blend_cmd_record((st_blend *)user, cmd, timer, xf->eyes);
+}
+
 /* ---- renderers ---- */
 
 xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
@@ -234,8 +271,17 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
         .width = r->opt.width,
         .height = r->opt.height,
         .seed = r->opt.seed,
+        .post = &r->post, /* filled in once the blend exists */
     };
     xrsc_result res;
+    if ((unsigned)r->opt.blend > XRSC_BLEND_MOMENTS || !(r->opt.blend_r >= 0.0f) ||
+        !(r->opt.blend_r <= 1.0f)) {
+        res = u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "blend",
+                         "blend %d with R = %g (R must be in [0, 1])", (int)r->opt.blend,
+                         (double)r->opt.blend_r);
+        free(r);
+        return res;
+    }
     switch (r->opt.method) {
     case XRSC_METHOD_SPP:
         res = mt_spp_create(&env, &r->opt.spp, &r->method, out_diag);
@@ -255,6 +301,23 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
         free(r);
         return res;
     }
+    if (r->opt.blend != XRSC_BLEND_NONE) {
+        st_settings set = {.blend = r->opt.blend, .r = r->opt.blend_r};
+        st_images imgs = {
+            .color = mt_method_output_image(r->method, XRSC_OUTPUT_COLOR),
+            .depth = mt_method_output_image(r->method, XRSC_OUTPUT_DEPTH),
+            .mu1 = mt_method_output_image(r->method, XRSC_OUTPUT_MU1),
+            .mu2 = mt_method_output_image(r->method, XRSC_OUTPUT_MU2),
+        };
+        res = st_blend_create(ctx->gpu, r->opt.width, r->opt.height, &set, &imgs, &r->blend,
+                              out_diag);
+        if (res != XRSC_OK) {
+            mt_method_destroy(&r->method);
+            free(r);
+            return res;
+        }
+        r->post = (mt_post){.record = blend_record, .user = r->blend};
+    }
     *out_renderer = r;
     return XRSC_OK;
 }
@@ -264,6 +327,7 @@ void xrsc_renderer_destroy(xrsc_renderer **renderer)
     if (!renderer || !*renderer)
         return;
     mt_method_destroy(&(*renderer)->method);
+    st_blend_destroy(&(*renderer)->blend);
     free(*renderer);
     *renderer = NULL;
 }

@@ -11,6 +11,8 @@
 #pragma once
 
 #include "gpu_scene.h"
+#include "gpu_timer.h"
+#include "xrsc_shared.h"
 #include "sc_scene.h"
 #include "xrsc/xrsc.h"
 
@@ -40,6 +42,23 @@ struct mt_method {
     const gpu_image *(*output_image)(const mt_method *m, xrsc_output output);
 };
 
+/**
+ * Work recorded after the method's last pass into its frame's one command buffer, before the
+ * read-back copies (the stereo blend, plugin/src/stereo/): record(user, cmd, timer, xf) with
+ * the method's pass timer and the frame's constants. record NULL: nothing.
+ */
+typedef struct mt_post {
+    void (*record)(void *user, VkCommandBuffer cmd, gpu_timer *timer, const xs_frame *xf);
+    void *user;
+} mt_post;
+
+static inline void mt_post_record(const mt_post *post, VkCommandBuffer cmd, gpu_timer *timer,
+                                  const xs_frame *xf)
+{
+    if (post && post->record)
+        post->record(post->user, cmd, timer, xf);
+}
+
 /** What every method renders with: borrowed pointers that outlive the method. */
 typedef struct mt_env {
     gpu_context *gpu;
@@ -47,6 +66,7 @@ typedef struct mt_env {
     const sc_scene *cpu_scene; /**< environment and sun */
     uint32_t width, height;    /**< per eye, pixels (non-zero) */
     uint32_t seed;
+    const mt_post *post; /**< optional, borrowed: read at every frame */
 } mt_env;
 
 static inline xrsc_result mt_method_render(mt_method *m, const xrsc_frame *frame,

@@ -14,6 +14,7 @@
 typedef struct mt_spp {
     mt_method base;
     mt_trace trace;
+    gpu_image mu1, mu2;   /**< raw moments of each pixel's samples (set 1 of spp.rgen) */
     xrsc_spp_options opt; /**< with defaults filled in */
     bool have_last;
     xrsc_view last_views[2];
@@ -59,15 +60,30 @@ static xrsc_result spp_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *
     return XRSC_OK;
 }
 
+static const gpu_image *moment_image(const mt_spp *s, xrsc_output output)
+{
+    return output == XRSC_OUTPUT_MU1 ? &s->mu1 : output == XRSC_OUTPUT_MU2 ? &s->mu2 : NULL;
+}
+
 static size_t spp_output_size(const mt_method *m, xrsc_output output)
 {
+    const gpu_image *mu = moment_image((const mt_spp *)m, output);
+    if (mu)
+        return (size_t)mu->width * mu->height * mu->texel_size;
     return mt_trace_output_size(&((const mt_spp *)m)->trace, output);
 }
 
 static xrsc_result spp_read(mt_method *m, uint32_t eye, xrsc_output output, void *dst,
                             size_t dst_size, xrsc_diag *diag)
 {
-    return mt_trace_read(&((mt_spp *)m)->trace, eye, output, dst, dst_size, diag);
+    mt_spp *s = (mt_spp *)m;
+    const gpu_image *mu = moment_image(s, output);
+    if (mu) {
+        if (eye > 1)
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "eye", "eye %u", eye);
+        return gpu_image_read_layer(s->trace.env.gpu, mu, eye, dst, dst_size, diag);
+    }
+    return mt_trace_read(&s->trace, eye, output, dst, dst_size, diag);
 }
 
 static uint32_t spp_timings(const mt_method *m, xrsc_pass_timing *out, uint32_t max_count)
@@ -79,12 +95,18 @@ static uint64_t spp_rays(const mt_method *m) { return ((const mt_spp *)m)->trace
 
 static const gpu_image *spp_output_image(const mt_method *m, xrsc_output output)
 {
-    return mt_trace_output_image(&((const mt_spp *)m)->trace, output);
+    const gpu_image *mu = moment_image((const mt_spp *)m, output);
+    return mu ? mu : mt_trace_output_image(&((const mt_spp *)m)->trace, output);
 }
 
 static void spp_destroy(mt_method *m)
 {
     mt_spp *s = (mt_spp *)m;
+    if (s->trace.env.gpu) {
+        vkDeviceWaitIdle(s->trace.env.gpu->device);
+        gpu_image_destroy(s->trace.env.gpu, &s->mu2);
+        gpu_image_destroy(s->trace.env.gpu, &s->mu1);
+    }
     mt_trace_fini(&s->trace);
     free(s);
 }
@@ -102,11 +124,27 @@ xrsc_result mt_spp_create(const mt_env *env, const xrsc_spp_options *options, mt
         s->opt.samples_per_pixel = 1;
     if (s->opt.max_bounces == 0)
         s->opt.max_bounces = XS_DEFAULT_MAX_BOUNCES;
-    xrsc_result res = mt_trace_init(&s->trace, env, "spp.rgen", diag);
+    static const gpu_binding moment_bindings[] = {
+        {XS_SPP_BIND_MU1, GPU_BINDING_STORAGE_IMAGE, 1},
+        {XS_SPP_BIND_MU2, GPU_BINDING_STORAGE_IMAGE, 1},
+    };
+    gpu_rt_program_desc desc = {.raygen = "spp.rgen", .set1 = moment_bindings, .set1_count = 2};
+    xrsc_result res = mt_trace_init_program(&s->trace, env, &desc, diag);
     if (res != XRSC_OK) {
         free(s);
         return res;
     }
+    if ((res = gpu_image_create_storage(env->gpu, VK_FORMAT_R32G32B32A32_SFLOAT, env->width,
+                                        env->height, 2, &s->mu1, diag)) != XRSC_OK ||
+        (res = gpu_image_create_storage(env->gpu, VK_FORMAT_R32G32B32A32_SFLOAT, env->width,
+                                        env->height, 2, &s->mu2, diag)) != XRSC_OK) {
+        spp_destroy(&s->base);
+        return res;
+    }
+    gpu_descriptors_write_storage_image(env->gpu, &s->trace.program.set1, XS_SPP_BIND_MU1,
+                                        &s->mu1);
+    gpu_descriptors_write_storage_image(env->gpu, &s->trace.program.set1, XS_SPP_BIND_MU2,
+                                        &s->mu2);
     s->base = (mt_method){
         .name = "spp",
         .render = spp_render,

@@ -161,6 +161,7 @@ xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc
     uint32_t pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_PASS_TRACE);
     gpu_rt_program_cmd_trace(ctx, cmd, &t->program, NULL, t->env.width, t->env.height, 2);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
+    mt_post_record(t->env.post, cmd, &t->timer, xf); /* the stereo blend, if any */
     cmd_barrier(cmd, VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
     VkBufferCopy region = {0, 0, sizeof(uint64_t)};

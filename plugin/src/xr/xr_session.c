@@ -322,9 +322,13 @@ done:
 /* ---- the frame ---- */
 
 /**
- * The stereo blend runs here: both eyes are rendered, nothing is copied into the swapchains
- * yet. Issue 4 (plugin/src/stereo/: none, PFJ23 neighbourhood, raw moments with R, seed 000
- * §3.6) combines the eyes in place on the GPU. Until then it does nothing.
+ * The stereo blend's place in the OpenXR frame: after both eyes are rendered, before anything
+ * is copied into the swapchains and before xrEndFrame. The blend (plugin/src/stereo/: none,
+ * PFJ23 neighbourhood, raw moments with R, seed 000 §3.6) is part of the renderer's frame:
+ * xrsc_renderer_render records it into the frame's one command buffer right after the method's
+ * reconstruction (pass "blend", the renderer's xrsc_renderer_options.blend), so when this hook
+ * runs the colour image already holds the blended pair. Nothing is left to do here, which keeps
+ * this path pixel-identical to the direct one (test_xr_app) and the frame at one submission.
  */
 static xrsc_result xr_stereo_blend_hook(xrsc_xr_session *s, const xrsc_frame *frame,
                                         xrsc_diag *diag)
