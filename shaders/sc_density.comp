@@ -4,13 +4,23 @@
  * @brief Sample cache pass "density" (seed 000 §3.2 step 2): keeps the density of visible
  *        samples near n_target +- delta, measured as the mean over the 3 x 3 neighbourhood.
  *
- * Below n_target - delta a pixel reserves ceil(n_target - mean) new samples; above
- * n_target + delta it deletes ceil(mean - n_target) randomly chosen visible samples (cleared
- * occupancy and visibility bits), always keeping one; a pixel without any visible sample
- * always gets a new one (holes). New samples take free slots first, then invisible ones,
- * picked in random order; they get their occupancy bit now and are traced through a random
- * point of the pixel by sc_trace.rgen (plan.y). Reads the neighbours' visible counts from
- * plan.w (written by sc_trace_mask.comp) and writes only its own pixel.
+ * Each pixel changes only its own samples, so a neighbourhood mean out of the band is
+ * corrected by the pixels IN that neighbourhood, each moving its own count towards n_target:
+ * - a pixel with fewer than n_target visible samples reserves ceil(n_target - count) new ones
+ *   when the mean of some 3 x 3 neighbourhood containing it (its own or a neighbour's) is
+ *   below n_target - delta; a pixel without any visible sample always gets at least one;
+ * - a pixel with more than n_target visible samples deletes ceil(count - n_target) randomly
+ *   chosen visible ones (cleared occupancy and visibility bits), always keeping one, when the
+ *   mean of some 3 x 3 neighbourhood containing it is above n_target + delta.
+ * (Acting on the pixel's own mean alone, as a literal reading of §3.2 has it, can stall: a
+ * pixel with N samples among pixels with one has an in-band mean and never deletes, while
+ * its neighbours' means stay above the band and they have nothing to delete.) After one frame
+ * every pixel of an out-of-band neighbourhood has moved to floor/ceil(n_target), so on a still
+ * view the means enter the band in one frame when delta >= 0.5 (and slots suffice).
+ * New samples take free slots first, then invisible ones, picked in random order; they get
+ * their occupancy bit now and are traced through a random point of the pixel by sc_trace.rgen
+ * (plan.y). Reads the visible counts of the 5 x 5 neighbourhood from plan.w (written by
+ * sc_trace_mask.comp) and writes only its own pixel.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -40,15 +50,25 @@ void main()
         return;
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
+    /* the 3 x 3 means of the neighbourhoods containing this pixel (each clipped to the
+     * image, as each of those pixels measures its own) */
     uvec2 lo, hi;
     sc_neighbourhood(g.xy, lo, hi);
-    uint sum = 0u, n = 0u;
-    for (uint y = lo.y; y <= hi.y; y++)
-        for (uint x = lo.x; x <= hi.x; x++) {
-            sum += sc_plan[sc_pix(eye, uvec2(x, y))].w;
-            n++;
+    float mean_min = 1e30, mean_max = 0.0;
+    for (uint qy = lo.y; qy <= hi.y; qy++)
+        for (uint qx = lo.x; qx <= hi.x; qx++) {
+            uvec2 lo2, hi2;
+            sc_neighbourhood(uvec2(qx, qy), lo2, hi2);
+            uint sum = 0u, n = 0u;
+            for (uint y = lo2.y; y <= hi2.y; y++)
+                for (uint x = lo2.x; x <= hi2.x; x++) {
+                    sum += sc_plan[sc_pix(eye, uvec2(x, y))].w;
+                    n++;
+                }
+            float mean = float(sum) / float(n);
+            mean_min = min(mean_min, mean);
+            mean_max = max(mean_max, mean);
         }
-    float mean = float(sum) / float(n);
 
     uint mi = sc_mask_at(scp.cur, pix);
     uint m = sc_mask[mi];
@@ -60,8 +80,8 @@ void main()
     xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_DENSITY_STREAM, frame.seed);
 
     uint add = 0u;
-    if (mean < scp.n_target - scp.delta)
-        add = uint(ceil(scp.n_target - mean));
+    if (mean_min < scp.n_target - scp.delta && float(nvis) < scp.n_target)
+        add = uint(ceil(scp.n_target - float(nvis)));
     if (nvis == 0u)
         add = max(add, 1u);
     uint newbits = 0u;
@@ -75,8 +95,8 @@ void main()
         newbits |= sc_obit(s);
     }
 
-    if (mean > scp.n_target + scp.delta && nvis > 1u) {
-        uint remove = min(uint(ceil(mean - scp.n_target)), nvis - 1u);
+    if (mean_max > scp.n_target + scp.delta && float(nvis) > scp.n_target && nvis > 1u) {
+        uint remove = min(uint(ceil(float(nvis) - scp.n_target)), nvis - 1u);
         for (uint k = 0u; k < remove; k++) {
             uint s = nth_bit(vis, xs_rng_next_uint(rng) % uint(bitCount(vis)));
             vis &= ~sc_obit(s);

@@ -6,10 +6,10 @@
  *
  * One invocation per source pixel (x, y, eye). Each occupied slot's world position is rebuilt
  * from its first hit with the CURRENT instance transforms (App. D) (background samples: their
- * direction), projected into this frame's view of the eye, and stored in a slot reserved by
- * atomic OR on the target pixel's mask (Listing 2): a lost race is retried while a free slot
- * remains; when all are taken a visible sample overwrites an invisible one by racing on its
- * visibility bit; an invisible sample that finds no free slot is dropped.
+ * direction), projected into this frame's view of the eye, and stored in a slot reserved on
+ * the target pixel's mask (Listing 2, with a compare-and-swap for its atomic OR: see
+ * try_reserve): a lost race is retried; when all slots are taken a visible sample takes an
+ * invisible one's slot; an invisible sample that finds no free slot is dropped.
  *
  * 1-pass (scp.two_pass = 0): the winner writes fh and rad at once (the two benign races of
  * §3.1 are accepted, as the paper does). 2-pass: the winner writes only its source address
@@ -29,7 +29,7 @@
 
 layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1) in;
 
-/* Listing 2, at most every slot tried twice (free, then invisible) plus one. */
+/* Reservation attempts: each failed one means another sample added mask bits (at most 2 N). */
 #define SC_MAX_RESERVE_TRIES (2u * XS_SC_MAX_SLOTS + 1u)
 
 /** Listing 2, choose_target_slot: a free slot, else (visible samples only) an invisible one. */
@@ -46,17 +46,25 @@ int choose_target_slot(bool visible, uint m)
     return -1;
 }
 
-/** Listing 2, try_reserve. */
+/**
+ * Listing 2, try_reserve, as one compare-and-swap of the target mask: slot i's occupancy bit
+ * (and visibility bit for a visible sample) are set only if the mask is still m, the value the
+ * slot was chosen from; otherwise m becomes the current mask and the caller chooses again.
+ *
+ * Listing 2 itself ORs the bits in and lets a visible sample keep a slot whose occupant turned
+ * out to be invisible. With a stale m that happens while free slots remain (two samples chose
+ * the same "free" slot, the invisible one got there first): an eviction without need, whose
+ * count depends on the order of arrival. The compare-and-swap evicts only in a full pixel, so
+ * a pixel receiving V visible and I invisible samples keeps min(V + I, N) of them, min(V, N)
+ * visible, in any order. The mask only gains bits during the pass (at most 2 N changes), so
+ * SC_MAX_RESERVE_TRIES attempts always suffice.
+ */
 bool try_reserve(uint tmask, uint i, bool visible, inout uint m)
 {
-    uint o_bit = sc_obit(i);
-    uint v_bit = sc_vbit(i);
-    uint s_val = o_bit | (visible ? v_bit : 0u);
-    m = atomicOr(sc_mask[tmask], s_val);
-    bool success = (m & o_bit) == 0u;
-    if (visible && !success)
-        success = (m & v_bit) == 0u;
-    m |= s_val;
+    uint want = m | sc_obit(i) | (visible ? sc_vbit(i) : 0u);
+    uint seen = atomicCompSwap(sc_mask[tmask], m, want);
+    bool success = seen == m;
+    m = success ? want : seen;
     return success;
 }
 

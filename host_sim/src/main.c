@@ -4,6 +4,7 @@
  * @brief The `xrsc` program: replays a head-pose stream over a glTF scene and writes the
  *        stereo result (per-eye and side-by-side PNG, linear PFM, per-frame timing).
  */
+#include "hs_bench.h"
 #include "hs_metrics_cmd.h"
 #include "hs_replay.h"
 #include "hs_xr_replay.h"
@@ -37,6 +38,7 @@ static void usage(FILE *f)
     fprintf(f,
 "usage: xrsc [replay] [options]\n"
 "       xrsc metrics --ref DIR --test DIR [options]   (image metrics; xrsc metrics --help)\n"
+"       xrsc bench [options]        (speed vs. accuracy of methods; xrsc bench --help)\n"
 "\n"
 "Replays a recorded head-pose stream over a glTF 2.0 scene, ray traces both eyes with\n"
 "Vulkan and writes the stereo result: per-eye and side-by-side PNG (tone-mapped), linear\n"
@@ -76,6 +78,10 @@ static void usage(FILE *f)
 "  --sc-alpha A        clamped | fixed (temporal blend, App. C) [clamped]\n"
 "  --sc-alpha-fixed X  alpha of --sc-alpha fixed      [0.1]\n"
 "\n"
+"Stereo blend (after reconstruction, before submission; seed 000 section 3.6):\n"
+"  --blend B           none | pfj23 | moments         [none]\n"
+"  --blend-r R         sharpness R in [0, 1] of moments (0: lowest error, Fig. 15) [0]\n"
+"\n"
 "OpenXR (the default path):\n"
 "  The plugin runs as an OpenXR application (XR_KHR_vulkan_enable2) on the runtime that\n"
 "  XR_RUNTIME_JSON names, or, when it is unset, on this build's host_sim runtime\n"
@@ -110,7 +116,7 @@ static const char *const value_options[] = {
     "--ipd",   "--refresh", "--out",         "--write", "--exposure",
     "--sc-slots", "--sc-target", "--sc-delta", "--sc-eps0", "--sc-eps1", "--sc-block",
     "--sc-trace", "--sc-reproject", "--sc-shading-cache", "--sc-shade", "--sc-shade-rate",
-    "--sc-alpha", "--sc-alpha-fixed",
+    "--sc-alpha", "--sc-alpha-fixed", "--blend", "--blend-r",
 };
 
 static bool takes_value(const char *flag)
@@ -229,6 +235,8 @@ int main(int argc, char **argv)
 {
     if (argc > 1 && strcmp(argv[1], "metrics") == 0)
         return hs_metrics_main(argc - 1, argv + 1);
+    if (argc > 1 && strcmp(argv[1], "bench") == 0)
+        return hs_bench_main(argc - 1, argv + 1);
     hs_replay_options opt = {
         .scene_path = DEFAULT_SCENE,
         .poses_path = DEFAULT_POSES,
@@ -305,6 +313,13 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--method")) {
             if (xrsc_method_from_name(v, &opt.renderer.method) != XRSC_OK)
                 return bad_arg(a, v, "unknown method (spp, primary, samplecache)");
+        } else if (!strcmp(a, "--blend")) {
+            if (xrsc_blend_from_name(v, &opt.renderer.blend) != XRSC_OK)
+                return bad_arg(a, v, "unknown blend (none, pfj23, moments)");
+        } else if (!strcmp(a, "--blend-r")) {
+            if (!parse_f(v, &d) || !(d >= 0.0 && d <= 1.0))
+                return bad_arg(a, v, "expected R in [0, 1]");
+            opt.renderer.blend_r = (float)d;
         } else if (!strcmp(a, "--spp")) {
             if (!parse_u32(v, &u) || u == 0 || u > 4096)
                 return bad_arg(a, v, "expected 1..4096");

@@ -60,6 +60,13 @@ static const gpu_binding cache_bindings[] = {
 };
 #define CACHE_BINDING_COUNT (sizeof(cache_bindings) / sizeof(cache_bindings[0]))
 
+/* Frame passes after "tlas", in order (mt_samplecache_debug_stop_after). */
+enum { STAGE_REPROJECT, STAGE_TRACE_MASK, STAGE_DENSITY, STAGE_TRACE, STAGE_SHADE, STAGE_RECONSTRUCT };
+static const char *const stage_name[] = {MT_SC_PASS_REPROJECT, MT_SC_PASS_TRACE_MASK,
+                                         MT_SC_PASS_DENSITY,   MT_SC_PASS_TRACE,
+                                         MT_SC_PASS_SHADE,     MT_SC_PASS_RECONSTRUCT};
+#define STAGE_COUNT (sizeof(stage_name) / sizeof(stage_name[0]))
+
 typedef struct mt_samplecache {
     mt_method base;
     mt_trace trace; /**< sc_trace.rgen + outputs, frame UBO, ray counter, timer, read-back */
@@ -72,6 +79,7 @@ typedef struct mt_samplecache {
     xs_sc_params p;
     uint32_t plane;  /**< 2 * width * height */
     uint32_t frames; /**< rendered so far (0: the previous copy must be cleared) */
+    uint32_t stop_after; /**< last STAGE_* recorded (debug; STAGE_RECONSTRUCT = all) */
 } mt_samplecache;
 
 _Static_assert(offsetof(mt_samplecache, base) == 0, "base first");
@@ -241,21 +249,29 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     }
     gpu_timer_cmd_end(cmd, &t->timer, pass);
     gpu_cmd_barrier_all(cmd);
+    if (s->stop_after == STAGE_REPROJECT)
+        goto submit;
 
     pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_TRACE_MASK);
     dispatch(cmd, s, PROG_TRACE_MASK);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
     gpu_cmd_barrier_all(cmd);
+    if (s->stop_after == STAGE_TRACE_MASK)
+        goto submit;
 
     pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_DENSITY);
     dispatch(cmd, s, PROG_DENSITY);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
     gpu_cmd_barrier_all(cmd);
+    if (s->stop_after == STAGE_DENSITY)
+        goto submit;
 
     pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_TRACE);
     gpu_rt_program_cmd_trace(ctx, cmd, &t->program, NULL, w, h, 2);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
     gpu_cmd_barrier_all(cmd);
+    if (s->stop_after == STAGE_TRACE)
+        goto submit;
 
     pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_SHADE);
     cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0);
@@ -266,12 +282,16 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     gpu_rt_program_cmd_trace(ctx, cmd, &s->shade, NULL, w, (s->p.shade_capacity + w - 1) / w, 1);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
     gpu_cmd_barrier_all(cmd);
+    if (s->stop_after == STAGE_SHADE)
+        goto submit;
 
     pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_RECONSTRUCT);
     dispatch(cmd, s, PROG_RECONSTRUCT);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
     gpu_cmd_barrier_all(cmd);
+    mt_post_record(t->env.post, cmd, &t->timer, &xf); /* the stereo blend, if any */
 
+submit:;
     VkBufferCopy region = {0, 0, sizeof(uint64_t)};
     vkCmdCopyBuffer(cmd, t->ray_counter.buffer, t->ray_readback.buffer, 1, &region);
     mt_trace_cmd_stage_outputs(t, cmd);
@@ -397,6 +417,7 @@ xrsc_result mt_samplecache_create(const mt_env *env, const xrsc_samplecache_opti
         return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
     s->opt = o;
     s->plane = (uint32_t)plane;
+    s->stop_after = STAGE_RECONSTRUCT;
     s->p = (xs_sc_params){
         .slots = o.slots,
         .trace_mode = (uint32_t)o.trace - 1u,
@@ -497,6 +518,21 @@ void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, do
     /* depth_min 8 + depth_max 4 + plan 16, 4 B per slot for 2-pass addresses, the shade list */
     *out_working = 8.0 + 4.0 + 16.0 + (s->p.two_pass ? 4.0 * n : 0.0) +
                    4.0 * s->p.shade_capacity / (2.0 * s->trace.env.width * s->trace.env.height);
+}
+
+xrsc_result mt_samplecache_debug_stop_after(mt_method *m, const char *pass, xrsc_diag *diag)
+{
+    mt_samplecache *s = (mt_samplecache *)m;
+    if (!pass) {
+        s->stop_after = STAGE_RECONSTRUCT;
+        return XRSC_OK;
+    }
+    for (uint32_t i = 0; i < STAGE_COUNT; i++)
+        if (!strcmp(pass, stage_name[i])) {
+            s->stop_after = i;
+            return XRSC_OK;
+        }
+    return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "pass", "no pass \"%s\"", pass);
 }
 
 /* ---- read-back for tests ---- */

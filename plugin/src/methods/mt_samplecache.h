@@ -70,6 +70,15 @@ xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *
                                     xrsc_diag *diag);
 void mt_sc_snapshot_free(mt_sc_snapshot *s);
 
+/**
+ * Debug (tests): the following frames stop after the named pass (one of the MT_SC_PASS_*
+ * names; NULL or MT_SC_PASS_RECONSTRUCT = the whole frame), so ::mt_samplecache_snapshot shows
+ * the cache as that pass left it (e.g. right after forward reprojection). The skipped passes
+ * are neither recorded nor timed and the outputs keep their old contents. The frame still
+ * counts (its copy becomes the previous one). XRSC_ERROR_INVALID_ARGUMENT for another name.
+ */
+xrsc_result mt_samplecache_debug_stop_after(mt_method *m, const char *pass, xrsc_diag *diag);
+
 /** Runs sc_selftest.comp over io[0..count) (Listing 1 round trip, Eq. 1, Eq. 2 on the
  *  device); the records' outputs are filled in. */
 xrsc_result mt_sc_selftest_run(gpu_context *ctx, xs_sc_selftest_io *io, uint32_t count,

@@ -1,0 +1,685 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_bench.c
+ * @brief `xrsc bench` run: references, then every setting over the same frames, one CSV row per
+ *        frame and setting (hs_bench.h). The summary and charts are in hs_bench_report.c.
+ */
+#include "hs_bench.h"
+
+#include "hs_bench_internal.h"
+#include "hs_image.h"
+#include "u_diag.h"
+#include "xrsc/xrsc_metrics.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#define NS_PER_S 1000000000.0
+#define DEFAULT_EYE_SIZE_PX 128u
+#define DEFAULT_REF_SPP 256u
+#define DEFAULT_REFRESH_HZ 90.0
+/** Seed of the references: independent of the benchmarked settings' noise. */
+#define REF_SEED_XOR 0x9E3779B9u
+/** Accumulation passes of a reference use frame indices REF_FRAME_STRIDE apart per frame. */
+#define REF_FRAME_STRIDE 65536u
+/** Progress lines without a terminal: one per this many seconds. */
+#define PROGRESS_LOG_PERIOD_S 10.0
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+xrsc_result hs_bench_make_dirs(const char *path, xrsc_diag *diag)
+{
+    char buf[HS_BENCH_PATH_MAX];
+    if (path[0] == '\0' || (size_t)snprintf(buf, sizeof(buf), "%s", path) >= sizeof(buf))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path, 0, "--out",
+                          "output folder name is empty or too long");
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return u_diag_set(diag, XRSC_ERROR_IO, buf, 0, "--out", "cannot create folder: %s",
+                              strerror(errno));
+        *p = '/';
+    }
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        return u_diag_set(diag, XRSC_ERROR_IO, buf, 0, "--out", "cannot create folder: %s",
+                          strerror(errno));
+    return XRSC_OK;
+}
+
+/* ---- progress ---- */
+
+typedef struct progress {
+    bool on, tty;
+    double started, last;
+} progress;
+
+static void progress_line(progress *p, bool final, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static void progress_line(progress *p, bool final, const char *fmt, ...)
+{
+    if (!p->on)
+        return;
+    double t = now_s();
+    if (!final && ((p->tty && t - p->last < 0.1) || (!p->tty && t - p->last < PROGRESS_LOG_PERIOD_S)))
+        return;
+    p->last = t;
+    char line[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof(line), fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "%s%s  elapsed %.0f s%s", p->tty ? "\r\033[K" : "", line, t - p->started,
+            p->tty && !final ? "" : "\n");
+    fflush(stderr);
+}
+
+/* ---- the run's fixed state ---- */
+
+typedef struct bench_run {
+    const hs_bench_options *opt;
+    uint32_t w, h, frames, warmup, score_every, ref_spp;
+    xrsc_headset headset;
+    xrsc_frame *frame; /**< [frames]: views, display time, frame index */
+    xrsc_context *ctx;
+    xrsc_scene *scene;
+    xrsc_renderer *depth_r; /**< `primary`: depth at pixel centres for the reprojections */
+    char config[2048];      /**< everything a setting's rows depend on */
+    char ref_config[1600];  /**< everything a reference depends on */
+    char ref_dir[HS_BENCH_PATH_MAX - 64];
+    progress prog;
+    uint32_t metric_failures;
+} bench_run;
+
+bool hs_bench_is_scored(uint32_t k, uint32_t warmup, uint32_t score_every)
+{
+    return k >= warmup && (k - warmup) % score_every == 0;
+}
+
+static void ref_path(const bench_run *b, uint32_t k, int eye, char *out, size_t cap)
+{
+    snprintf(out, cap, "%s/frame_%05u_%s.pfm", b->ref_dir, k, eye ? "right" : "left");
+}
+
+/* Head pose at t of the anchored stream; eye views from the recorded views when the stream
+ * has them, else from the simulated headset. */
+static void make_frame(const bench_run *b, const hs_pose_stream *stream, uint32_t k,
+                       int64_t start_ns, double period_ns, xrsc_frame *out)
+{
+    int64_t t_ns = start_ns + (int64_t)(k * period_ns + 0.5);
+    memset(out, 0, sizeof(*out));
+    out->display_time_ns = t_ns - start_ns;
+    out->frame_index = k;
+    hs_view_sample vs;
+    if (stream->views && hs_pose_stream_sample_views(stream, t_ns, &vs) != HS_LOOKUP_CLAMPED) {
+        for (int e = 0; e < 2; e++) {
+            out->views[e].pose = vs.pose[e];
+            out->views[e].fov = vs.fov[e];
+        }
+        return;
+    }
+    XrPosef head, eyes[2];
+    hs_pose_stream_sample(stream, t_ns, &head);
+    xrsc_headset_eye_poses(&b->headset, head, eyes);
+    for (int e = 0; e < 2; e++) {
+        out->views[e].pose = eyes[e];
+        out->views[e].fov = b->headset.fov[e];
+    }
+}
+
+static bool read_file_line(const char *path, char *out, size_t cap)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return false;
+    bool ok = fgets(out, (int)cap, f) != NULL;
+    fclose(f);
+    if (ok)
+        out[strcspn(out, "\n")] = '\0';
+    return ok;
+}
+
+static xrsc_result write_text_atomic(const char *path, const char *text, xrsc_diag *diag)
+{
+    char tmp[HS_BENCH_PATH_MAX + 64];
+    snprintf(tmp, sizeof(tmp), "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f || fputs(text, f) < 0 || fclose(f) != 0 || rename(tmp, path) != 0)
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot write: %s", strerror(errno));
+    return XRSC_OK;
+}
+
+/* ---- references ---- */
+
+/* Reads both eyes of frame k's reference; false when missing, unreadable or of another size. */
+static bool ref_load(const bench_run *b, uint32_t k, float *out[2])
+{
+    for (int e = 0; e < 2; e++) {
+        char path[HS_BENCH_PATH_MAX];
+        ref_path(b, k, e, path, sizeof(path));
+        float *px = NULL;
+        uint32_t w = 0, h = 0;
+        xrsc_diag d = {0};
+        if (hs_read_pfm(path, &px, &w, &h, &d) != XRSC_OK)
+            return false;
+        if (w != b->w || h != b->h) {
+            free(px);
+            return false;
+        }
+        if (out) {
+            memcpy(out[e], px, (size_t)w * h * 4 * sizeof(float));
+        }
+        free(px);
+    }
+    return true;
+}
+
+/* Largest power of two <= 64 dividing n: samples per accumulation pass. */
+static uint32_t ref_chunk(uint32_t n)
+{
+    uint32_t c = 64;
+    while (c > 1 && n % c)
+        c /= 2;
+    return c;
+}
+
+static xrsc_result make_references(bench_run *b, xrsc_diag *diag)
+{
+    const hs_bench_options *opt = b->opt;
+    char cfg_path[HS_BENCH_PATH_MAX + 16], old[sizeof(b->ref_config)];
+    snprintf(cfg_path, sizeof(cfg_path), "%s/config.txt", b->ref_dir);
+    bool reuse = !opt->fresh && read_file_line(cfg_path, old, sizeof(old)) &&
+                 strcmp(old, b->ref_config) == 0;
+    xrsc_result res;
+    if (!reuse) {
+        /* Another configuration's references must not be taken for this one's. */
+        for (uint32_t k = 0; k < b->frames; k++)
+            for (int e = 0; e < 2; e++) {
+                char path[HS_BENCH_PATH_MAX];
+                ref_path(b, k, e, path, sizeof(path));
+                unlink(path);
+            }
+        char text[sizeof(b->ref_config) + 2];
+        snprintf(text, sizeof(text), "%s\n", b->ref_config);
+        if ((res = write_text_atomic(cfg_path, text, diag)) != XRSC_OK)
+            return res;
+    }
+    uint32_t todo = 0, scored = 0;
+    for (uint32_t k = 0; k < b->frames; k++)
+        if (hs_bench_is_scored(k, b->warmup, b->score_every)) {
+            scored++;
+            if (!ref_load(b, k, NULL))
+                todo++;
+        }
+    if (opt->progress)
+        fprintf(stderr, "xrsc bench: %u scored frames, %u references to render (%u spp), %u cached\n",
+                scored, todo, b->ref_spp, scored - todo);
+    if (todo == 0)
+        return XRSC_OK;
+
+    uint32_t chunk = ref_chunk(b->ref_spp), passes = b->ref_spp / chunk;
+    xrsc_renderer_options ro = {.method = XRSC_METHOD_SPP, .width = b->w, .height = b->h,
+                                .seed = opt->seed ^ REF_SEED_XOR,
+                                .spp = {.samples_per_pixel = chunk, .accumulate = true}};
+    xrsc_renderer *r = NULL;
+    if ((res = xrsc_renderer_create(b->ctx, b->scene, &ro, &r, diag)) != XRSC_OK)
+        return res;
+    size_t n = (size_t)b->w * b->h;
+    float *px = malloc(n * 4 * sizeof(float));
+    if (!px) {
+        xrsc_renderer_destroy(&r);
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "reference image");
+    }
+    double t0 = now_s();
+    uint32_t done = 0;
+    for (uint32_t k = 0; k < b->frames && res == XRSC_OK; k++) {
+        if (!hs_bench_is_scored(k, b->warmup, b->score_every) || ref_load(b, k, NULL))
+            continue;
+        xrsc_frame f = b->frame[k];
+        for (uint32_t p = 0; p < passes && res == XRSC_OK; p++) {
+            f.frame_index = k * REF_FRAME_STRIDE + p;
+            if ((res = xrsc_renderer_render(r, &f)) != XRSC_OK)
+                u_diag_set(diag, res, opt->scene_path, 0, "", "reference of frame %u failed", k);
+            double per = (now_s() - t0) / (done + (p + 1.0) / passes);
+            progress_line(&b->prog, false, "reference %u/%u (frame %u)  %u/%u spp  left ~%.0f s",
+                          done + 1, todo, k, (p + 1) * chunk, b->ref_spp,
+                          per * (todo - done - (p + 1.0) / passes));
+        }
+        for (int e = 0; e < 2 && res == XRSC_OK; e++) {
+            char path[HS_BENCH_PATH_MAX], tmp[HS_BENCH_PATH_MAX + 8];
+            ref_path(b, k, e, path, sizeof(path));
+            snprintf(tmp, sizeof(tmp), "%s.tmp", path);
+            if ((res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, px,
+                                          n * 4 * sizeof(float))) != XRSC_OK)
+                u_diag_set(diag, res, "", 0, "", "reading reference of frame %u", k);
+            else if ((res = hs_write_pfm(tmp, px, b->w, b->h, diag)) == XRSC_OK &&
+                     rename(tmp, path) != 0)
+                res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "rename: %s", strerror(errno));
+        }
+        done++;
+    }
+    progress_line(&b->prog, true, "references: %u rendered", done);
+    free(px);
+    xrsc_renderer_destroy(&r);
+    return res;
+}
+
+/* ---- one setting ---- */
+
+typedef struct eye_images {
+    float *color[2], *depth[2];
+} eye_images;
+
+static void eye_images_free(eye_images *im)
+{
+    for (int e = 0; e < 2; e++) {
+        free(im->color[e]);
+        free(im->depth[e]);
+    }
+}
+
+static bool eye_images_alloc(eye_images *im, size_t n)
+{
+    memset(im, 0, sizeof(*im));
+    for (int e = 0; e < 2; e++) {
+        im->color[e] = malloc(n * 4 * sizeof(float));
+        im->depth[e] = malloc(n * sizeof(float));
+        if (!im->color[e] || !im->depth[e])
+            return false;
+    }
+    return true;
+}
+
+static xrsc_metrics_view metrics_view(const bench_run *b, const eye_images *im, uint32_t k, int e)
+{
+    xrsc_metrics_view v = {
+        .rgba = im->color[e],
+        .depth_m = im->depth[e],
+        .camera = {.pose = b->frame[k].views[e].pose, .fov = b->frame[k].views[e].fov,
+                   .width = b->w, .height = b->h},
+    };
+    return v;
+}
+
+static void put_num(FILE *f, double v, bool have)
+{
+    if (!have)
+        fputs(",", f);
+    else if (!isfinite(v))
+        fputs(",nan", f);
+    else
+        fprintf(f, ",%.6g", v);
+}
+
+static bool metric_ok(bench_run *b, xrsc_result r)
+{
+    if (r == XRSC_OK)
+        return true;
+    b->metric_failures++;
+    return false;
+}
+
+/* The fixed columns of a setting's CSV, before the per-pass columns "gpu_<pass>_ms". */
+const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT] = {
+    "setting",    "method",       "frame",          "display_time_ns", "warmup",
+    "scored",     "wall_ms",      "gpu_ms",         "rays",            "rays_per_px",
+    "relmse",     "rmse",         "ssim",           "cpbd",            "ref_cpbd",
+    "temporal_msd", "temporal_valid", "stereo_msd", "stereo_valid",
+};
+
+static xrsc_result run_setting(bench_run *b, const hs_bench_setting *s, uint32_t index,
+                               xrsc_diag *diag)
+{
+    const hs_bench_options *opt = b->opt;
+    char path[HS_BENCH_PATH_MAX], part[HS_BENCH_PATH_MAX + 8];
+    hs_bench_setting_csv_path(opt->out_dir, s->name, path, sizeof(path));
+    snprintf(part, sizeof(part), "%s.part", path);
+    char first_line[sizeof(b->config) + HS_BENCH_SPEC_MAX + 32];
+    snprintf(first_line, sizeof(first_line), "# xrsc-bench %s | setting %s", b->config, s->spec);
+    if (!opt->fresh) {
+        char old[sizeof(first_line)];
+        if (read_file_line(path, old, sizeof(old)) && strcmp(old, first_line) == 0) {
+            if (opt->progress)
+                fprintf(stderr, "xrsc bench: setting %u/%u %s: complete in %s, skipped\n",
+                        index + 1, opt->setting_count, s->name, path);
+            return XRSC_OK;
+        }
+    }
+
+    xrsc_renderer_options ro = s->renderer;
+    ro.width = b->w;
+    ro.height = b->h;
+    ro.seed = opt->seed;
+    xrsc_renderer *r = NULL;
+    xrsc_result res = xrsc_renderer_create(b->ctx, b->scene, &ro, &r, diag);
+    if (res != XRSC_OK) {
+        u_diag_set(diag, res, "", 0, "--settings", "setting %s (%s): renderer creation failed",
+                   s->name, s->spec);
+        return res;
+    }
+    size_t n = (size_t)b->w * b->h;
+    size_t color_bytes = n * 4 * sizeof(float), depth_bytes = n * sizeof(float);
+    eye_images im[2]; /* [k & 1]: this frame and the previous one */
+    float *ref[2] = {malloc(color_bytes), malloc(color_bytes)};
+    FILE *csv = NULL;
+    bool ok_alloc = eye_images_alloc(&im[0], n) & eye_images_alloc(&im[1], n);
+    if (!ok_alloc || !ref[0] || !ref[1]) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "image buffers");
+        goto done;
+    }
+    csv = fopen(part, "w");
+    if (!csv) {
+        res = u_diag_set(diag, XRSC_ERROR_IO, part, 0, "", "cannot create: %s", strerror(errno));
+        goto done;
+    }
+    fprintf(csv, "%s\n", first_line);
+
+    const xrsc_metrics_options mo = {0};
+    double t0 = now_s();
+    for (uint32_t k = 0; k < b->frames; k++) {
+        const xrsc_frame *f = &b->frame[k];
+        eye_images *cur = &im[k & 1], *prev = &im[(k + 1) & 1];
+        double w0 = now_s();
+        if ((res = xrsc_renderer_render(r, f)) != XRSC_OK) {
+            u_diag_set(diag, res, "", 0, "", "setting %s: frame %u failed", s->name, k);
+            goto done;
+        }
+        double wall_ms = (now_s() - w0) * 1e3;
+        xrsc_pass_timing pass[XRSC_MAX_PASSES];
+        uint32_t np = xrsc_renderer_timings(r, pass, XRSC_MAX_PASSES);
+        uint64_t rays = xrsc_renderer_rays_last_frame(r);
+        for (int e = 0; e < 2; e++)
+            if ((res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, cur->color[e],
+                                          color_bytes)) != XRSC_OK) {
+                u_diag_set(diag, res, "", 0, "", "setting %s: reading frame %u", s->name, k);
+                goto done;
+            }
+        /* Depth at pixel centres (the same for every setting) for the reprojections. */
+        if ((res = xrsc_renderer_render(b->depth_r, f)) != XRSC_OK)
+            goto done;
+        for (int e = 0; e < 2; e++)
+            if ((res = xrsc_renderer_read(b->depth_r, (uint32_t)e, XRSC_OUTPUT_DEPTH,
+                                          cur->depth[e], depth_bytes)) != XRSC_OK)
+                goto done;
+
+        if (k == 0) {
+            for (uint32_t c = 0; c < HS_BENCH_COLUMN_COUNT; c++)
+                fprintf(csv, "%s%s", c ? "," : "", hs_bench_columns[c]);
+            for (uint32_t p = 0; p < np; p++)
+                fprintf(csv, ",gpu_%s_ms", pass[p].name);
+            fputc('\n', csv);
+        }
+        double gpu_ms = 0.0;
+        for (uint32_t p = 0; p < np; p++)
+            gpu_ms += pass[p].gpu_ms;
+        bool scored = hs_bench_is_scored(k, b->warmup, b->score_every);
+        fprintf(csv, "%s,%s,%u,%lld,%d,%d,%.4f,%.4f,%llu,%.5f", s->name,
+                xrsc_method_name(s->renderer.method), k, (long long)f->display_time_ns,
+                k < b->warmup, scored, wall_ms, gpu_ms, (unsigned long long)rays,
+                (double)rays / (2.0 * (double)n));
+
+        /* Against the reference (scored frames). */
+        double relmse = 0, rmse = 0, ssim = 0, ref_cpbd = 0;
+        bool have_err = false, have_ref_cpbd = false;
+        if (scored) {
+            if (!ref_load(b, k, ref)) {
+                res = u_diag_set(diag, XRSC_ERROR_IO, b->ref_dir, 0, "",
+                                 "reference of frame %u is missing or unreadable", k);
+                goto done;
+            }
+            have_err = have_ref_cpbd = true;
+            for (int e = 0; e < 2; e++) {
+                xrsc_error_metrics em;
+                double ms;
+                xrsc_cpbd cp;
+                if (metric_ok(b, xrsc_metrics_error(cur->color[e], ref[e], b->w, b->h, &mo, &em))) {
+                    relmse += 0.5 * em.relmse;
+                    rmse += 0.5 * em.rmse;
+                } else {
+                    relmse = rmse = NAN;
+                }
+                ssim += metric_ok(b, xrsc_metrics_ssim(cur->color[e], ref[e], b->w, b->h, &mo, &ms,
+                                                       NULL))
+                            ? 0.5 * ms
+                            : NAN;
+                ref_cpbd += metric_ok(b, xrsc_metrics_cpbd(ref[e], b->w, b->h, &mo, &cp))
+                                ? 0.5 * cp.cpbd
+                                : NAN;
+            }
+            /* RMSE of both eyes together: sqrt of the mean MSE. */
+            if (isfinite(rmse)) {
+                double mse = 0;
+                for (int e = 0; e < 2; e++) {
+                    xrsc_error_metrics em;
+                    if (xrsc_metrics_error(cur->color[e], ref[e], b->w, b->h, &mo, &em) == XRSC_OK)
+                        mse += 0.5 * em.mse;
+                }
+                rmse = sqrt(mse);
+            }
+        }
+        put_num(csv, relmse, have_err);
+        put_num(csv, rmse, have_err);
+        put_num(csv, ssim, have_err);
+        double cpbd = 0;
+        for (int e = 0; e < 2; e++) {
+            xrsc_cpbd cp;
+            cpbd += metric_ok(b, xrsc_metrics_cpbd(cur->color[e], b->w, b->h, &mo, &cp))
+                        ? 0.5 * cp.cpbd
+                        : NAN;
+        }
+        put_num(csv, cpbd, true);
+        put_num(csv, ref_cpbd, have_ref_cpbd);
+
+        /* Temporal: this frame against the previous one reprojected by depth, per eye, weighted
+         * by the valid pixels. */
+        if (k > 0) {
+            double sum = 0;
+            uint64_t valid = 0;
+            bool ok = true;
+            for (int e = 0; e < 2; e++) {
+                xrsc_metrics_view vc = metrics_view(b, cur, k, e), vp = metrics_view(b, prev, k - 1, e);
+                xrsc_reproj_diff d;
+                if (metric_ok(b, xrsc_metrics_temporal_diff(&vc, &vp, &mo, &d, NULL, NULL))) {
+                    sum += d.mean_sq_diff * (double)d.valid_count;
+                    valid += d.valid_count;
+                } else {
+                    ok = false;
+                }
+            }
+            put_num(csv, ok && valid ? sum / (double)valid : NAN, true);
+            fprintf(csv, ",%llu", (unsigned long long)valid);
+        } else {
+            fputs(",,", csv);
+        }
+        /* Stereo: the right eye against the left reprojected into it (seed 000 Fig. 15). */
+        {
+            xrsc_metrics_view vr = metrics_view(b, cur, k, 1), vl = metrics_view(b, cur, k, 0);
+            xrsc_reproj_diff d;
+            if (metric_ok(b, xrsc_metrics_stereo_discrepancy(&vr, &vl, &mo, &d, NULL, NULL))) {
+                put_num(csv, d.valid_count ? d.mean_sq_diff : NAN, true);
+                fprintf(csv, ",%llu", (unsigned long long)d.valid_count);
+            } else {
+                fputs(",nan,0", csv);
+            }
+        }
+        for (uint32_t p = 0; p < np; p++)
+            fprintf(csv, ",%.4f", pass[p].gpu_ms);
+        fputc('\n', csv);
+
+        double per = (now_s() - t0) / (k + 1);
+        progress_line(&b->prog, k + 1 == b->frames,
+                      "setting %u/%u %-22s frame %u/%u  %.2f s/frame  left ~%.0f s", index + 1,
+                      opt->setting_count, s->name, k + 1, b->frames, per,
+                      per * (b->frames - k - 1) +
+                          per * b->frames * (opt->setting_count - index - 1));
+    }
+    if (fclose(csv) != 0) {
+        csv = NULL;
+        res = u_diag_set(diag, XRSC_ERROR_IO, part, 0, "", "writing failed");
+        goto done;
+    }
+    csv = NULL;
+    if (rename(part, path) != 0)
+        res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "rename: %s", strerror(errno));
+
+done:
+    if (csv)
+        fclose(csv);
+    eye_images_free(&im[0]);
+    eye_images_free(&im[1]);
+    free(ref[0]);
+    free(ref[1]);
+    xrsc_renderer_destroy(&r);
+    return res;
+}
+
+void hs_bench_setting_csv_path(const char *out_dir, const char *name, char *out, size_t cap)
+{
+    snprintf(out, cap, "%s/frames/%s.csv", out_dir, name);
+}
+
+static bool headset_is_zero(const xrsc_headset *hs)
+{
+    static const xrsc_headset zero;
+    return memcmp(hs, &zero, sizeof(zero)) == 0;
+}
+
+static void fov_text(const XrFovf *f, char *out, size_t cap)
+{
+    snprintf(out, cap, "%.6g/%.6g/%.6g/%.6g", f->angleLeft, f->angleRight, f->angleUp,
+             f->angleDown);
+}
+
+xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *diag)
+{
+    if (!opt || !opt->scene_path || !opt->poses_path || !opt->out_dir || !opt->out_dir[0] ||
+        !opt->settings || opt->setting_count == 0)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "",
+                          "bench needs a scene, a pose stream, an output folder and settings");
+    bench_run b = {.opt = opt};
+    b.prog.on = opt->progress;
+    b.prog.tty = isatty(STDERR_FILENO);
+    b.prog.started = now_s();
+    b.w = opt->width ? opt->width : DEFAULT_EYE_SIZE_PX;
+    b.h = opt->height ? opt->height : DEFAULT_EYE_SIZE_PX;
+    b.warmup = opt->warmup;
+    b.score_every = opt->score_every ? opt->score_every : 1;
+    b.ref_spp = opt->ref_spp ? opt->ref_spp : DEFAULT_REF_SPP;
+    b.headset = opt->headset;
+    if (headset_is_zero(&b.headset))
+        xrsc_headset_default(&b.headset);
+
+    hs_pose_stream *stream = NULL;
+    xrsc_result res;
+    if ((res = hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag)) != XRSC_OK)
+        goto done;
+    if ((res = xrsc_context_create(&opt->context, &b.ctx, diag)) != XRSC_OK)
+        goto done;
+    if ((res = xrsc_scene_load(b.ctx, opt->scene_path, &opt->scene, &b.scene, diag)) != XRSC_OK)
+        goto done;
+    xrsc_scene_info info;
+    xrsc_scene_get_info(b.scene, &info);
+
+    double period_ns =
+        NS_PER_S / (b.headset.refresh_hz > 0 ? b.headset.refresh_hz : DEFAULT_REFRESH_HZ);
+    int64_t start_ns = (int64_t)(opt->start_s * NS_PER_S);
+    int64_t span_ns = hs_pose_stream_duration_ns(stream) - start_ns;
+    if (span_ns < 0) {
+        res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->poses_path, 0, "--start",
+                         "the stream ends at %.3f s, before --start %.3f s",
+                         hs_pose_stream_duration_ns(stream) / NS_PER_S, opt->start_s);
+        goto done;
+    }
+    b.frames = opt->frames ? opt->frames : (uint32_t)(span_ns / period_ns) + 1;
+    if (opt->anchor == HS_BENCH_ANCHOR_FIRST) {
+        hs_pose_stream_anchor(stream, info.viewpoint);
+    } else if (opt->anchor == HS_BENCH_ANCHOR_START && stream->count > 0) {
+        /* viewpoint * inverse(pose at start) * p, through hs_pose_stream_anchor's
+         * viewpoint' * inverse(first) * p with viewpoint' = viewpoint * inverse(at) * first. */
+        XrPosef at;
+        hs_pose_stream_sample(stream, start_ns, &at);
+        XrPosef first = stream->samples[0].pose;
+        hs_pose_stream_anchor(stream, xrsc_pose_mul(xrsc_pose_mul(info.viewpoint,
+                                                                  xrsc_pose_inverse(at)),
+                                                    first));
+    }
+    b.frame = calloc(b.frames, sizeof(*b.frame));
+    if (!b.frame) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "--frames", "%u frames", b.frames);
+        goto done;
+    }
+    for (uint32_t k = 0; k < b.frames; k++)
+        make_frame(&b, stream, k, start_ns, period_ns, &b.frame[k]);
+
+    static const char *const anchor_name[] = {"start", "first", "none"};
+    char fov0[96], fov1[96], env[96] = "scene";
+    fov_text(&b.headset.fov[0], fov0, sizeof(fov0));
+    fov_text(&b.headset.fov[1], fov1, sizeof(fov1));
+    if (opt->scene.env_set)
+        snprintf(env, sizeof(env), "%g/%g/%g", opt->scene.environment[0],
+                 opt->scene.environment[1], opt->scene.environment[2]);
+    snprintf(b.ref_config, sizeof(b.ref_config),
+             "scene=%s poses=%s format=%s anchor=%s start=%.9g res=%ux%u ref_spp=%u seed=%u "
+             "ipd=%g refresh=%g fov=%s,%s env=%s",
+             opt->scene_path, opt->poses_path, hs_pose_format_name(opt->pose_format),
+             anchor_name[opt->anchor], opt->start_s, b.w, b.h, b.ref_spp, opt->seed,
+             b.headset.ipd_m, b.headset.refresh_hz, fov0, fov1, env);
+    snprintf(b.config, sizeof(b.config), "%s frames=%u warmup=%u score_every=%u device=%s",
+             b.ref_config, b.frames, b.warmup, b.score_every, xrsc_context_device_name(b.ctx));
+
+    char dir[HS_BENCH_PATH_MAX];
+    snprintf(b.ref_dir, sizeof(b.ref_dir), "%s/ref", opt->out_dir);
+    snprintf(dir, sizeof(dir), "%s/frames", opt->out_dir);
+    if ((res = hs_bench_make_dirs(b.ref_dir, diag)) != XRSC_OK ||
+        (res = hs_bench_make_dirs(dir, diag)) != XRSC_OK)
+        goto done;
+    if (opt->progress)
+        fprintf(stderr,
+                "xrsc bench: %u settings x %u frames (%u warm-up, every %u scored), %ux%u per "
+                "eye, on %s\n",
+                opt->setting_count, b.frames, b.warmup, b.score_every, b.w, b.h,
+                xrsc_context_device_name(b.ctx));
+
+    if ((res = make_references(&b, diag)) != XRSC_OK)
+        goto done;
+    xrsc_renderer_options dro = {.method = XRSC_METHOD_PRIMARY, .width = b.w, .height = b.h};
+    if ((res = xrsc_renderer_create(b.ctx, b.scene, &dro, &b.depth_r, diag)) != XRSC_OK)
+        goto done;
+    for (uint32_t i = 0; i < opt->setting_count; i++)
+        if ((res = run_setting(&b, &opt->settings[i], i, diag)) != XRSC_OK)
+            goto done;
+    if (b.metric_failures)
+        fprintf(stderr, "xrsc bench: warning: %u metric evaluations failed (NaN/inf pixels); "
+                        "their cells are nan\n", b.metric_failures);
+    uint32_t verr = xrsc_context_validation_errors(b.ctx);
+    if (verr)
+        fprintf(stderr, "xrsc bench: warning: the Vulkan validation layer reported %u errors\n",
+                verr);
+
+    hs_bench_report_info ri = {
+        .frames = b.frames, .warmup = b.warmup, .score_every = b.score_every, .ref_spp = b.ref_spp,
+        .width = b.w, .height = b.h, .device = xrsc_context_device_name(b.ctx),
+    };
+    res = hs_bench_report(opt, &ri, summary, diag);
+
+done:
+    xrsc_renderer_destroy(&b.depth_r);
+    xrsc_scene_destroy(&b.scene);
+    xrsc_context_destroy(&b.ctx);
+    hs_pose_stream_destroy(&stream);
+    free(b.frame);
+    return res;
+}

@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_bench.h
+ * @brief `xrsc bench`: the speed-vs-accuracy benchmark (DESIGN.md "Measuring").
+ *
+ * Runs a list of settings (a method and its options) over one scene and pose stream. Every
+ * setting renders the same frames (same display times, views and seeds). Every scored frame is
+ * compared with a converged reference (`spp`, accumulated to ref_spp samples at that frame's
+ * views, cached as PFM in out_dir/ref/). Per frame and setting one CSV row; at the end a summary
+ * (means over the measured frames, ratios to a baseline setting) and gnuplot charts.
+ *
+ * Output folder (out_dir):
+ * - frames/NAME.csv   one file per setting: a "# xrsc-bench ..." line with the run's
+ *                     configuration, a header, one row per frame. Written as NAME.csv.part and
+ *                     renamed when the setting is complete, so a rerun with the same
+ *                     configuration skips complete settings (restartable).
+ * - ref/              frame_NNNNN_{left,right}.pfm references and config.txt; a rerun with the
+ *                     same reference configuration reuses them (resumable).
+ * - bench.csv         all rows of all settings, pass columns the union over the methods.
+ * - summary.csv       one row per setting: means and ratios to the baseline.
+ * - NAME.gp, NAME.png gnuplot scripts and their charts; plot/ holds their data.
+ */
+#pragma once
+
+#include "hs_pose_stream.h"
+#include "xrsc/xrsc.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define HS_BENCH_MAX_SETTINGS 64
+#define HS_BENCH_NAME_MAX 48
+#define HS_BENCH_SPEC_MAX 320
+
+/**
+ * The issue-3 set: `spp` 1 and 4, `samplecache` single / multi / adaptive x 1pass / 2pass.
+ * Settings text: settings separated by ';', each "METHOD[:KEY=VALUE,KEY=VALUE...]";
+ * name=LABEL sets the label (default: derived from method and keys). Keys: hs_bench_print_keys.
+ */
+#define HS_BENCH_DEFAULT_SETTINGS                                                                 \
+    "spp:spp=1;spp:spp=4;"                                                                        \
+    "samplecache:trace=single,reproject=1pass;samplecache:trace=multi,reproject=1pass;"           \
+    "samplecache:trace=adaptive,reproject=1pass;"                                                 \
+    "samplecache:trace=single,reproject=2pass;samplecache:trace=multi,reproject=2pass;"           \
+    "samplecache:trace=adaptive,reproject=2pass"
+
+/** One benchmarked setting. */
+typedef struct hs_bench_setting {
+    char name[HS_BENCH_NAME_MAX]; /**< label: letters, digits, '.', '_', '+', '-' (file name) */
+    char spec[HS_BENCH_SPEC_MAX]; /**< canonical text: method, then the keys as given */
+    /** spec without its r=... key (settings that differ only in R share a group; the stereo
+     *  discrepancy / CPBD vs R chart draws one line per group). */
+    char group[HS_BENCH_SPEC_MAX];
+    double r; /**< the value of key "r" (stereo blend radius R), NaN when not set */
+    /** Method and method options; size and seed are the run's (hs_bench_options). */
+    xrsc_renderer_options renderer;
+} hs_bench_setting;
+
+/**
+ * Parses a settings text (see HS_BENCH_DEFAULT_SETTINGS) into out[0..*out_count). Unknown
+ * methods or keys, keys of another method, bad values, duplicate names: XRSC_ERROR_INVALID_ARGUMENT
+ * with the offending setting in diag.
+ */
+xrsc_result hs_bench_parse_settings(const char *text, hs_bench_setting *out, uint32_t max_count,
+                                    uint32_t *out_count, xrsc_diag *diag);
+/** Prints the setting keys (name, methods, values) for --help. */
+void hs_bench_print_keys(FILE *f);
+
+/** How the stream is placed in the scene. */
+typedef enum hs_bench_anchor {
+    HS_BENCH_ANCHOR_START = 0, /**< the head pose at start_s is placed at the scene viewpoint */
+    HS_BENCH_ANCHOR_FIRST,     /**< the stream's first pose (as `xrsc replay`) */
+    HS_BENCH_ANCHOR_NONE,      /**< the stream's own coordinates */
+} hs_bench_anchor;
+
+typedef struct hs_bench_options {
+    const char *scene_path;
+    const char *poses_path;
+    hs_pose_format pose_format;
+    const char *out_dir;
+    xrsc_context_options context;
+    xrsc_scene_options scene;
+    xrsc_headset headset; /**< all zero: xrsc_headset_default */
+    hs_bench_anchor anchor;
+    double start_s;
+    uint32_t frames;      /**< 0: until the stream ends */
+    uint32_t warmup;      /**< first frames of every setting left out of the means */
+    uint32_t score_every; /**< frames warmup, warmup+K, ... are scored against a reference; 0: 1 */
+    uint32_t width, height;
+    uint32_t seed;
+    uint32_t ref_spp; /**< samples per pixel of the references; 0: 256 */
+    const hs_bench_setting *settings;
+    uint32_t setting_count;
+    const char *baseline; /**< setting name for the ratios; NULL: first samplecache single, else
+                               the first setting */
+    bool fresh;           /**< ignore results and references already in out_dir */
+    bool no_plots;        /**< write the gnuplot scripts but do not run gnuplot */
+    bool progress;        /**< progress lines on stderr */
+} hs_bench_options;
+
+/**
+ * Runs the benchmark, writes the files above and prints the summary table to `summary`
+ * (may be NULL).
+ */
+xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *diag);
+
+/**
+ * `xrsc bench`; argv[0] is "bench". Returns the exit code: 0 success, 1 failure, 2 bad
+ * arguments.
+ */
+int hs_bench_main(int argc, char **argv);
+
+#ifdef __cplusplus
+}
+#endif

@@ -1,0 +1,339 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_bench_cmd.c
+ * @brief The `xrsc bench` command line (hs_bench.h).
+ */
+#include "hs_bench.h"
+
+#include "u_diag.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#ifndef XRSC_SOURCE_DIR
+#define XRSC_SOURCE_DIR "."
+#endif
+
+#define DEFAULT_SCENE XRSC_SOURCE_DIR "/scenes/cornell.gltf"
+#define DEFAULT_POSES XRSC_SOURCE_DIR "/poses/orbit_cornell.xrpose"
+#define DEFAULT_OUT "out/bench"
+#define DEFAULT_FRAMES 60
+#define DEFAULT_WARMUP 10
+#define DEFAULT_SCORE_EVERY 5
+#define DEFAULT_SIZE 128
+#define DEFAULT_REF_SPP 256
+#define SETTINGS_FILE_MAX (64 * 1024)
+
+/* clang-format off */
+static void usage(FILE *f)
+{
+    fprintf(f,
+"usage: xrsc bench [options]\n"
+"\n"
+"Speed vs. accuracy: renders every setting (a method and its options) over the same frames of\n"
+"one scene and pose stream (same views and seeds), scores every K-th frame after the warm-up\n"
+"against a converged `spp` reference of that frame's views (cached in OUT/ref/), writes one\n"
+"CSV row per frame and setting, prints a summary with ratios to a baseline setting and draws\n"
+"charts with gnuplot. Rerunning with the same options skips complete settings and cached\n"
+"references (restartable).\n"
+"\n"
+"Input:\n"
+"  --scene PATH        glTF scene                               [scenes/cornell.gltf]\n"
+"  --poses PATH        pose stream; a relative path not found is also looked up in\n"
+"                      $XRSC_SHARED_DIR and ../shared (e.g. poses/pred6dof-hololens/1.csv)\n"
+"                                                               [poses/orbit_cornell.xrpose]\n"
+"  --pose-format F     auto | xrsc | pred6dof | 360video | librnr   [auto]\n"
+"  --anchor A          start: the head pose at --start is placed at the scene's viewpoint;\n"
+"                      first: the stream's first pose (as xrsc replay); none   [start]\n"
+"  --start S           start S seconds into the stream          [0]\n"
+"  --frames N          frames per setting (0 = until the stream ends) [%d]\n"
+"  --warmup N          first N frames left out of the means (caches fill) [%d]\n"
+"  --score-every K     score frames warmup, warmup+K, ...        [%d]\n"
+"\n"
+"Rendering:\n"
+"  --settings LIST     settings separated by ';' (or @FILE, one per line, '#' comments):\n"
+"                      METHOD[:KEY=VALUE,...]   [the issue-3 set: spp 1, 4; samplecache\n"
+"                      single/multi/adaptive x 1pass/2pass]\n"
+"  --baseline NAME     setting the ratios are to     [the first samplecache trace=single]\n"
+"  --resolution WxH    per eye                                  [%dx%d]\n"
+"  --ref-spp N         samples per pixel of the references      [%d]\n"
+"  --seed N            random seed of every setting             [0]\n"
+"  --env R,G,B         constant environment radiance\n"
+"  --ipd MM            interpupillary distance                  [63]\n"
+"  --refresh HZ        display refresh rate (frame spacing)     [90]\n"
+"  --device D          cpu | gpu | index | name part\n"
+"  --validation        enable the Vulkan validation layer\n"
+"\n"
+"Output:\n"
+"  --out DIR           output folder                            [out/bench]\n"
+"  --fresh             ignore results and references already in DIR\n"
+"  --no-plots          write the gnuplot scripts, do not run gnuplot\n"
+"  --quiet             no progress\n"
+"  -h, --help          this help\n"
+"\n"
+"Setting keys:\n",
+            DEFAULT_FRAMES, DEFAULT_WARMUP, DEFAULT_SCORE_EVERY, DEFAULT_SIZE, DEFAULT_SIZE,
+            DEFAULT_REF_SPP);
+    hs_bench_print_keys(f);
+    fprintf(f,
+"\n"
+"Example: xrsc bench --settings \"spp:spp=1;samplecache:trace=single\" --frames 30\n"
+"Files: OUT/bench.csv (all rows), OUT/summary.csv, OUT/frames/NAME.csv, OUT/*.png and *.gp\n");
+}
+/* clang-format on */
+
+static int bad_arg(const char *flag, const char *value, const char *why)
+{
+    fprintf(stderr, "xrsc bench: error: %s%s%s: %s (see xrsc bench --help)\n", flag,
+            value ? " " : "", value ? value : "", why);
+    return 2;
+}
+
+static bool parse_u32(const char *s, uint32_t *out)
+{
+    char *end;
+    errno = 0;
+    unsigned long v = strtoul(s, &end, 10);
+    if (errno || end == s || *end || v > 0xFFFFFFFFul || s[0] == '-')
+        return false;
+    *out = (uint32_t)v;
+    return true;
+}
+
+static bool parse_f(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || end == s || *end || v != v)
+        return false;
+    *out = v;
+    return true;
+}
+
+/* A relative path that does not exist is looked up under the shared folder. */
+static const char *resolve(const char *path, char *buf, size_t cap)
+{
+    if (path[0] == '/' || access(path, R_OK) == 0)
+        return path;
+    const char *env = getenv("XRSC_SHARED_DIR");
+    const char *bases[] = {env, XRSC_SOURCE_DIR "/../shared", XRSC_SOURCE_DIR};
+    for (size_t k = 0; k < sizeof(bases) / sizeof(bases[0]); k++) {
+        if (!bases[k] || !bases[k][0])
+            continue;
+        snprintf(buf, cap, "%s/%s", bases[k], path);
+        if (access(buf, R_OK) == 0)
+            return buf;
+    }
+    return path;
+}
+
+static char *read_text_file(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char *buf = malloc(SETTINGS_FILE_MAX + 1);
+    size_t n = buf ? fread(buf, 1, SETTINGS_FILE_MAX, f) : 0;
+    fclose(f);
+    if (buf)
+        buf[n] = '\0';
+    return buf;
+}
+
+static const char *const value_options[] = {
+    "--scene", "--poses", "--pose-format", "--anchor", "--start", "--frames",
+    "--warmup", "--score-every", "--settings", "--baseline", "--resolution", "--ref-spp",
+    "--seed", "--env", "--ipd", "--refresh", "--device", "--out",
+};
+
+int hs_bench_main(int argc, char **argv)
+{
+    hs_bench_options opt = {
+        .scene_path = DEFAULT_SCENE,
+        .poses_path = DEFAULT_POSES,
+        .out_dir = DEFAULT_OUT,
+        .frames = DEFAULT_FRAMES,
+        .warmup = DEFAULT_WARMUP,
+        .score_every = DEFAULT_SCORE_EVERY,
+        .width = DEFAULT_SIZE,
+        .height = DEFAULT_SIZE,
+        .ref_spp = DEFAULT_REF_SPP,
+        .progress = true,
+        .anchor = HS_BENCH_ANCHOR_START,
+    };
+    xrsc_headset_default(&opt.headset);
+    const char *settings_text = HS_BENCH_DEFAULT_SETTINGS;
+    char *settings_file = NULL;
+    static char scene_buf[4096], poses_buf[4096];
+    bool warmup_given = false;
+
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            free(settings_file);
+            return 0;
+        }
+        if (!strcmp(a, "--fresh")) {
+            opt.fresh = true;
+            continue;
+        }
+        if (!strcmp(a, "--no-plots")) {
+            opt.no_plots = true;
+            continue;
+        }
+        if (!strcmp(a, "--quiet")) {
+            opt.progress = false;
+            continue;
+        }
+        if (!strcmp(a, "--validation")) {
+            opt.context.validation = true;
+            continue;
+        }
+        bool known = false;
+        for (size_t k = 0; k < sizeof(value_options) / sizeof(value_options[0]); k++)
+            known |= !strcmp(a, value_options[k]);
+        if (!known) {
+            free(settings_file);
+            return bad_arg(a, NULL, a[0] == '-' ? "unknown option" : "unexpected argument");
+        }
+        if (i + 1 >= argc) {
+            free(settings_file);
+            return bad_arg(a, NULL, "needs a value");
+        }
+        const char *v = argv[++i];
+        uint32_t u;
+        double d;
+        int bad = 0;
+        if (!strcmp(a, "--scene")) {
+            opt.scene_path = v;
+        } else if (!strcmp(a, "--poses")) {
+            opt.poses_path = v;
+        } else if (!strcmp(a, "--pose-format")) {
+            static const struct {
+                const char *name;
+                hs_pose_format f;
+            } fm[] = {{"auto", HS_POSE_FORMAT_AUTO},         {"xrsc", HS_POSE_FORMAT_XRSC},
+                      {"pred6dof", HS_POSE_FORMAT_PRED6DOF}, {"360video", HS_POSE_FORMAT_360VIDEO},
+                      {"librnr", HS_POSE_FORMAT_LIBRNR}};
+            bad = 1;
+            for (size_t k = 0; k < sizeof(fm) / sizeof(fm[0]); k++)
+                if (!strcmp(v, fm[k].name)) {
+                    opt.pose_format = fm[k].f;
+                    bad = 0;
+                }
+            if (bad)
+                bad = bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
+        } else if (!strcmp(a, "--anchor")) {
+            if (!strcmp(v, "start"))
+                opt.anchor = HS_BENCH_ANCHOR_START;
+            else if (!strcmp(v, "first"))
+                opt.anchor = HS_BENCH_ANCHOR_FIRST;
+            else if (!strcmp(v, "none"))
+                opt.anchor = HS_BENCH_ANCHOR_NONE;
+            else
+                bad = bad_arg(a, v, "expected start, first or none");
+        } else if (!strcmp(a, "--start")) {
+            if (!parse_f(v, &d) || d < 0)
+                bad = bad_arg(a, v, "expected seconds >= 0");
+            opt.start_s = d;
+        } else if (!strcmp(a, "--frames")) {
+            if (!parse_u32(v, &opt.frames) || opt.frames > 1000000)
+                bad = bad_arg(a, v, "expected 0..1000000");
+        } else if (!strcmp(a, "--warmup")) {
+            if (!parse_u32(v, &opt.warmup))
+                bad = bad_arg(a, v, "expected a count");
+            warmup_given = true;
+        } else if (!strcmp(a, "--score-every")) {
+            if (!parse_u32(v, &opt.score_every) || opt.score_every == 0)
+                bad = bad_arg(a, v, "expected a count >= 1");
+        } else if (!strcmp(a, "--settings")) {
+            if (v[0] == '@') {
+                free(settings_file);
+                settings_file = read_text_file(v + 1);
+                if (!settings_file)
+                    bad = bad_arg(a, v, "cannot read the file");
+                settings_text = settings_file;
+            } else {
+                settings_text = v;
+            }
+        } else if (!strcmp(a, "--baseline")) {
+            opt.baseline = v;
+        } else if (!strcmp(a, "--resolution")) {
+            unsigned w = 0, h = 0;
+            char tail;
+            if (sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 8192 ||
+                h > 8192)
+                bad = bad_arg(a, v, "expected WxH, each 16..8192");
+            opt.width = w;
+            opt.height = h;
+        } else if (!strcmp(a, "--ref-spp")) {
+            if (!parse_u32(v, &u) || u == 0 || u > 1u << 20)
+                bad = bad_arg(a, v, "expected 1..1048576");
+            opt.ref_spp = u;
+        } else if (!strcmp(a, "--seed")) {
+            if (!parse_u32(v, &opt.seed))
+                bad = bad_arg(a, v, "expected an unsigned integer");
+        } else if (!strcmp(a, "--env")) {
+            float r, g, b;
+            char tail;
+            if (sscanf(v, "%f,%f,%f%c", &r, &g, &b, &tail) != 3 || r < 0 || g < 0 || b < 0) {
+                bad = bad_arg(a, v, "expected R,G,B >= 0");
+            } else {
+                opt.scene.env_set = true;
+                opt.scene.environment[0] = r;
+                opt.scene.environment[1] = g;
+                opt.scene.environment[2] = b;
+            }
+        } else if (!strcmp(a, "--ipd")) {
+            if (!parse_f(v, &d) || d < 0 || d > 200)
+                bad = bad_arg(a, v, "expected millimetres 0..200");
+            opt.headset.ipd_m = (float)(d * 1e-3);
+        } else if (!strcmp(a, "--refresh")) {
+            if (!parse_f(v, &d) || d < 1 || d > 1000)
+                bad = bad_arg(a, v, "expected 1..1000 Hz");
+            opt.headset.refresh_hz = (float)d;
+        } else if (!strcmp(a, "--device")) {
+            opt.context.device = v;
+        } else if (!strcmp(a, "--out")) {
+            if (!v[0])
+                bad = bad_arg(a, v, "empty folder name");
+            opt.out_dir = v;
+        }
+        if (bad) {
+            free(settings_file);
+            return bad;
+        }
+    }
+    if (opt.frames && opt.warmup >= opt.frames) {
+        if (warmup_given) {
+            free(settings_file);
+            return bad_arg("--warmup", NULL, "must be less than --frames");
+        }
+        opt.warmup = opt.frames / 2; /* short runs keep half of their frames */
+    }
+
+    static hs_bench_setting settings[HS_BENCH_MAX_SETTINGS];
+    xrsc_diag diag = {0};
+    char msg[1400];
+    if (hs_bench_parse_settings(settings_text, settings, HS_BENCH_MAX_SETTINGS,
+                                &opt.setting_count, &diag) != XRSC_OK) {
+        fprintf(stderr, "xrsc bench: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
+        free(settings_file);
+        return 2;
+    }
+    free(settings_file);
+    opt.settings = settings;
+    opt.scene_path = resolve(opt.scene_path, scene_buf, sizeof(scene_buf));
+    opt.poses_path = resolve(opt.poses_path, poses_buf, sizeof(poses_buf));
+
+    if (hs_bench_run(&opt, stdout, &diag) != XRSC_OK) {
+        fprintf(stderr, "xrsc bench: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
+        return 1;
+    }
+    return 0;
+}

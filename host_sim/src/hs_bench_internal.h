@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_bench_internal.h
+ * @brief Shared between the parts of `xrsc bench` (run, report, command line).
+ */
+#pragma once
+
+#include "hs_bench.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#define HS_BENCH_PATH_MAX 1024
+
+/** The fixed leading columns of a setting's CSV (then "gpu_<pass>_ms" per pass). */
+#define HS_BENCH_COLUMN_COUNT 19
+extern const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT];
+
+/** out_dir/frames/NAME.csv */
+void hs_bench_setting_csv_path(const char *out_dir, const char *name, char *out, size_t cap);
+/** Frame k is scored: k >= warmup and (k - warmup) % score_every == 0. */
+bool hs_bench_is_scored(uint32_t k, uint32_t warmup, uint32_t score_every);
+/** mkdir -p */
+xrsc_result hs_bench_make_dirs(const char *path, xrsc_diag *diag);
+
+/** What the report needs to know of the run (defaults resolved). */
+typedef struct hs_bench_report_info {
+    uint32_t frames, warmup, score_every, ref_spp, width, height;
+    const char *device;
+} hs_bench_report_info;
+
+/**
+ * Reads every setting's CSV back from out_dir/frames, writes bench.csv, summary.csv, the plot
+ * data and the gnuplot scripts, runs gnuplot (unless opt->no_plots) and prints the summary.
+ */
+xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_info *info,
+                            FILE *summary, xrsc_diag *diag);

@@ -1,0 +1,651 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_bench_report.c
+ * @brief `xrsc bench` report: reads the settings' CSVs back (fresh or from an earlier run),
+ *        writes bench.csv and summary.csv, prints the summary with ratios to a baseline, and
+ *        writes and runs the gnuplot charts.
+ */
+#include "hs_bench_internal.h"
+
+#include "u_diag.h"
+#include "xrsc/xrsc_metrics.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#define MAX_COLS 64
+#define LINE_MAX_LEN 8192
+
+/* ---- reading a setting's CSV ---- */
+
+typedef struct table {
+    uint32_t ncols, nrows, cap;
+    char *names[MAX_COLS];
+    double *v; /**< nrows x ncols; NaN for empty, text or "nan" cells */
+} table;
+
+static void table_free(table *t)
+{
+    for (uint32_t c = 0; c < t->ncols; c++)
+        free(t->names[c]);
+    free(t->v);
+    memset(t, 0, sizeof(*t));
+}
+
+static int table_col(const table *t, const char *name)
+{
+    for (uint32_t c = 0; c < t->ncols; c++)
+        if (!strcmp(t->names[c], name))
+            return (int)c;
+    return -1;
+}
+
+static double cell(const table *t, uint32_t row, const char *name)
+{
+    int c = table_col(t, name);
+    return c < 0 ? NAN : t->v[(size_t)row * t->ncols + (uint32_t)c];
+}
+
+static double parse_cell(const char *s)
+{
+    if (!s[0])
+        return NAN;
+    char *end;
+    double d = strtod(s, &end);
+    return end == s || *end ? NAN : d;
+}
+
+static xrsc_result table_read(const char *path, table *t, xrsc_diag *diag)
+{
+    memset(t, 0, sizeof(*t));
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot open: %s", strerror(errno));
+    char line[LINE_MAX_LEN];
+    int lineno = 0;
+    xrsc_result res = XRSC_OK;
+    while (fgets(line, sizeof(line), f)) {
+        lineno++;
+        line[strcspn(line, "\r\n")] = '\0';
+        if (line[0] == '#' || line[0] == '\0')
+            continue;
+        char *fields[MAX_COLS];
+        uint32_t nf = 0;
+        char *p = line;
+        for (;;) {
+            if (nf == MAX_COLS) {
+                res = u_diag_set(diag, XRSC_ERROR_UNKNOWN_COLUMN, path, lineno, "",
+                                 "more than %d columns", MAX_COLS);
+                goto done;
+            }
+            fields[nf++] = p;
+            char *comma = strchr(p, ',');
+            if (!comma)
+                break;
+            *comma = '\0';
+            p = comma + 1;
+        }
+        if (t->ncols == 0) {
+            for (uint32_t c = 0; c < nf; c++)
+                if (!(t->names[c] = strdup(fields[c]))) {
+                    res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, lineno, "", "header");
+                    goto done;
+                }
+            t->ncols = nf;
+            continue;
+        }
+        if (nf != t->ncols) {
+            res = u_diag_set(diag, XRSC_ERROR_TRUNCATED_LINE, path, lineno, "",
+                             "%u fields, the header has %u", nf, t->ncols);
+            goto done;
+        }
+        if (t->nrows == t->cap) {
+            uint32_t cap = t->cap ? 2 * t->cap : 256;
+            double *v = realloc(t->v, (size_t)cap * t->ncols * sizeof(double));
+            if (!v) {
+                res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, lineno, "", "rows");
+                goto done;
+            }
+            t->v = v;
+            t->cap = cap;
+        }
+        for (uint32_t c = 0; c < nf; c++)
+            t->v[(size_t)t->nrows * t->ncols + c] = parse_cell(fields[c]);
+        t->nrows++;
+    }
+done:
+    fclose(f);
+    if (res == XRSC_OK && t->ncols == 0)
+        res = u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, path, 0, "", "no header");
+    if (res != XRSC_OK)
+        table_free(t);
+    return res;
+}
+
+/* ---- summary ---- */
+
+typedef struct setting_summary {
+    uint32_t measured, scored;
+    double wall_ms, gpu_ms, rays_per_px, relmse, rmse, ssim, cpbd, ref_cpbd, temporal, stereo;
+    double pass_ms[MAX_COLS]; /**< by union pass index */
+} setting_summary;
+
+/* Mean of column `name` over rows selected by `scored_only` / not warm-up; NaN when none. */
+static double mean_of(const table *t, const char *name, bool scored_only, uint32_t *out_n)
+{
+    int c = table_col(t, name);
+    double sum = 0;
+    uint32_t n = 0;
+    for (uint32_t r = 0; c >= 0 && r < t->nrows; r++) {
+        if (cell(t, r, "warmup") != 0.0)
+            continue;
+        if (scored_only && cell(t, r, "scored") != 1.0)
+            continue;
+        double v = t->v[(size_t)r * t->ncols + (uint32_t)c];
+        if (isfinite(v)) {
+            sum += v;
+            n++;
+        }
+    }
+    if (out_n)
+        *out_n = n;
+    return n ? sum / n : NAN;
+}
+
+static void fmt_value(FILE *f, double v)
+{
+    if (!isfinite(v))
+        return; /* empty cell */
+    if (v == floor(v) && fabs(v) < 1e15)
+        fprintf(f, "%.0f", v);
+    else
+        fprintf(f, "%.6g", v);
+}
+
+static double ratio(double a, double b)
+{
+    return isfinite(a) && isfinite(b) && b != 0 ? a / b : NAN;
+}
+
+static void print_num(FILE *f, const char *fmt, int width, double v)
+{
+    if (isfinite(v))
+        fprintf(f, fmt, v);
+    else
+        fprintf(f, "%*s", width, "-");
+}
+
+/* ---- gnuplot ---- */
+
+static const char *const terminal_preamble =
+    "# Generated by xrsc bench; run in this folder: gnuplot %s\n"
+    "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+    "  set terminal pngcairo size %d,%d noenhanced font ',10'\n"
+    "} else {\n"
+    "  set terminal png size %d,%d noenhanced\n"
+    "}\n"
+    "set output '%s'\n"
+    "set datafile separator whitespace\n"
+    "set datafile missing 'nan'\n"
+    "set grid\n";
+
+static FILE *open_script(const char *dir, const char *name, const char *png, int w, int h,
+                         xrsc_diag *diag)
+{
+    char path[HS_BENCH_PATH_MAX + 64];
+    snprintf(path, sizeof(path), "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
+        return NULL;
+    }
+    fprintf(f, terminal_preamble, name, w, h, w, h, png);
+    return f;
+}
+
+/* Runs `gnuplot script` in dir, its output into dir/gnuplot.log; false on failure. */
+static bool run_gnuplot(const char *dir, const char *script)
+{
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0)
+        return false;
+    if (pid == 0) {
+        if (chdir(dir) != 0)
+            _exit(126);
+        int fd = open("gnuplot.log", O_WRONLY | O_CREAT | O_APPEND, 0666);
+        if (fd >= 0) {
+            dup2(fd, STDOUT_FILENO);
+            dup2(fd, STDERR_FILENO);
+            close(fd);
+        }
+        execlp("gnuplot", "gnuplot", script, (char *)NULL);
+        _exit(127);
+    }
+    int status = 0;
+    if (waitpid(pid, &status, 0) != pid)
+        return false;
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
+        fprintf(stderr, "xrsc bench: gnuplot not found; the scripts are in %s\n", dir);
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+static void names_string(FILE *f, const hs_bench_options *opt)
+{
+    fputs("names = \"", f);
+    for (uint32_t i = 0; i < opt->setting_count; i++)
+        fprintf(f, "%s%s", i ? " " : "", opt->settings[i].name);
+    fputs("\"\n", f);
+}
+
+/* ---- the report ---- */
+
+xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_info *info,
+                            FILE *out, xrsc_diag *diag)
+{
+    uint32_t ns = opt->setting_count;
+    table *tab = calloc(ns, sizeof(table));
+    setting_summary *sum = calloc(ns, sizeof(setting_summary));
+    char *pass_names[MAX_COLS] = {0};
+    uint32_t npass = 0;
+    FILE *f = NULL;
+    xrsc_result res = XRSC_OK;
+    char path[HS_BENCH_PATH_MAX + 64], plotdir[HS_BENCH_PATH_MAX + 16];
+    if (!tab || !sum) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "report");
+        goto done;
+    }
+    for (uint32_t i = 0; i < ns; i++) {
+        hs_bench_setting_csv_path(opt->out_dir, opt->settings[i].name, path, sizeof(path));
+        if ((res = table_read(path, &tab[i], diag)) != XRSC_OK)
+            goto done;
+        for (uint32_t c = HS_BENCH_COLUMN_COUNT; c < tab[i].ncols; c++) {
+            bool seen = false;
+            for (uint32_t p = 0; p < npass; p++)
+                seen |= !strcmp(pass_names[p], tab[i].names[c]);
+            if (!seen && npass < MAX_COLS)
+                pass_names[npass++] = tab[i].names[c];
+        }
+    }
+
+    /* bench.csv: all rows, the pass columns' union. */
+    snprintf(path, sizeof(path), "%s/bench.csv", opt->out_dir);
+    if (!(f = fopen(path, "w"))) {
+        res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
+        goto done;
+    }
+    for (uint32_t c = 0; c < HS_BENCH_COLUMN_COUNT; c++)
+        fprintf(f, "%s%s", c ? "," : "", hs_bench_columns[c]);
+    for (uint32_t p = 0; p < npass; p++)
+        fprintf(f, ",%s", pass_names[p]);
+    fputc('\n', f);
+    for (uint32_t i = 0; i < ns; i++) {
+        const table *t = &tab[i];
+        for (uint32_t r = 0; r < t->nrows; r++) {
+            fprintf(f, "%s,%s", opt->settings[i].name,
+                    xrsc_method_name(opt->settings[i].renderer.method));
+            for (uint32_t c = 2; c < HS_BENCH_COLUMN_COUNT; c++) {
+                fputc(',', f);
+                fmt_value(f, cell(t, r, hs_bench_columns[c]));
+            }
+            for (uint32_t p = 0; p < npass; p++) {
+                fputc(',', f);
+                fmt_value(f, cell(t, r, pass_names[p]));
+            }
+            fputc('\n', f);
+        }
+    }
+    if (fclose(f) != 0) {
+        f = NULL;
+        res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "writing failed");
+        goto done;
+    }
+    f = NULL;
+
+    /* Means over the frames after the warm-up; errors over the scored frames. */
+    for (uint32_t i = 0; i < ns; i++) {
+        const table *t = &tab[i];
+        setting_summary *s = &sum[i];
+        s->wall_ms = mean_of(t, "wall_ms", false, &s->measured);
+        s->gpu_ms = mean_of(t, "gpu_ms", false, NULL);
+        s->rays_per_px = mean_of(t, "rays_per_px", false, NULL);
+        s->cpbd = mean_of(t, "cpbd", false, NULL);
+        s->temporal = mean_of(t, "temporal_msd", false, NULL);
+        s->stereo = mean_of(t, "stereo_msd", false, NULL);
+        s->relmse = mean_of(t, "relmse", true, &s->scored);
+        s->rmse = mean_of(t, "rmse", true, NULL);
+        s->ssim = mean_of(t, "ssim", true, NULL);
+        s->ref_cpbd = mean_of(t, "ref_cpbd", true, NULL);
+        for (uint32_t p = 0; p < npass; p++) {
+            s->pass_ms[p] = mean_of(t, pass_names[p], false, NULL);
+        }
+    }
+    uint32_t base = 0;
+    bool base_found = false;
+    for (uint32_t i = 0; i < ns && !base_found; i++) {
+        const hs_bench_setting *s = &opt->settings[i];
+        if (opt->baseline ? !strcmp(s->name, opt->baseline)
+                          : (s->renderer.method == XRSC_METHOD_SAMPLECACHE &&
+                             s->renderer.samplecache.trace == XRSC_SC_TRACE_SINGLE)) {
+            base = i;
+            base_found = true;
+        }
+    }
+    if (opt->baseline && !base_found) {
+        res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--baseline",
+                         "no setting is labelled '%s'", opt->baseline);
+        goto done;
+    }
+    const setting_summary *bs = &sum[base];
+
+    snprintf(path, sizeof(path), "%s/summary.csv", opt->out_dir);
+    if (!(f = fopen(path, "w"))) {
+        res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
+        goto done;
+    }
+    fprintf(f, "setting,spec,r,measured_frames,scored_frames,wall_ms,gpu_ms,gpu_ms_ratio,"
+               "wall_ms_ratio,rays_per_px,relmse,relmse_ratio,rmse,ssim,cpbd,ref_cpbd,"
+               "temporal_msd,temporal_ratio,stereo_msd,baseline");
+    for (uint32_t p = 0; p < npass; p++)
+        fprintf(f, ",%s", pass_names[p]);
+    fputc('\n', f);
+    for (uint32_t i = 0; i < ns; i++) {
+        const setting_summary *s = &sum[i];
+        fprintf(f, "%s,\"%s\",", opt->settings[i].name, opt->settings[i].spec);
+        fmt_value(f, opt->settings[i].r);
+        fprintf(f, ",%u,%u", s->measured, s->scored);
+        double v[] = {s->wall_ms,  s->gpu_ms, ratio(s->gpu_ms, bs->gpu_ms),
+                      ratio(s->wall_ms, bs->wall_ms), s->rays_per_px, s->relmse,
+                      ratio(s->relmse, bs->relmse), s->rmse, s->ssim, s->cpbd, s->ref_cpbd,
+                      s->temporal, ratio(s->temporal, bs->temporal), s->stereo};
+        for (size_t k = 0; k < sizeof(v) / sizeof(v[0]); k++) {
+            fputc(',', f);
+            fmt_value(f, v[k]);
+        }
+        fprintf(f, ",%d", i == base);
+        for (uint32_t p = 0; p < npass; p++) {
+            fputc(',', f);
+            fmt_value(f, s->pass_ms[p]);
+        }
+        fputc('\n', f);
+    }
+    if (fclose(f) != 0) {
+        f = NULL;
+        res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "writing failed");
+        goto done;
+    }
+    f = NULL;
+
+    if (out) {
+        fprintf(out,
+                "xrsc bench: %s; %ux%u per eye; %u frames, the first %u (warm-up) left out of "
+                "the means; relMSE (eps %g), RMSE, SSIM over %u-spp references of every %u. "
+                "frame; ratios (x) to %s\n",
+                info->device, info->width, info->height, info->frames, info->warmup,
+                XRSC_METRICS_RELMSE_EPSILON, info->ref_spp, info->score_every,
+                opt->settings[base].name);
+        fprintf(out, "%-24s %8s %6s %8s %6s %7s %9s %6s %6s %6s %6s %10s %6s %10s\n", "setting",
+                "GPU ms", "x", "wall ms", "x", "rays/px", "relMSE", "x", "SSIM", "CPBD", "ref",
+                "temporal", "x", "stereo");
+        for (uint32_t i = 0; i < ns; i++) {
+            const setting_summary *s = &sum[i];
+            fprintf(out, "%-24s ", opt->settings[i].name);
+            print_num(out, "%8.2f ", 8, s->gpu_ms);
+            print_num(out, "%6.2f ", 6, ratio(s->gpu_ms, bs->gpu_ms));
+            print_num(out, "%8.2f ", 8, s->wall_ms);
+            print_num(out, "%6.2f ", 6, ratio(s->wall_ms, bs->wall_ms));
+            print_num(out, "%7.3f ", 7, s->rays_per_px);
+            print_num(out, "%9.4g ", 9, s->relmse);
+            print_num(out, "%6.2f ", 6, ratio(s->relmse, bs->relmse));
+            print_num(out, "%6.4f ", 6, s->ssim);
+            print_num(out, "%6.3f ", 6, s->cpbd);
+            print_num(out, "%6.3f ", 6, s->ref_cpbd);
+            print_num(out, "%10.4g ", 10, s->temporal);
+            print_num(out, "%6.2f ", 6, ratio(s->temporal, bs->temporal));
+            print_num(out, "%10.4g", 10, s->stereo);
+            fputc('\n', out);
+        }
+        fprintf(out, "per pass, GPU ms (mean):\n%-24s", "setting");
+        for (uint32_t p = 0; p < npass; p++) {
+            char nm[64];
+            snprintf(nm, sizeof(nm), "%s", pass_names[p] + 4); /* drop "gpu_" */
+            nm[strlen(nm) > 3 ? strlen(nm) - 3 : 0] = '\0';   /* and "_ms" */
+            fprintf(out, " %11s", nm);
+        }
+        fputc('\n', out);
+        for (uint32_t i = 0; i < ns; i++) {
+            fprintf(out, "%-24s", opt->settings[i].name);
+            for (uint32_t p = 0; p < npass; p++) {
+                fputc(' ', out);
+                print_num(out, "%11.3f", 11, sum[i].pass_ms[p]);
+            }
+            fputc('\n', out);
+        }
+        fprintf(out, "files: %s/{bench.csv,summary.csv,*.png}\n", opt->out_dir);
+    }
+
+    /* Plot data. */
+    snprintf(plotdir, sizeof(plotdir), "%s/plot", opt->out_dir);
+    if ((res = hs_bench_make_dirs(plotdir, diag)) != XRSC_OK)
+        goto done;
+    bool any_r = false;
+    {
+        snprintf(path, sizeof(path), "%s/summary.dat", plotdir);
+        FILE *d = fopen(path, "w");
+        snprintf(path, sizeof(path), "%s/frames.dat", plotdir);
+        FILE *fr = fopen(path, "w");
+        snprintf(path, sizeof(path), "%s/scored.dat", plotdir);
+        FILE *sc = fopen(path, "w");
+        snprintf(path, sizeof(path), "%s/passes.dat", plotdir);
+        FILE *pa = fopen(path, "w");
+        if (!d || !fr || !sc || !pa) {
+            res = u_diag_set(diag, XRSC_ERROR_IO, plotdir, 0, "", "cannot write plot data");
+        } else {
+            fprintf(d, "# idx name gpu_ms wall_ms relmse temporal_msd stereo_msd cpbd ref_cpbd "
+                       "rays_per_px\n");
+            fprintf(pa, "setting");
+            for (uint32_t p = 0; p < npass; p++) {
+                char nm[64];
+                snprintf(nm, sizeof(nm), "%s", pass_names[p] + 4);
+                nm[strlen(nm) > 3 ? strlen(nm) - 3 : 0] = '\0';
+                fprintf(pa, " %s", nm);
+            }
+            fputc('\n', pa);
+            for (uint32_t i = 0; i < ns; i++) {
+                const setting_summary *s = &sum[i];
+                const table *t = &tab[i];
+                fprintf(d, "%u %s %g %g %g %g %g %g %g %g\n", i + 1, opt->settings[i].name,
+                        s->gpu_ms, s->wall_ms, s->relmse, s->temporal, s->stereo, s->cpbd,
+                        s->ref_cpbd, s->rays_per_px);
+                fprintf(pa, "%s", opt->settings[i].name);
+                for (uint32_t p = 0; p < npass; p++)
+                    fprintf(pa, " %g", isfinite(s->pass_ms[p]) ? s->pass_ms[p] : 0.0);
+                fputc('\n', pa);
+                fprintf(fr, "%s# %s: frame gpu_ms wall_ms temporal_msd stereo_msd cpbd\n",
+                        i ? "\n\n" : "", opt->settings[i].name);
+                fprintf(sc, "%s# %s: frame relmse ssim rmse\n", i ? "\n\n" : "",
+                        opt->settings[i].name);
+                for (uint32_t r = 0; r < t->nrows; r++) {
+                    fprintf(fr, "%g %g %g %g %g %g\n", cell(t, r, "frame"), cell(t, r, "gpu_ms"),
+                            cell(t, r, "wall_ms"), cell(t, r, "temporal_msd"),
+                            cell(t, r, "stereo_msd"), cell(t, r, "cpbd"));
+                    if (cell(t, r, "scored") == 1.0)
+                        fprintf(sc, "%g %g %g %g\n", cell(t, r, "frame"), cell(t, r, "relmse"),
+                                cell(t, r, "ssim"), cell(t, r, "rmse"));
+                }
+                any_r |= isfinite(opt->settings[i].r);
+            }
+        }
+        bool bad = false;
+        if (d)
+            bad |= fclose(d) != 0;
+        if (fr)
+            bad |= fclose(fr) != 0;
+        if (sc)
+            bad |= fclose(sc) != 0;
+        if (pa)
+            bad |= fclose(pa) != 0;
+        if (res == XRSC_OK && bad)
+            res = u_diag_set(diag, XRSC_ERROR_IO, plotdir, 0, "", "writing plot data failed");
+        if (res != XRSC_OK)
+            goto done;
+    }
+    if (any_r) {
+        /* One block per group (settings equal but for r), sorted by r. */
+        snprintf(path, sizeof(path), "%s/r.dat", plotdir);
+        FILE *d = fopen(path, "w");
+        if (!d) {
+            res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create");
+            goto done;
+        }
+        uint32_t blocks = 0;
+        char groups[4096] = "";
+        for (uint32_t i = 0; i < ns; i++) {
+            const hs_bench_setting *s = &opt->settings[i];
+            bool first = isfinite(s->r);
+            for (uint32_t j = 0; j < i && first; j++)
+                if (isfinite(opt->settings[j].r) && !strcmp(opt->settings[j].group, s->group))
+                    first = false;
+            if (!first)
+                continue;
+            fprintf(d, "%s# %s: r stereo_msd cpbd ref_cpbd\n", blocks ? "\n\n" : "", s->group);
+            snprintf(groups + strlen(groups), sizeof(groups) - strlen(groups), "%s%s",
+                     blocks ? " " : "", s->group);
+            /* Selection sort by r over the group's members. */
+            double last = -INFINITY;
+            for (;;) {
+                int pick = -1;
+                for (uint32_t j = 0; j < ns; j++) {
+                    const hs_bench_setting *q = &opt->settings[j];
+                    if (isfinite(q->r) && !strcmp(q->group, s->group) && q->r > last &&
+                        (pick < 0 || q->r < opt->settings[pick].r))
+                        pick = (int)j;
+                }
+                if (pick < 0)
+                    break;
+                last = opt->settings[pick].r;
+                fprintf(d, "%g %g %g %g\n", last, sum[pick].stereo, sum[pick].cpbd,
+                        sum[pick].ref_cpbd);
+            }
+            blocks++;
+        }
+        if (fclose(d) != 0) {
+            res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "writing failed");
+            goto done;
+        }
+        FILE *g = open_script(opt->out_dir, "stereo_r.gp", "stereo_r.png", 1100, 450, diag);
+        if (!g) {
+            res = diag ? diag->code : XRSC_ERROR_IO;
+            goto done;
+        }
+        fprintf(g, "groups = \"%s\"\n", groups);
+        fprintf(g, "set multiplot layout 1,2 title 'stereo discrepancy and sharpness vs R'\n"
+                   "set xlabel 'R'\nset key bottom right font ',8'\n"
+                   "set ylabel 'stereo discrepancy (mean squared, right vs left reprojected)'\n"
+                   "plot for [i=0:%u] 'plot/r.dat' index i using 1:2 with linespoints pt 7 "
+                   "title word(groups, i+1)\n",
+                blocks ? blocks - 1 : 0);
+        fprintf(g, "set ylabel 'CPBD (higher = sharper)'\n"
+                   "plot for [i=0:%u] 'plot/r.dat' index i using 1:3 with linespoints pt 7 "
+                   "title word(groups, i+1), "
+                   "'plot/r.dat' index 0 using 1:4 with lines dt 2 lc 'black' title 'reference'\n"
+                   "unset multiplot\n",
+                blocks ? blocks - 1 : 0);
+        fclose(g);
+    }
+
+    /* Scripts. */
+    char title[512];
+    snprintf(title, sizeof(title), "%s, %ux%u per eye, %u frames (%u warm-up), ref %u spp",
+             info->device, info->width, info->height, info->frames, info->warmup, info->ref_spp);
+    for (char *p = title; *p; p++)
+        if (*p == '\'')
+            *p = '"';
+    FILE *g = open_script(opt->out_dir, "error_vs_time.gp", "error_vs_time.png", 1300, 520, diag);
+    if (!g) {
+        res = diag ? diag->code : XRSC_ERROR_IO;
+        goto done;
+    }
+    fprintf(g,
+            "set multiplot layout 1,2 title '%s'\n"
+            "set logscale y\nset xrange [0:*]\nset offsets 0, graph 0.15, graph 0.1, graph 0.1\n"
+            "set xlabel 'GPU time per stereo frame, ms (mean)'\n"
+            "set ylabel 'relMSE vs reference (mean, eps 0.01)'\n"
+            "plot 'plot/summary.dat' using 3:5:1 with points pt 7 ps 1.6 lc variable notitle, \\\n"
+            "     '' using 3:5:2 with labels offset char 0,0.9 font ',8' notitle\n"
+            "set ylabel 'temporal difference (mean squared, reprojected)'\n"
+            "plot 'plot/summary.dat' using 3:6:1 with points pt 7 ps 1.6 lc variable notitle, \\\n"
+            "     '' using 3:6:2 with labels offset char 0,0.9 font ',8' notitle\n"
+            "unset multiplot\n",
+            title);
+    fclose(g);
+
+    /* The frame-time axis ends above the measured frames: warm-up frames (pipeline creation,
+     * shader compilation on CPU devices) can be orders of magnitude slower. */
+    double gpu_max = 0;
+    for (uint32_t i = 0; i < ns; i++)
+        for (uint32_t r = 0; r < tab[i].nrows; r++) {
+            double v = cell(&tab[i], r, "gpu_ms");
+            if (cell(&tab[i], r, "warmup") == 0.0 && isfinite(v) && v > gpu_max)
+                gpu_max = v;
+        }
+    g = open_script(opt->out_dir, "sequence.gp", "sequence.png", 1100, 1000, diag);
+    if (!g) {
+        res = diag ? diag->code : XRSC_ERROR_IO;
+        goto done;
+    }
+    names_string(g, opt);
+    fprintf(g,
+            "N = words(names)\n"
+            "set multiplot layout 3,1 title '%s'\n"
+            "set key outside right font ',8'\nset xlabel 'frame'\nset xrange [0:%u]\n"
+            "set arrow 1 from %u, graph 0 to %u, graph 1 nohead dt 2 lc 'gray'\n"
+            "set logscale y\nset ylabel 'relMSE (scored frames)'\n"
+            "plot for [i=1:N] 'plot/scored.dat' index (i-1) using 1:2 with linespoints pt 7 ps 0.6 "
+            "title word(names, i)\n"
+            "unset logscale y\nset ylabel 'GPU ms per stereo frame'\nset yrange [0:%g]\n"
+            "plot for [i=1:N] 'plot/frames.dat' index (i-1) using 1:2 with lines title word(names, i)\n"
+            "set autoscale y\nset logscale y\nset ylabel 'temporal difference (reprojected)'\n"
+            "plot for [i=1:N] 'plot/frames.dat' index (i-1) using 1:4 with lines title word(names, i)\n"
+            "unset multiplot\n",
+            title, info->frames ? info->frames - 1 : 0, info->warmup, info->warmup,
+            gpu_max > 0 ? 1.15 * gpu_max : 1.0);
+    fclose(g);
+
+    g = open_script(opt->out_dir, "passes.gp", "passes.png", 1100, 550, diag);
+    if (!g) {
+        res = diag ? diag->code : XRSC_ERROR_IO;
+        goto done;
+    }
+    fprintf(g,
+            "set title 'GPU time per pass (mean per stereo frame, Vulkan timestamps)'\n"
+            "set style data histograms\nset style histogram rowstacked\n"
+            "set style fill solid 0.85 border -1\nset boxwidth 0.7\n"
+            "set xtics rotate by -30 font ',8'\nset key outside right\nset yrange [0:*]\n"
+            "set ylabel 'GPU ms'\n"
+            "plot for [c=2:%u] 'plot/passes.dat' using c:xtic(1) title columnheader(c)\n",
+            npass + 1);
+    fclose(g);
+
+    if (!opt->no_plots) {
+        const char *scripts[] = {"error_vs_time.gp", "sequence.gp", "passes.gp", "stereo_r.gp"};
+        for (size_t k = 0; k < (any_r ? 4u : 3u); k++)
+            if (!run_gnuplot(opt->out_dir, scripts[k]))
+                fprintf(stderr, "xrsc bench: warning: gnuplot %s failed (see %s/gnuplot.log)\n",
+                        scripts[k], opt->out_dir);
+    }
+
+done:
+    if (f)
+        fclose(f);
+    for (uint32_t i = 0; tab && i < ns; i++)
+        table_free(&tab[i]);
+    free(tab);
+    free(sum);
+    return res;
+}

@@ -1,0 +1,355 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_bench_settings.c
+ * @brief `xrsc bench` settings: "METHOD[:KEY=VALUE,...]" texts to renderer options.
+ *
+ * Every setting dimension is one row of `keys` below: its name, the methods it applies to and
+ * a function that writes the value into xrsc_renderer_options. A new renderer option (e.g. a
+ * stereo blend and its radius R) is benchmarked by adding a row; a key named "r" is also
+ * recorded as the setting's R for the stereo-vs-R chart (hs_bench_setting.r / .group).
+ */
+#include "hs_bench.h"
+
+#include "u_diag.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define M_SPP (1u << XRSC_METHOD_SPP)
+#define M_PRIMARY (1u << XRSC_METHOD_PRIMARY)
+#define M_SC (1u << XRSC_METHOD_SAMPLECACHE)
+
+static bool parse_u32(const char *s, uint32_t lo, uint32_t hi, uint32_t *out)
+{
+    char *end;
+    errno = 0;
+    unsigned long v = strtoul(s, &end, 10);
+    if (errno || end == s || *end || s[0] == '-' || v < lo || v > hi)
+        return false;
+    *out = (uint32_t)v;
+    return true;
+}
+
+static bool parse_pos(const char *s, double max, float *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || end == s || *end || !(v > 0) || v > max)
+        return false;
+    *out = (float)v;
+    return true;
+}
+
+/* Each setter returns NULL or the accepted values (for the message). */
+static const char *set_spp(xrsc_renderer_options *o, const char *v)
+{
+    return parse_u32(v, 1, 4096, &o->spp.samples_per_pixel) ? NULL : "1..4096";
+}
+
+static const char *set_bounces(xrsc_renderer_options *o, const char *v)
+{
+    uint32_t u;
+    if (!parse_u32(v, 0, 16, &u))
+        return "0..16";
+    o->spp.max_bounces = o->samplecache.max_bounces = u ? u : XRSC_BOUNCES_NONE;
+    return NULL;
+}
+
+static const char *set_trace(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "single"))
+        o->samplecache.trace = XRSC_SC_TRACE_SINGLE;
+    else if (!strcmp(v, "multi"))
+        o->samplecache.trace = XRSC_SC_TRACE_MULTI;
+    else if (!strcmp(v, "adaptive"))
+        o->samplecache.trace = XRSC_SC_TRACE_ADAPTIVE;
+    else
+        return "single, multi, adaptive";
+    return NULL;
+}
+
+static const char *set_reproject(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "1pass"))
+        o->samplecache.reproject = XRSC_SC_REPROJECT_1PASS;
+    else if (!strcmp(v, "2pass"))
+        o->samplecache.reproject = XRSC_SC_REPROJECT_2PASS;
+    else
+        return "1pass, 2pass";
+    return NULL;
+}
+
+static const char *set_shading_cache(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "on"))
+        o->samplecache.no_shading_cache = false;
+    else if (!strcmp(v, "off"))
+        o->samplecache.no_shading_cache = true;
+    else
+        return "on, off";
+    return NULL;
+}
+
+static const char *set_shade(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "uniform"))
+        o->samplecache.shade = XRSC_SC_SHADE_UNIFORM;
+    else if (!strcmp(v, "adaptive"))
+        o->samplecache.shade = XRSC_SC_SHADE_ADAPTIVE;
+    else
+        return "uniform, adaptive";
+    return NULL;
+}
+
+static const char *set_alpha(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "clamped"))
+        o->samplecache.alpha = XRSC_SC_ALPHA_CLAMPED;
+    else if (!strcmp(v, "fixed"))
+        o->samplecache.alpha = XRSC_SC_ALPHA_FIXED;
+    else
+        return "clamped, fixed";
+    return NULL;
+}
+
+static const char *set_slots(xrsc_renderer_options *o, const char *v)
+{
+    return parse_u32(v, 1, 16, &o->samplecache.slots) ? NULL : "1..16";
+}
+
+static const char *set_block(xrsc_renderer_options *o, const char *v)
+{
+    return parse_u32(v, 1, 64, &o->samplecache.block) ? NULL : "1..64";
+}
+
+static const char *set_target(xrsc_renderer_options *o, const char *v)
+{
+    return parse_pos(v, 16, &o->samplecache.n_target) ? NULL : "(0, 16]";
+}
+
+static const char *set_delta(xrsc_renderer_options *o, const char *v)
+{
+    return parse_pos(v, 16, &o->samplecache.delta) ? NULL : "(0, 16]";
+}
+
+static const char *set_eps0(xrsc_renderer_options *o, const char *v)
+{
+    return parse_pos(v, 1, &o->samplecache.eps0) ? NULL : "(0, 1]";
+}
+
+static const char *set_eps1(xrsc_renderer_options *o, const char *v)
+{
+    return parse_pos(v, 1, &o->samplecache.eps1) ? NULL : "(0, 1]";
+}
+
+static const char *set_shade_rate(xrsc_renderer_options *o, const char *v)
+{
+    if (!parse_pos(v, 1600, &o->samplecache.shade_rate))
+        return "percent in (0, 1600]";
+    o->samplecache.shade_rate *= 0.01f;
+    return NULL;
+}
+
+static const char *set_alpha_fixed(xrsc_renderer_options *o, const char *v)
+{
+    return parse_pos(v, 1, &o->samplecache.alpha_fixed) ? NULL : "(0, 1]";
+}
+
+typedef struct bench_key {
+    const char *key;
+    uint32_t methods; /**< bit per xrsc_method */
+    const char *(*set)(xrsc_renderer_options *o, const char *value);
+    const char *short_name; /**< in derived labels ("" = the value alone, NULL = key=value) */
+    const char *help;
+} bench_key;
+
+/* The setting dimensions. Add renderer options here (e.g. {"blend", ...}, {"r", ...}). */
+static const bench_key keys[] = {
+    {"spp", M_SPP, set_spp, "", "samples per pixel per frame, 1..4096 [1]"},
+    {"bounces", M_SPP | M_SC, set_bounces, "b", "bounces after the first hit, 0..16 [3]"},
+    {"trace", M_SC, set_trace, "", "single | multi | adaptive [adaptive]"},
+    {"reproject", M_SC, set_reproject, "", "1pass | 2pass [1pass]"},
+    {"slots", M_SC, set_slots, "n", "slots per pixel, 1..16 [12]"},
+    {"target", M_SC, set_target, "t", "target samples per pixel [4]"},
+    {"delta", M_SC, set_delta, "d", "density tolerance [1]"},
+    {"eps0", M_SC, set_eps0, "e0", "retrace tolerance (relative) [0.001]"},
+    {"eps1", M_SC, set_eps1, "e1", "edge test epsilon (Eq. 2) [0.005]"},
+    {"block", M_SC, set_block, "blk", "base-rate block size [4]"},
+    {"shading_cache", M_SC, set_shading_cache, "shc", "on | off [on]"},
+    {"shade", M_SC, set_shade, "shade", "uniform | adaptive [uniform]"},
+    {"shade_rate", M_SC, set_shade_rate, "rate", "adaptive shading rate, percent [100]"},
+    {"alpha", M_SC, set_alpha, "alpha", "clamped | fixed [clamped]"},
+    {"alpha_fixed", M_SC, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},
+};
+#define KEY_COUNT (sizeof(keys) / sizeof(keys[0]))
+
+void hs_bench_print_keys(FILE *f)
+{
+    fprintf(f, "  name=LABEL          label (file name; default derived from the keys)\n");
+    for (size_t k = 0; k < KEY_COUNT; k++) {
+        char methods[64] = "";
+        for (int m = 0; m <= XRSC_METHOD_SAMPLECACHE; m++)
+            if (keys[k].methods & (1u << m))
+                snprintf(methods + strlen(methods), sizeof(methods) - strlen(methods), "%s%s",
+                         methods[0] ? "," : "", xrsc_method_name((xrsc_method)m));
+        fprintf(f, "  %-18s  %-16s %s\n", keys[k].key, methods, keys[k].help);
+    }
+}
+
+static bool valid_name(const char *s)
+{
+    if (!s[0] || strlen(s) >= HS_BENCH_NAME_MAX)
+        return false;
+    for (const char *p = s; *p; p++)
+        if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
+              *p == '.' || *p == '_' || *p == '+' || *p == '-'))
+            return false;
+    return true;
+}
+
+static void trim(char **s)
+{
+    while (**s == ' ' || **s == '\t' || **s == '\n' || **s == '\r')
+        (*s)++;
+    char *e = *s + strlen(*s);
+    while (e > *s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\n' || e[-1] == '\r'))
+        *--e = '\0';
+}
+
+static void append(char *dst, size_t cap, const char *sep, const char *text)
+{
+    size_t n = strlen(dst);
+    if (n < cap && snprintf(dst + n, cap - n, "%s%s", n ? sep : "", text) >= (int)(cap - n))
+        dst[cap - 1] = '\0'; /* truncated: labels and specs are limited in length */
+}
+
+/* Parses one "METHOD[:k=v,...]" (modifiable copy) into s. */
+static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
+{
+    memset(s, 0, sizeof(*s));
+    s->r = NAN;
+    char *colon = strchr(text, ':');
+    char *args = NULL;
+    if (colon) {
+        *colon = '\0';
+        args = colon + 1;
+    }
+    char *method = text;
+    trim(&method);
+    if (xrsc_method_from_name(method, &s->renderer.method) != XRSC_OK)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
+                          "unknown method '%s' (spp, primary, samplecache)", method);
+    snprintf(s->spec, sizeof(s->spec), "%s", method);
+    snprintf(s->group, sizeof(s->group), "%s", method);
+    char label[HS_BENCH_SPEC_MAX];
+    snprintf(label, sizeof(label), "%s", s->renderer.method == XRSC_METHOD_SAMPLECACHE ? "sc"
+                                                                                         : method);
+    char name[HS_BENCH_SPEC_MAX] = "";
+    char *save = NULL;
+    bool first = true;
+    for (char *kv = args ? strtok_r(args, ",", &save) : NULL; kv;
+         kv = strtok_r(NULL, ",", &save)) {
+        trim(&kv);
+        if (!kv[0])
+            continue;
+        char *eq = strchr(kv, '=');
+        if (!eq)
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
+                              "'%s': expected KEY=VALUE", kv);
+        *eq = '\0';
+        char *key = kv, *val = eq + 1;
+        trim(&key);
+        trim(&val);
+        if (!strcmp(key, "name")) {
+            snprintf(name, sizeof(name), "%s", val);
+            continue;
+        }
+        const bench_key *bk = NULL;
+        for (size_t k = 0; k < KEY_COUNT; k++)
+            if (!strcmp(keys[k].key, key))
+                bk = &keys[k];
+        if (!bk)
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
+                              "unknown key '%s' (xrsc bench --help lists them)", key);
+        if (!(bk->methods & (1u << s->renderer.method)))
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
+                              "key '%s' does not apply to method %s", key, method);
+        const char *why = bk->set(&s->renderer, val);
+        if (why)
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
+                              "%s=%s: expected %s", key, val, why);
+        char item[HS_BENCH_SPEC_MAX];
+        snprintf(item, sizeof(item), "%s=%s", key, val);
+        append(s->spec, sizeof(s->spec), first ? ":" : ",", item);
+        if (!strcmp(key, "r")) {
+            s->r = strtod(val, NULL);
+        } else {
+            bool gfirst = strchr(s->group, ':') == NULL;
+            append(s->group, sizeof(s->group), gfirst ? ":" : ",", item);
+        }
+        first = false;
+        if (!bk->short_name)
+            append(label, sizeof(label), "-", item);
+        else {
+            snprintf(item, sizeof(item), "%s%s", bk->short_name, val);
+            append(label, sizeof(label), "-", item);
+        }
+    }
+    const char *final = name[0] ? name : label;
+    if (!valid_name(final))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
+                          "label '%s': use 1..%d of letters, digits and . _ + - (name=LABEL)",
+                          final, HS_BENCH_NAME_MAX - 1);
+    snprintf(s->name, sizeof(s->name), "%s", final);
+    return XRSC_OK;
+}
+
+xrsc_result hs_bench_parse_settings(const char *text, hs_bench_setting *out, uint32_t max_count,
+                                    uint32_t *out_count, xrsc_diag *diag)
+{
+    *out_count = 0;
+    if (!text)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings", "no settings");
+    char *copy = strdup(text);
+    if (!copy)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "--settings", "copy");
+    xrsc_result res = XRSC_OK;
+    uint32_t n = 0;
+    char *save = NULL;
+    /* ';' and newlines separate settings; '#' starts a comment (settings files). */
+    for (char *p = copy; *p; p++)
+        if (*p == '#')
+            while (*p && *p != '\n')
+                *p++ = ' ';
+    for (char *one = strtok_r(copy, ";\n", &save); one; one = strtok_r(NULL, ";\n", &save)) {
+        char *t = one;
+        trim(&t);
+        if (!t[0])
+            continue;
+        if (n == max_count) {
+            res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
+                             "more than %u settings", max_count);
+            break;
+        }
+        if ((res = parse_one(t, &out[n], diag)) != XRSC_OK)
+            break;
+        for (uint32_t k = 0; k < n; k++)
+            if (!strcmp(out[k].name, out[n].name)) {
+                res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
+                                 "two settings are labelled '%s' (give one name=LABEL)",
+                                 out[n].name);
+                break;
+            }
+        if (res != XRSC_OK)
+            break;
+        n++;
+    }
+    free(copy);
+    if (res == XRSC_OK && n == 0)
+        res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings", "no settings");
+    *out_count = res == XRSC_OK ? n : 0;
+    return res;
+}

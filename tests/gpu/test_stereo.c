@@ -1,0 +1,417 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file test_stereo.c
+ * @brief Stereo blends (seed 000 §3.6/§5.2, seed 004 §3-4): the beta formulas of xs_stereo.h
+ *        on synthetic data (C build), the blend pass on synthetic images (device vs C), and
+ *        stereo consistency on scenes/glossy.gltf with noisy `spp` input against a converged
+ *        reference: stereo discrepancy and relMSE for none, pfj23, moments R = 0 / 0.8 / 1.
+ *
+ * Must hold: Eq. 8 from sample moments converges to Eq. 4's beta and a brute-force beta search
+ * of the blend's MSE agrees with it; moments R = 0 lowers discrepancy and relMSE against none
+ * and pfj23; R = 0 beats R = 1 on relMSE; disoccluded and background pixels are untouched;
+ * swapping the eyes swaps the result; the renderer's in-frame blend equals the pass run on the
+ * same inputs; zero validation errors.
+ */
+#include "st_blend.h"
+#include "testing.h"
+#include "xrsc/xrsc.h"
+#include "xrsc/xrsc_metrics.h"
+#include "xrsc_core_internal.h"
+#include "xs_stereo.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define T_W 64u
+#define T_H 64u
+#define T_SPP 4u          /* noisy input */
+#define T_REF_SPP 64u     /* reference: T_REF_FRAMES x T_REF_SPP accumulated */
+#define T_REF_FRAMES 4u
+#define T_IPD_M 0.063f
+#define T_HALF_FOV_RAD 0.5f
+#define T_GPU_TOL 1e-5f /* device float vs C float of the same formulas */
+
+static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
+static double rnd01(void)
+{
+    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
+    return ((rng_state >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+static double gauss(void)
+{
+    return sqrt(-2.0 * log(rnd01())) * cos(6.283185307179586 * rnd01());
+}
+
+/* ---- 1. formulas (C build of xs_stereo.h) ---- */
+
+static void test_beta_formulas(void)
+{
+    /* (E[X], sigma_X, E[Y], sigma_Y): unbiased, biased, noiseless X, large bias */
+    static const double cases[][4] = {
+        {1.0, 0.5, 1.0, 0.5}, {1.2, 0.3, 1.0, 0.6}, {0.5, 0.0, 0.6, 0.2}, {3.0, 0.2, 1.0, 0.4}};
+    for (size_t k = 0; k < sizeof(cases) / sizeof(cases[0]); k++) {
+        double mx = cases[k][0], sx = cases[k][1], my = cases[k][2], sy = cases[k][3];
+        float b4 = xs_st_beta_eq4((float)(sx * sx), (float)(sy * sy), (float)((mx - my) * (mx - my)));
+        /* Eq. 8 from K samples of each: the error shrinks with K */
+        double err_prev = 1e9;
+        for (uint32_t n = 100; n <= 1000000; n *= 100) {
+            double s1x = 0, s2x = 0, s1y = 0, s2y = 0;
+            for (uint32_t i = 0; i < n; i++) {
+                double x = mx + sx * gauss(), y = my + sy * gauss();
+                s1x += x, s2x += x * x, s1y += y, s2y += y * y;
+            }
+            float b8 = xs_st_beta_eq8((float)(s1x / n), (float)(s2x / n), (float)(s1y / n),
+                                      (float)(s2y / n));
+            double err = fabs((double)b8 - b4);
+            printf("  case %zu: K = %7u samples: Eq. 8 beta %.4f vs Eq. 4 %.4f\n", k, n, b8, b4);
+            if (n == 1000000)
+                CHECK_MSG(err < 5e-3, "case %zu: |Eq.8 - Eq.4| = %g", k, err);
+            CHECK(err <= err_prev + 2e-2);
+            err_prev = err;
+        }
+        /* brute force: MSE of lerp(X, Y, beta) against E[Y] over M trials, beta on a grid */
+        const uint32_t trials = 200000;
+        double sxx = 0, syy = 0, sxy = 0; /* of X - E[Y], Y - E[Y] */
+        for (uint32_t i = 0; i < trials; i++) {
+            double x = mx + sx * gauss() - my, y = sy * gauss();
+            sxx += x * x, syy += y * y, sxy += x * y;
+        }
+        double best = 0, best_mse = 1e300;
+        for (int g = 0; g <= 1000; g++) {
+            double b = g / 1000.0;
+            double mse = ((1 - b) * (1 - b) * sxx + b * b * syy + 2 * b * (1 - b) * sxy) / trials;
+            if (mse < best_mse)
+                best_mse = mse, best = b;
+        }
+        printf("  case %zu: brute-force argmin beta %.3f, Eq. 4 %.4f\n", k, best, b4);
+        CHECK_MSG(fabs(best - b4) < 0.01, "case %zu: brute force %g vs Eq. 4 %g", k, best, b4);
+    }
+    /* Dodgson: partition of unity for every r and offset, interpolating at r = 1 */
+    for (int ri = 0; ri <= 10; ri++) {
+        float r = ri / 10.0f;
+        for (int oi = -5; oi <= 5; oi++) {
+            float t = oi / 10.0f;
+            float sum = xs_st_dodgson(t - 1.0f, r) + xs_st_dodgson(t, r) + xs_st_dodgson(t + 1.0f, r);
+            CHECK_NEAR(sum, 1.0f, 1e-6f);
+        }
+    }
+    CHECK_NEAR(xs_st_dodgson(0.0f, 1.0f), 1.0f, 1e-7f);
+    CHECK_NEAR(xs_st_dodgson(1.0f, 1.0f), 0.0f, 1e-7f);
+    /* PFJ23: a flat neighbourhood (no variance) keeps Y */
+    CHECK_NEAR(xs_st_beta_pfj23(9.0f, 9.0f, 9.0f * 0.25f, 9.0f), 1.0f, 1e-7f);
+}
+
+/* ---- helpers ---- */
+
+static void make_views(XrPosef head, xrsc_view views[2])
+{
+    for (int e = 0; e < 2; e++) {
+        XrPosef off = xrsc_pose_identity();
+        off.position.x = (e == 0 ? -0.5f : 0.5f) * T_IPD_M;
+        views[e].pose = xrsc_pose_mul(head, off);
+        views[e].fov = (XrFovf){-T_HALF_FOV_RAD, T_HALF_FOV_RAD, T_HALF_FOV_RAD, -T_HALF_FOV_RAD};
+    }
+}
+
+typedef struct stereo_input {
+    float *color, *depth, *mu1, *mu2; /* both eyes, eye 0 first */
+} stereo_input;
+
+static void input_free(stereo_input *in)
+{
+    free(in->color), free(in->depth), free(in->mu1), free(in->mu2);
+    memset(in, 0, sizeof(*in));
+}
+
+static void read_outputs(xrsc_renderer *r, stereo_input *in)
+{
+    size_t px = (size_t)T_W * T_H;
+    in->color = malloc(2 * px * 16), in->depth = malloc(2 * px * 4);
+    in->mu1 = malloc(2 * px * 16), in->mu2 = malloc(2 * px * 16);
+    for (uint32_t e = 0; e < 2; e++) {
+        CHECK_EQ_INT(xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, in->color + e * px * 4, px * 16), XRSC_OK);
+        CHECK_EQ_INT(xrsc_renderer_read(r, e, XRSC_OUTPUT_DEPTH, in->depth + e * px, px * 4), XRSC_OK);
+        CHECK_EQ_INT(xrsc_renderer_read(r, e, XRSC_OUTPUT_MU1, in->mu1 + e * px * 4, px * 16), XRSC_OK);
+        CHECK_EQ_INT(xrsc_renderer_read(r, e, XRSC_OUTPUT_MU2, in->mu2 + e * px * 4, px * 16), XRSC_OK);
+    }
+}
+
+static xrsc_metrics_view mview(const float *rgba, const float *depth, const xrsc_view *v)
+{
+    return (xrsc_metrics_view){rgba, depth, {v->pose, v->fov, T_W, T_H}};
+}
+
+/** Mean over both eyes of relMSE against ref, and of the stereo discrepancy (each eye against
+ *  the other reprojected into it). */
+static void measure(const float *rgba, const float *depth, const float *ref, const xrsc_view v[2],
+                    double *out_relmse, double *out_disc)
+{
+    size_t px = (size_t)T_W * T_H;
+    double rel = 0, disc = 0;
+    for (int e = 0; e < 2; e++) {
+        xrsc_error_metrics em;
+        CHECK_EQ_INT(xrsc_metrics_error(rgba + e * px * 4, ref + e * px * 4, T_W, T_H, NULL, &em),
+                     XRSC_OK);
+        rel += em.relmse / 2;
+        xrsc_metrics_view a = mview(rgba + e * px * 4, depth + e * px, &v[e]);
+        xrsc_metrics_view b = mview(rgba + (1 - e) * px * 4, depth + (1 - e) * px, &v[1 - e]);
+        xrsc_reproj_diff d;
+        CHECK_EQ_INT(xrsc_metrics_stereo_discrepancy(&a, &b, NULL, &d, NULL, NULL), XRSC_OK);
+        disc += d.mean_sq_diff / 2;
+    }
+    *out_relmse = rel;
+    *out_disc = disc;
+}
+
+/* ---- 2. the pass on synthetic images: device vs the C formulas ---- */
+
+static void test_blend_synthetic(void)
+{
+    xrsc_context_options co = {.validation = true};
+    xrsc_context *ctx = NULL;
+    CHECK_EQ_INT(xrsc_context_create(&co, &ctx, NULL), XRSC_OK);
+    if (!ctx)
+        return;
+    gpu_context *gpu = xrsc_context_gpu(ctx);
+    size_t px = (size_t)T_W * T_H;
+    float *color = malloc(2 * px * 16), *depth = malloc(2 * px * 4);
+    float *mu1 = malloc(2 * px * 16), *mu2 = malloc(2 * px * 16);
+    float *out = malloc(2 * px * 16), *aux = malloc(2 * px * 16);
+    /* Both eyes at the same pose: the reprojection is the identity. Eye e has colour and
+     * moments constant per eye; the left half of eye 1 lies 3 x deeper (a disocclusion for
+     * eye 0 there). */
+    xrsc_view v[2];
+    make_views(xrsc_pose_identity(), v);
+    v[1] = v[0];
+    const float m1[2] = {0.4f, 0.7f}, var[2] = {0.05f, 0.02f}, c[2] = {4.0f, 6.0f};
+    for (uint32_t e = 0; e < 2; e++)
+        for (size_t i = 0; i < px; i++) {
+            for (int k = 0; k < 3; k++) {
+                color[(e * px + i) * 4 + k] = m1[e];
+                mu1[(e * px + i) * 4 + k] = m1[e];
+                mu2[(e * px + i) * 4 + k] = m1[e] * m1[e] + var[e];
+            }
+            color[(e * px + i) * 4 + 3] = 1.0f;
+            mu1[(e * px + i) * 4 + 3] = mu2[(e * px + i) * 4 + 3] = c[e];
+            depth[e * px + i] = (e == 1 && i % T_W < T_W / 2) ? 6.0f : 2.0f;
+        }
+    static const float rs[] = {0.0f, 0.8f, 1.0f};
+    for (size_t ri = 0; ri < 3; ri++) {
+        st_settings set = {.blend = XRSC_BLEND_MOMENTS, .r = rs[ri]};
+        CHECK_EQ_INT(st_blend_run_host(gpu, T_W, T_H, &set, v, color, depth, mu1, mu2, out, aux,
+                                       NULL),
+                     XRSC_OK);
+        uint32_t rejected = 0, bad = 0;
+        for (uint32_t e = 0; e < 2; e++) {
+            uint32_t o = 1 - e;
+            float beta = xs_st_beta_eq8(m1[o], m1[o] * m1[o] + var[o], m1[e], m1[e] * m1[e] + var[e]);
+            float want = xs_st_lerp(m1[o], m1[e], beta);
+            /* away from the depth step (the kernel and the 3 x 3 blur reach 2 pixels) */
+            for (uint32_t y = 2; y < T_H - 2; y++)
+                for (uint32_t x = 2; x < T_W - 2; x++) {
+                    size_t i = e * px + (size_t)y * T_W + x;
+                    bool deep = x < T_W / 2;
+                    if (deep && e == 0) { /* eye 1 sees something else there */
+                        rejected += aux[i * 4 + 3] == XS_ST_STATUS_REJECTED;
+                        bad += memcmp(&out[i * 4], &color[i * 4], 16) != 0;
+                    } else if (!deep || e == 1) {
+                        if (e == 1 && deep)
+                            continue; /* eye 0 is 3 x nearer there: rejected too */
+                        if (x >= T_W / 2 - 2 && x <= T_W / 2 + 1)
+                            continue;
+                        bad += fabsf(out[i * 4] - want) > T_GPU_TOL ||
+                               fabsf(aux[i * 4] - beta) > T_GPU_TOL;
+                    }
+                }
+            if (ri == 0)
+                printf("  eye %u: beta (Eq. 8, C) %.5f -> %.5f\n", e, beta, want);
+        }
+        printf("  R = %.1f: %u disoccluded pixels kept, %u mismatches\n", rs[ri], rejected, bad);
+        CHECK(rejected == (T_H - 4) * (T_W / 2 - 2));
+        CHECK_EQ_INT(bad, 0);
+    }
+    free(color), free(depth), free(mu1), free(mu2), free(out), free(aux);
+    CHECK_EQ_INT(xrsc_context_validation_errors(ctx), 0);
+    xrsc_context_destroy(&ctx);
+}
+
+/* ---- 3. stereo consistency on the glossy scene ---- */
+
+static void swap_eyes(const float *src, float *dst, size_t layer_floats)
+{
+    memcpy(dst, src + layer_floats, layer_floats * sizeof(float));
+    memcpy(dst + layer_floats, src, layer_floats * sizeof(float));
+}
+
+static void test_glossy_consistency(void)
+{
+    xrsc_context_options co = {.validation = true};
+    xrsc_context *ctx = NULL;
+    CHECK_EQ_INT(xrsc_context_create(&co, &ctx, NULL), XRSC_OK);
+    if (!ctx)
+        return;
+    gpu_context *gpu = xrsc_context_gpu(ctx);
+    xrsc_scene *scene = NULL;
+    xrsc_diag diag = {0};
+    CHECK_EQ_INT(xrsc_scene_load(ctx, t_source_path("scenes/glossy.gltf"), NULL, &scene, &diag),
+                 XRSC_OK);
+    if (!scene) {
+        xrsc_context_destroy(&ctx);
+        return;
+    }
+    xrsc_scene_info info;
+    xrsc_scene_get_info(scene, &info);
+    xrsc_frame frame = {.frame_index = 7};
+    make_views(info.viewpoint, frame.views);
+    size_t px = (size_t)T_W * T_H;
+
+    /* reference: T_REF_FRAMES x T_REF_SPP accumulated */
+    xrsc_renderer_options ro = {.method = XRSC_METHOD_SPP, .width = T_W, .height = T_H, .seed = 99};
+    ro.spp.samples_per_pixel = T_REF_SPP;
+    ro.spp.accumulate = true;
+    xrsc_renderer *r = NULL;
+    CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &ro, &r, NULL), XRSC_OK);
+    float *ref = malloc(2 * px * 16);
+    for (uint32_t f = 0; f < T_REF_FRAMES; f++) {
+        xrsc_frame rf = frame;
+        rf.frame_index = 1000 + f;
+        CHECK_EQ_INT(xrsc_renderer_render(r, &rf), XRSC_OK);
+    }
+    for (uint32_t e = 0; e < 2; e++)
+        CHECK_EQ_INT(xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, ref + e * px * 4, px * 16), XRSC_OK);
+    xrsc_renderer_destroy(&r);
+
+    /* noisy input, blend none */
+    ro = (xrsc_renderer_options){.method = XRSC_METHOD_SPP, .width = T_W, .height = T_H, .seed = 3};
+    ro.spp.samples_per_pixel = T_SPP;
+    CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &ro, &r, NULL), XRSC_OK);
+    CHECK_EQ_INT(xrsc_renderer_render(r, &frame), XRSC_OK);
+    stereo_input in = {0};
+    read_outputs(r, &in);
+    xrsc_renderer_destroy(&r);
+
+    float *out = malloc(2 * px * 16), *aux = malloc(2 * px * 16);
+    struct {
+        const char *name;
+        xrsc_blend blend;
+        float r;
+        double relmse, disc;
+    } runs[] = {{"none", XRSC_BLEND_NONE, 0.0f, 0, 0},
+                {"pfj23", XRSC_BLEND_PFJ23, 0.0f, 0, 0},
+                {"moments R=0", XRSC_BLEND_MOMENTS, 0.0f, 0, 0},
+                {"moments R=0.8", XRSC_BLEND_MOMENTS, 0.8f, 0, 0},
+                {"moments R=1", XRSC_BLEND_MOMENTS, 1.0f, 0, 0}};
+    enum { NONE, PFJ, M0, M08, M1, NRUNS };
+    float *keep_m0 = malloc(2 * px * 16);
+    printf("  glossy %ux%u, %u spp input, reference %u spp; means over both eyes\n", T_W, T_H,
+           T_SPP, T_REF_SPP * T_REF_FRAMES);
+    printf("  %-14s %12s %14s %8s %8s\n", "blend", "relMSE", "discrepancy", "blended", "kept");
+    const char *ps_env = getenv("T_PIXEL_MEAN"); /* experiment: the other estimate */
+    for (int k = 0; k < NRUNS; k++) {
+        st_settings set = {.blend = runs[k].blend, .r = runs[k].r, .pixel_mean = ps_env != NULL};
+        CHECK_EQ_INT(st_blend_run_host(gpu, T_W, T_H, &set, frame.views, in.color, in.depth,
+                                       in.mu1, in.mu2, out, aux, NULL),
+                     XRSC_OK);
+        measure(out, in.depth, ref, frame.views, &runs[k].relmse, &runs[k].disc);
+        uint32_t blended = 0, kept = 0, touched = 0;
+        for (size_t i = 0; i < 2 * px; i++) {
+            if (aux[i * 4 + 3] == XS_ST_STATUS_BLENDED) {
+                blended++;
+            } else {
+                kept++;
+                touched += memcmp(&out[i * 4], &in.color[i * 4], 16) != 0;
+            }
+        }
+        printf("  %-14s %12.6f %14.8f %8u %8u\n", runs[k].name, runs[k].relmse, runs[k].disc,
+               blended, kept);
+        CHECK_EQ_INT(touched, 0); /* disoccluded and background pixels untouched */
+        if (k != NONE) {
+            CHECK(blended > px); /* most foreground pixels find the other eye */
+            uint32_t rejected = 0;
+            for (size_t i = 0; i < 2 * px; i++)
+                rejected += aux[i * 4 + 3] == XS_ST_STATUS_REJECTED;
+            CHECK(rejected > 0); /* the objects' sides seen by one eye only */
+        }
+        if (k == M0)
+            memcpy(keep_m0, out, 2 * px * 16);
+    }
+    CHECK(runs[M0].disc < runs[NONE].disc && runs[M0].disc < runs[PFJ].disc);
+    CHECK(runs[M0].relmse < runs[NONE].relmse && runs[M0].relmse < runs[PFJ].relmse);
+    CHECK(runs[M0].relmse < runs[M1].relmse);
+
+    /* swapping the eyes swaps the result (bit for bit) */
+    {
+        stereo_input sw = {malloc(2 * px * 16), malloc(2 * px * 4), malloc(2 * px * 16),
+                           malloc(2 * px * 16)};
+        swap_eyes(in.color, sw.color, px * 4);
+        swap_eyes(in.depth, sw.depth, px);
+        swap_eyes(in.mu1, sw.mu1, px * 4);
+        swap_eyes(in.mu2, sw.mu2, px * 4);
+        xrsc_view sv[2] = {frame.views[1], frame.views[0]};
+        st_settings set = {.blend = XRSC_BLEND_MOMENTS, .r = 0.0f};
+        CHECK_EQ_INT(st_blend_run_host(gpu, T_W, T_H, &set, sv, sw.color, sw.depth, sw.mu1,
+                                       sw.mu2, out, NULL, NULL),
+                     XRSC_OK);
+        bool same = memcmp(out, keep_m0 + px * 4, px * 16) == 0 &&
+                    memcmp(out + px * 4, keep_m0, px * 16) == 0;
+        printf("  eyes swapped: result swapped %s\n", same ? "bit for bit" : "NOT");
+        CHECK(same);
+        input_free(&sw);
+    }
+
+    /* the renderer's in-frame blend: same pixels as the pass on the same inputs, pass "blend" */
+    {
+        ro.blend = XRSC_BLEND_MOMENTS;
+        ro.blend_r = 0.0f;
+        CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &ro, &r, NULL), XRSC_OK);
+        double blend_ms = 0, total_ms = 0;
+        for (int rep = 0; rep < 2; rep++) { /* the second frame's timings: pipelines warm */
+            CHECK_EQ_INT(xrsc_renderer_render(r, &frame), XRSC_OK);
+            xrsc_pass_timing tm[XRSC_MAX_PASSES];
+            uint32_t n = xrsc_renderer_timings(r, tm, XRSC_MAX_PASSES);
+            CHECK(n >= 3 && !strcmp(tm[n - 1].name, "blend"));
+            blend_ms = total_ms = 0;
+            for (uint32_t i = 0; i < n; i++) {
+                total_ms += tm[i].gpu_ms;
+                if (!strcmp(tm[i].name, "blend"))
+                    blend_ms = tm[i].gpu_ms;
+            }
+        }
+        float *rc = malloc(px * 16);
+        bool same = true;
+        for (uint32_t e = 0; e < 2; e++) {
+            CHECK_EQ_INT(xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, rc, px * 16), XRSC_OK);
+            same = same && memcmp(rc, keep_m0 + e * px * 4, px * 16) == 0;
+        }
+        printf("  renderer --blend moments: %s the pass on its inputs; blend %.3f ms of %.3f ms "
+               "GPU frame (%.1f %%, %s)\n",
+               same ? "equal to" : "DIFFERENT from", blend_ms, total_ms,
+               100.0 * blend_ms / (total_ms > 0 ? total_ms : 1), xrsc_context_device_name(ctx));
+        CHECK(same);
+        free(rc);
+        xrsc_renderer_destroy(&r);
+        /* moments need moments: `primary` has none */
+        ro.method = XRSC_METHOD_PRIMARY;
+        CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &ro, &r, NULL), XRSC_ERROR_INVALID_ARGUMENT);
+        ro.method = XRSC_METHOD_SPP;
+        ro.blend_r = 1.5f;
+        CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &ro, &r, NULL), XRSC_ERROR_INVALID_ARGUMENT);
+    }
+
+    free(out), free(aux), free(keep_m0), free(ref);
+    input_free(&in);
+    xrsc_scene_destroy(&scene);
+    CHECK_EQ_INT(xrsc_context_validation_errors(ctx), 0);
+    xrsc_context_destroy(&ctx);
+}
+
+int main(void)
+{
+    RUN(test_beta_formulas);
+    RUN(test_blend_synthetic);
+    RUN(test_glossy_consistency);
+    return t_finish();
+}
