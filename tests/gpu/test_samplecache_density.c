@@ -23,8 +23,8 @@
 #define T_H 48u
 #define T_MOVE_FRAMES 4u
 #define T_STILL_FRAMES 12u
-#define T_BACK_STEP 0.12f   /* m per frame, backwards */
-#define T_TURN_STEP 0.03    /* rad per frame about the vertical */
+#define T_BACK_STEP 0.12f /* m per frame, backwards */
+#define T_TURN_STEP 0.03  /* rad per frame about the vertical */
 /* Frames of the still view after which every 3 x 3 mean is inside the band. */
 #define T_SETTLE 6u
 
@@ -47,8 +47,8 @@ static void run_density(const char *label, const xrsc_samplecache_options *opt)
         /* backwards along the view's +z (the viewpoint looks down -z) and a turn */
         head.position.z += T_BACK_STEP * (float)m;
         XrPosef turn = {.orientation = tsc_quat_axis(0, 1, 0, T_TURN_STEP * m)};
-        head.orientation = xrsc_pose_mul((XrPosef){.orientation = start.orientation}, turn)
-                               .orientation;
+        head.orientation =
+            xrsc_pose_mul((XrPosef){.orientation = start.orientation}, turn).orientation;
         xrsc_frame f = tsc_headset_frame(head, k);
         if (!tsc_render(rig.m, &f))
             break;

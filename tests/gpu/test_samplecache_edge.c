@@ -113,11 +113,16 @@ typedef struct t_case {
 static void test_synthetic_neighbourhoods(void)
 {
     static const t_case cases[] = {
-        {"plane at 0 deg", 0.0, 1.0, 1},          {"plane at 70 deg", 70.0, 1.0, 1},
-        {"depth step 1 %", 0.0, 1.01, 0},         {"depth step 5 %", 0.0, 1.05, 0},
-        {"depth step 1 % at 70 deg", 70.0, 1.01, -1}, {"plane at 45 deg", 45.0, 1.0, -1},
-        {"plane at 60 deg", 60.0, 1.0, -1},       {"plane at 75 deg", 75.0, 1.0, -1},
-        {"plane at 80 deg", 80.0, 1.0, -1},       {"plane at 85 deg", 85.0, 1.0, -1},
+        {"plane at 0 deg", 0.0, 1.0, 1},
+        {"plane at 70 deg", 70.0, 1.0, 1},
+        {"depth step 1 %", 0.0, 1.01, 0},
+        {"depth step 5 %", 0.0, 1.05, 0},
+        {"depth step 1 % at 70 deg", 70.0, 1.01, -1},
+        {"plane at 45 deg", 45.0, 1.0, -1},
+        {"plane at 60 deg", 60.0, 1.0, -1},
+        {"plane at 75 deg", 75.0, 1.0, -1},
+        {"plane at 80 deg", 80.0, 1.0, -1},
+        {"plane at 85 deg", 85.0, 1.0, -1},
     };
     const uint32_t n_cases = sizeof(cases) / sizeof(cases[0]);
     xrsc_headset hs;
@@ -140,6 +145,8 @@ static void test_synthetic_neighbourhoods(void)
     xrsc_diag diag = {0};
     xrsc_result res = gpu_context_create(&go, &gpu, &diag);
     CHECK_EQ_INT(res, XRSC_OK);
+    if (res == XRSC_OK)
+        CHECK(gpu->validation);
     if (res == XRSC_OK)
         res = mt_sc_selftest_run(gpu, io, count, &diag);
     CHECK_EQ_INT(res, XRSC_OK);
@@ -252,8 +259,9 @@ static void test_trace_mask_step(void)
                     bool ok = consistent ? tsc_popcount(traced) <= 1u : traced == all;
                     if (!ok) {
                         if (bad < 5)
-                            fprintf(stderr, "  frame %u eye %u (%u,%u): C says %s, traced %x of %x\n",
-                                    k, e, x, y, consistent ? "flat" : "edge", traced, all);
+                            fprintf(stderr,
+                                    "  frame %u eye %u (%u,%u): C says %s, traced %x of %x\n", k, e,
+                                    x, y, consistent ? "flat" : "edge", traced, all);
                         bad++;
                     }
                     marked += !consistent;

@@ -42,7 +42,10 @@ static uint32_t pcg_permute(uint32_t state)
     uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
     return (word >> 22u) ^ word;
 }
-static uint32_t xs_hash_c(uint32_t v) { return pcg_permute(v * 747796405u + 2891336453u); }
+static uint32_t xs_hash_c(uint32_t v)
+{
+    return pcg_permute(v * 747796405u + 2891336453u);
+}
 
 /** sc_round_robin: the first set bit at or after start, cyclically over n slots. */
 static int round_robin(uint32_t bits, uint32_t start, uint32_t n)
@@ -92,8 +95,8 @@ static float prev_count(const mt_sc_snapshot *prev, const uint32_t fh[4], uint32
 }
 
 static void check_selection(const mt_sc_snapshot *prev, const mt_sc_snapshot *cur, uint32_t eye,
-                            uint32_t frame_index, const xrsc_samplecache_options *o,
-                            float c_high, t_shade_stats *st)
+                            uint32_t frame_index, const xrsc_samplecache_options *o, float c_high,
+                            t_shade_stats *st)
 {
     uint32_t w = cur->width, h = cur->height, n = cur->slots, b = o->block;
     /* the previous frame's bounds (sc_prev_bounds) */
@@ -201,8 +204,8 @@ static void run_rate(float rate)
             CHECK_EQ_INT(cur[1].shade_count, (uint32_t)st.observed);
             double tol = T_SIGMAS * sqrt(st.variance) + 1.0;
             if (fabs(st.observed - st.expected) > tol) {
-                fprintf(stderr, "  rate %.2f frame %u: %g shaded, expected %.1f +- %.1f\n", rate,
-                        k, st.observed, st.expected, tol);
+                fprintf(stderr, "  rate %.2f frame %u: %g shaded, expected %.1f +- %.1f\n", rate, k,
+                        st.observed, st.expected, tol);
                 bad_frames++;
             }
             /* against the nominal rate: binomial spread + the base-rate shadings */
@@ -240,11 +243,11 @@ static void run_rate(float rate)
     double mean_all = total.n_all ? total.c_sum_all / total.n_all : 0.0;
     double p0 = total.c0_all ? (double)total.c0_shaded / total.c0_all : 0.0;
     double phi = total.chi_all ? (double)total.chi_shaded / total.chi_all : 0.0;
-    printf("  rate %3.0f %%: %.1f shaded per frame (nominal %.0f, expected %.1f +- %.1f sigma), "
+    printf("  rate %3.0f %%: %.1f shaded per frame (nominal %.0f, expected %.1f, sigma %.1f), "
            "%.1f base-rate; mean c_s shaded %.2f vs all %.2f; P(shade | c=0) %.2f, "
            "P(shade | c max) %.2f\n",
            rate * 100.0, total.observed / frames, rate * px, total.expected / frames,
-           sqrt(total.variance) / frames, (double)total.base / frames, mean_shaded, mean_all, p0,
+           sqrt(total.variance / frames), (double)total.base / frames, mean_shaded, mean_all, p0,
            phi);
     CHECK_EQ_INT(total.impossible, 0);
     CHECK_EQ_INT(total.missed_certain, 0);

@@ -61,7 +61,14 @@ static const gpu_binding cache_bindings[] = {
 #define CACHE_BINDING_COUNT (sizeof(cache_bindings) / sizeof(cache_bindings[0]))
 
 /* Frame passes after "tlas", in order (mt_samplecache_debug_stop_after). */
-enum { STAGE_REPROJECT, STAGE_TRACE_MASK, STAGE_DENSITY, STAGE_TRACE, STAGE_SHADE, STAGE_RECONSTRUCT };
+enum {
+    STAGE_REPROJECT,
+    STAGE_TRACE_MASK,
+    STAGE_DENSITY,
+    STAGE_TRACE,
+    STAGE_SHADE,
+    STAGE_RECONSTRUCT
+};
 static const char *const stage_name[] = {MT_SC_PASS_REPROJECT, MT_SC_PASS_TRACE_MASK,
                                          MT_SC_PASS_DENSITY,   MT_SC_PASS_TRACE,
                                          MT_SC_PASS_SHADE,     MT_SC_PASS_RECONSTRUCT};
@@ -77,8 +84,8 @@ typedef struct mt_samplecache {
     gpu_image mu1, mu2;
     xrsc_samplecache_options opt; /**< defaults filled in */
     xs_sc_params p;
-    uint32_t plane;  /**< 2 * width * height */
-    uint32_t frames; /**< rendered so far (0: the previous copy must be cleared) */
+    uint32_t plane;      /**< 2 * width * height */
+    uint32_t frames;     /**< rendered so far (0: the previous copy must be cleared) */
     uint32_t stop_after; /**< last STAGE_* recorded (debug; STAGE_RECONSTRUCT = all) */
 } mt_samplecache;
 
