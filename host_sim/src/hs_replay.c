@@ -219,15 +219,16 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
     for (uint32_t k = 0; k < frames; k++) {
         /* Predicted display time of frame k on the simulated clock. */
         int64_t t_ns = start_ns + (int64_t)(k * period_ns + 0.5);
-        XrPosef head;
-        hs_lookup lookup = hs_pose_stream_sample(stream, t_ns, &head);
-        XrPosef eyes[2];
-        xrsc_headset_eye_poses(&headset, head, eyes);
+        /* Recorded eye views (librnr) when the stream has them, else the headset's eyes. */
+        hs_view_sample eyes;
+        hs_lookup lookup = hs_pose_stream_eyes(stream, &headset, t_ns, &eyes);
         xrsc_frame frame = {.display_time_ns = t_ns - start_ns, .frame_index = k};
         for (int e = 0; e < 2; e++) {
-            frame.views[e].pose = eyes[e];
-            frame.views[e].fov = headset.fov[e];
+            frame.views[e].pose = eyes.pose[e];
+            frame.views[e].fov = eyes.fov[e];
         }
+        if (opt->on_frame)
+            opt->on_frame(opt->on_frame_user, &frame);
         double t0 = now_s();
         if ((res = xrsc_renderer_render(r, &frame)) != XRSC_OK) {
             u_diag_set(diag, res, opt->poses_path, 0, "", "rendering frame %u failed", k);

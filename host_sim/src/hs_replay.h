@@ -5,7 +5,9 @@
  *
  * Frame k is predicted to be displayed at t_k = start + k / refresh_hz (a simulated clock).
  * The head pose is interpolated from the stream at t_k, the eye poses follow from the
- * simulated headset's IPD, and both eyes are rendered and written.
+ * simulated headset's IPD (or, for a stream with recorded eye views such as librnr's `v`
+ * records, are those views with their per-eye FOVs: hs_pose_stream_eyes), and both eyes are
+ * rendered and written.
  */
 #pragma once
 
@@ -36,6 +38,10 @@ typedef struct hs_replay_options {
     bool write_linear;            /**< frame_NNNNN_left.pfm / _right.pfm (linear HDR) */
     float exposure;               /**< 0 means 1 */
     bool progress;                /**< show progress on stderr after a few seconds */
+    /** Optional: called with each frame just before it is rendered (its eye poses and FOVs
+     *  in scene space), e.g. for tests; user is passed through. */
+    void (*on_frame)(void *user, const xrsc_frame *frame);
+    void *on_frame_user;
 } hs_replay_options;
 
 typedef struct hs_replay_stats {

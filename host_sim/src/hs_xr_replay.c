@@ -10,7 +10,6 @@
 #include "xrsc/xrsc_xr.h"
 
 #include <errno.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -124,27 +123,21 @@ static xrsc_result configure_runtime(const hs_replay_options *opt, const hs_pose
                                                                    : getenv("XRSC_DEVICE");
     if (dev && *dev && (res = set_env("XRSC_RT_DEVICE", dev, diag)) != XRSC_OK)
         return res;
+    /* --ipd and --start (always set, so a value left in the environment does not apply). */
+    static const xrsc_headset zero;
+    xrsc_headset hs = opt->headset;
+    if (memcmp(&hs, &zero, sizeof(zero)) == 0) /* as hs_replay_run: all zero is the default */
+        xrsc_headset_default(&hs);
+    snprintf(buf, sizeof(buf), "%.9g", (double)hs.ipd_m * 1e3);
+    if ((res = set_env("XRSC_RT_IPD_MM", buf, diag)) != XRSC_OK)
+        return res;
+    snprintf(buf, sizeof(buf), "%.9f", opt->start_s);
+    if ((res = set_env("XRSC_RT_START_S", buf, diag)) != XRSC_OK)
+        return res;
     const char *pace = getenv("XRSC_RT_PACE");
     if ((!pace || !*pace) && (res = set_env("XRSC_RT_PACE", "fast", diag)) != XRSC_OK)
         return res;
     (void)stream;
-    return XRSC_OK;
-}
-
-/** Options only the direct path has. */
-static xrsc_result check_supported(const hs_replay_options *opt, xrsc_diag *diag)
-{
-    if (opt->start_s != 0.0)
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--start",
-                          "a start offset is not available through OpenXR (the runtime replays "
-                          "from the stream's start); use --direct");
-    xrsc_headset def;
-    xrsc_headset_default(&def);
-    if (opt->headset.ipd_m != 0.0f && fabsf(opt->headset.ipd_m - def.ipd_m) > 1e-7f)
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--ipd",
-                          "the IPD is the runtime's headset's through OpenXR (%.1f mm); use "
-                          "--direct to change it",
-                          (double)def.ipd_m * 1e3);
     return XRSC_OK;
 }
 
@@ -168,8 +161,6 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     xrsc_renderer *r = NULL;
     xrsc_xr_session *session = NULL;
 
-    if ((res = check_supported(opt, diag)) != XRSC_OK)
-        return res;
     /* The stream is read here too: a bad one is reported with file, line and field before any
      * runtime starts, and its duration gives the frame count. The runtime reads it by format
      * detection, so a forced format must be the one detected. */
@@ -195,7 +186,7 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     uint32_t h = opt->renderer.height ? opt->renderer.height : DEFAULT_EYE_SIZE_PX;
     double refresh = opt->headset.refresh_hz > 0 ? opt->headset.refresh_hz : DEFAULT_REFRESH_HZ;
     double period_ns = NS_PER_S / refresh;
-    int64_t span_ns = hs_pose_stream_duration_ns(stream);
+    int64_t span_ns = hs_pose_stream_duration_ns(stream) - (int64_t)(opt->start_s * NS_PER_S);
     /* A session's first frame is not shown (SYNCHRONIZED, shouldRender false): frame k >= 1
      * is rendered at stream time k / refresh, as the direct path's frame k. --frames N renders
      * frames 1..N (a session of N + 1); the whole stream renders frames 1..K-1 of the direct

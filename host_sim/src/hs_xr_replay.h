@@ -7,7 +7,8 @@
  * The runtime is configured through its environment variables (host_sim/src/runtime/
  * README.md), set from the replay options before the instance is created: XRSC_RT_POSES,
  * XRSC_RT_FRAMES, XRSC_RT_OUT, XRSC_RT_WRITE, XRSC_RT_EXPOSURE, XRSC_RT_EYE_SIZE,
- * XRSC_RT_REFRESH_HZ, XRSC_RT_DEVICE, and XRSC_RT_PACE=fast unless already set. The runtime
+ * XRSC_RT_REFRESH_HZ, XRSC_RT_IPD_MM (--ipd), XRSC_RT_START_S (--start), XRSC_RT_DEVICE
+ * (--device, else XRSC_DEVICE: the same selector), and XRSC_RT_PACE=fast unless already set. The runtime
  * writes the frames (PNG/PFM) and frames.csv; the replay reports timing like hs_replay_run.
  *
  * Which runtime: XR_RUNTIME_JSON when set (it must name an existing file), else this build's
@@ -22,9 +23,10 @@ extern "C" {
 #endif
 
 /**
- * Runs the replay through OpenXR. Options the runtime cannot honour (a start offset, an IPD
- * other than the default, a forced pose format the runtime would read differently) are
- * XRSC_ERROR_INVALID_ARGUMENT naming the option (the direct path, hs_replay_run, has them).
+ * Runs the replay through OpenXR. A forced pose format the runtime would read differently is
+ * XRSC_ERROR_INVALID_ARGUMENT naming --pose-format (the direct path, hs_replay_run, has it).
+ * With anchoring the plugin places the head of the first rendered frame (stream time
+ * start + 1 / refresh) on the viewpoint, where the direct path places the stream's first pose.
  * A missing runtime is XRSC_ERROR_XR_RUNTIME_UNAVAILABLE naming XR_RUNTIME_JSON; a lost
  * session XRSC_ERROR_XR_SESSION_LOST. Everything made is destroyed on every path.
  */

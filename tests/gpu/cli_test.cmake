@@ -81,8 +81,25 @@ expect_run(NAME tiny_xr_run EXIT 0 STDOUT "frames: 2"
 foreach(f frame_00001_left.png frame_00002_right.png frame_00002_left.pfm frames.csv)
   expect_file(tiny_xr_run_${f} "${OUT_DIR}/xrrun/${f}")
 endforeach()
-expect_run(NAME xr_start_needs_direct EXIT 1 STDERR "--direct"
-           ARGS --frames 1 --start 0.5 --resolution 16x16 --quiet)
+# --start and --ipd reach the runtime (XRSC_RT_START_S, XRSC_RT_IPD_MM): its frames.csv has
+# frame 0 at stream time 0.5 s.
+expect_run(NAME xr_start_ipd EXIT 0 STDOUT "frames: 1"
+           ARGS --frames 1 --start 0.5 --ipd 70 --resolution 16x16 --spp 1 --write eyes
+                --out "${OUT_DIR}/xrstart")
+if(EXISTS "${OUT_DIR}/xrstart/frames.csv")
+  file(STRINGS "${OUT_DIR}/xrstart/frames.csv" start_rows)
+  list(GET start_rows 1 row0)
+  if(row0 MATCHES "^0,[0-9]+,500000000,")
+    message("[ ok ] xr_start_stream_time")
+  else()
+    message("FAIL xr_start_stream_time: frame 0 row '${row0}'")
+    math(EXPR failures "${failures} + 1")
+  endif()
+else()
+  message("FAIL xr_start_stream_time: ${OUT_DIR}/xrstart/frames.csv missing")
+  math(EXPR failures "${failures} + 1")
+endif()
+expect_run(NAME xr_bad_ipd EXIT 2 STDERR "--ipd" ARGS --ipd 300 --frames 1 --quiet)
 
 if(failures GREATER 0)
   message(FATAL_ERROR "${failures} failed (output kept in ${OUT_DIR})")

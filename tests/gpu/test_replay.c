@@ -10,6 +10,7 @@
 #include "testing.h"
 
 #include <dirent.h>
+#include <math.h>
 #include <png.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -238,6 +239,95 @@ static void test_replay_parallax_from_ipd(void)
     CHECK_MSG(differing[1] > 0, "%d pixels differ at 63 mm", differing[1]);
 }
 
+/* Anchoring at the replay level: the first frame's eyes of an anchored replay are the scene's
+ * viewpoint ± IPD/2 along its +X (with its orientation); --no-anchor keeps the stream's own
+ * coordinates (the headset's eyes at the stream's poses at 0 and 1 / refresh). */
+typedef struct seen_frames {
+    xrsc_frame frames[4];
+    uint32_t count;
+} seen_frames;
+
+static void on_frame(void *user, const xrsc_frame *frame)
+{
+    seen_frames *seen = user;
+    if (seen->count < 4)
+        seen->frames[seen->count++] = *frame;
+}
+
+static bool poses_near(XrPosef a, XrPosef b, float tol)
+{
+    return fabsf(a.position.x - b.position.x) <= tol && fabsf(a.position.y - b.position.y) <= tol &&
+           fabsf(a.position.z - b.position.z) <= tol &&
+           fabsf(a.orientation.x - b.orientation.x) <= tol &&
+           fabsf(a.orientation.y - b.orientation.y) <= tol &&
+           fabsf(a.orientation.z - b.orientation.z) <= tol &&
+           fabsf(a.orientation.w - b.orientation.w) <= tol;
+}
+
+static void test_replay_anchoring(void)
+{
+    hs_replay_options opt = base_options(NULL);
+    opt.renderer.method = XRSC_METHOD_PRIMARY;
+    opt.renderer.width = opt.renderer.height = 16;
+    opt.frames = 2;
+    opt.headset.ipd_m = 0.071f;
+
+    /* The scene's viewpoint, as the replay gets it. */
+    xrsc_context *ctx = NULL;
+    xrsc_scene *scene = NULL;
+    xrsc_scene_info info = {0};
+    CHECK_EQ_INT(xrsc_context_create(&opt.context, &ctx, NULL), XRSC_OK);
+    CHECK_EQ_INT(xrsc_scene_load(ctx, opt.scene_path, NULL, &scene, NULL), XRSC_OK);
+    if (scene)
+        xrsc_scene_get_info(scene, &info);
+    xrsc_scene_destroy(&scene);
+    xrsc_context_destroy(&ctx);
+    hs_pose_stream *stream = NULL;
+    CHECK_EQ_INT(hs_pose_stream_load(opt.poses_path, HS_POSE_FORMAT_AUTO, &stream, NULL), XRSC_OK);
+    if (!stream)
+        return;
+    /* Meaningful only if the stream does not already start at the viewpoint. */
+    CHECK(!poses_near(stream->samples[0].pose, info.viewpoint, 1e-3f));
+
+    seen_frames seen = {0};
+    opt.on_frame = on_frame;
+    opt.on_frame_user = &seen;
+    CHECK_EQ_INT(hs_replay_run(&opt, NULL, NULL), XRSC_OK);
+    CHECK_EQ_INT(seen.count, 2);
+    const XrPosef vp = info.viewpoint;
+    for (int e = 0; e < 2; e++) {
+        float side = e ? 0.5f : -0.5f;
+        XrVector3f off = xrsc_quat_rotate(vp.orientation, (XrVector3f){side * 0.071f, 0, 0});
+        XrPosef want = {.orientation = vp.orientation,
+                        .position = {vp.position.x + off.x, vp.position.y + off.y,
+                                     vp.position.z + off.z}};
+        const XrPosef got = seen.frames[0].views[e].pose;
+        CHECK_MSG(poses_near(got, want, 2e-5f),
+                  "anchored eye %d at (%g %g %g), want (%g %g %g)", e, got.position.x,
+                  got.position.y, got.position.z, want.position.x, want.position.y,
+                  want.position.z);
+        CHECK(memcmp(&seen.frames[0].views[e].fov, &opt.headset.fov[e], sizeof(XrFovf)) == 0);
+    }
+    XrVector3f a = seen.frames[1].views[0].pose.position, b = seen.frames[1].views[1].pose.position;
+    XrVector3f d = {b.x - a.x, b.y - a.y, b.z - a.z};
+    CHECK_NEAR(sqrtf(d.x * d.x + d.y * d.y + d.z * d.z), 0.071, 1e-5);
+
+    /* --no-anchor: the stream's coordinates as they are. */
+    seen.count = 0;
+    opt.no_anchor = true;
+    CHECK_EQ_INT(hs_replay_run(&opt, NULL, NULL), XRSC_OK);
+    CHECK_EQ_INT(seen.count, 2);
+    for (uint32_t k = 0; k < seen.count; k++) {
+        XrPosef head, eyes[2];
+        hs_pose_stream_sample(stream, (int64_t)(k * NS_PER_S / REFRESH_HZ + 0.5), &head);
+        xrsc_headset_eye_poses(&opt.headset, head, eyes);
+        for (int e = 0; e < 2; e++)
+            CHECK_MSG(memcmp(&seen.frames[k].views[e].pose, &eyes[e], sizeof(XrPosef)) == 0,
+                      "unanchored frame %u eye %d moved", k, e);
+    }
+    hs_pose_stream_destroy(&stream);
+}
+
 static void test_replay_real_captures(void)
 {
     static const char *const captures[] = {"poses/pred6dof-hololens/1.csv",
@@ -342,6 +432,7 @@ int main(void)
     }
     RUN(test_replay_writes_all_files);
     RUN(test_replay_parallax_from_ipd);
+    RUN(test_replay_anchoring);
     RUN(test_replay_real_captures);
     RUN(test_replay_defaults);
     RUN(test_replay_error_paths);

@@ -203,6 +203,56 @@ static void test_bad_input(void)
     CHECK(d.code == XRSC_ERROR_EMPTY_FILE);
 }
 
+/* hs_pose_stream_eyes: what the replay and the runtime's xrLocateViews render with. A stream
+ * with recorded views gives them (poses and the recorded asymmetric FOVs, not the headset's);
+ * a head-only stream gives the headset's eyes (±IPD/2 along the head's +X) and FOVs. */
+static void test_eyes(void)
+{
+    xrsc_diag d;
+    hs_pose_stream *s = parse(k_views, HS_POSE_FORMAT_AUTO, &d);
+    CHECK(s != NULL);
+    if (!s)
+        return;
+    xrsc_headset hs;
+    xrsc_headset_default(&hs);
+    hs.ipd_m = 0.1f; /* not the recording's 64 mm: must not be used */
+    hs_view_sample e;
+    CHECK(hs_pose_stream_eyes(s, &hs, 0, &e) == HS_LOOKUP_EXACT);
+    CHECK(memcmp(&e, &s->views[0], sizeof(e)) == 0);
+    CHECK_NEAR(e.fov[0].angleLeft, -0.75, 1e-7);
+    CHECK_NEAR(e.fov[0].angleRight, 0.7, 1e-7);
+    CHECK_NEAR(e.fov[1].angleLeft, -0.7, 1e-7);
+    CHECK_NEAR(e.fov[1].angleRight, 0.75, 1e-7);
+    CHECK_NEAR(e.pose[1].position.x - e.pose[0].position.x, 0.064, 1e-6);
+    CHECK(hs_pose_stream_eyes(s, &hs, 10000000, &e) == HS_LOOKUP_EXACT);
+    CHECK(memcmp(&e, &s->views[1], sizeof(e)) == 0);
+    /* Between samples: the views' interpolation (hs_pose_stream_sample_views). */
+    hs_view_sample v;
+    CHECK(hs_pose_stream_eyes(s, &hs, 2500000, &e) == HS_LOOKUP_INTERPOLATED);
+    hs_pose_stream_sample_views(s, 2500000, &v);
+    CHECK(memcmp(&e, &v, sizeof(e)) == 0);
+    CHECK_NEAR(e.fov[0].angleUp, 0.75, 1e-6);
+    hs_pose_stream_destroy(&s);
+
+    /* Head only: the headset's eyes and FOVs. */
+    const char *text = "0 s /user/head 0 0.3826834 0 0.9238795 1 1.7 2 XR_REFERENCE_SPACE_TYPE_STAGE\n"
+                       "1000 s /user/head 0 0 0 1 1 1.7 2 XR_REFERENCE_SPACE_TYPE_STAGE\n";
+    s = parse(text, HS_POSE_FORMAT_LIBRNR, &d);
+    CHECK(s != NULL && s->views == NULL);
+    if (!s)
+        return;
+    CHECK(hs_pose_stream_eyes(s, &hs, 0, &e) == HS_LOOKUP_EXACT);
+    XrPosef want[2];
+    xrsc_headset_eye_poses(&hs, s->samples[0].pose, want);
+    for (int k = 0; k < 2; k++) {
+        CHECK(memcmp(&e.pose[k], &want[k], sizeof(XrPosef)) == 0);
+        CHECK(memcmp(&e.fov[k], &hs.fov[k], sizeof(XrFovf)) == 0);
+    }
+    CHECK_NEAR(e.pose[1].position.x - e.pose[0].position.x, 0.1 * 0.7071068, 1e-6);
+    CHECK(hs_pose_stream_eyes(s, &hs, 5000, &e) == HS_LOOKUP_CLAMPED);
+    hs_pose_stream_destroy(&s);
+}
+
 static void test_format_name(void)
 {
     CHECK(strcmp(hs_pose_format_name(HS_POSE_FORMAT_LIBRNR), "librnr") == 0);
@@ -214,6 +264,7 @@ int main(void)
     RUN(test_head_spaces);
     RUN(test_pairs);
     RUN(test_bad_input);
+    RUN(test_eyes);
     RUN(test_format_name);
     return t_finish();
 }

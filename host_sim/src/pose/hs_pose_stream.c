@@ -1184,3 +1184,18 @@ hs_lookup hs_pose_stream_sample_views(const hs_pose_stream *stream, int64_t time
     }
     return HS_LOOKUP_INTERPOLATED;
 }
+
+hs_lookup hs_pose_stream_eyes(const hs_pose_stream *stream, const xrsc_headset *headset,
+                              int64_t time_ns, hs_view_sample *out_eyes)
+{
+    XrPosef head;
+    hs_lookup kind = hs_pose_stream_sample(stream, time_ns, &head);
+    if (stream && stream->views && stream->count > 0) {
+        hs_pose_stream_sample_views(stream, time_ns, out_eyes);
+        return kind;
+    }
+    xrsc_headset_eye_poses(headset, head, out_eyes->pose);
+    out_eyes->fov[0] = headset->fov[0];
+    out_eyes->fov[1] = headset->fov[1];
+    return kind;
+}

@@ -93,6 +93,17 @@ hs_lookup hs_pose_stream_sample_views(const hs_pose_stream *stream, int64_t time
                                       hs_view_sample *out_views);
 
 /**
+ * The two eyes to render at time_ns, as the replay (hs_replay.c) and the runtime's
+ * xrLocateViews (host_sim/src/runtime) both place them: a stream with recorded views
+ * (stream->views) gives those (hs_pose_stream_sample_views: the recording headset's eye poses
+ * and per-eye FOVs; the headset's IPD and FOVs are not used); any other stream gives the
+ * headset's eyes (xrsc_headset_eye_poses: ±IPD/2 along the head's +X) at the interpolated head
+ * pose with the headset's FOVs. Returns how the head pose was looked up.
+ */
+hs_lookup hs_pose_stream_eyes(const hs_pose_stream *stream, const xrsc_headset *headset,
+                              int64_t time_ns, hs_view_sample *out_eyes);
+
+/**
  * Re-anchors the stream in place so that its first pose becomes `viewpoint`:
  * every pose p becomes viewpoint * inverse(first) * p (recorded eye views too). For
  * orientation-only streams the position of every sample is set to viewpoint's position.

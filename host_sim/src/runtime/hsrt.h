@@ -67,8 +67,9 @@ typedef struct hsrt_config {
     hsrt_pace pace;
     bool write_eyes, write_sbs, write_linear;
     float exposure;
-    char device[256];   /**< XRSC_RT_DEVICE: part of a Vulkan device name, "" = best */
-    xrsc_headset headset;
+    char device[256];   /**< XRSC_RT_DEVICE, else XRSC_DEVICE: selector of u_device.h, "" = any */
+    int64_t start_ns;   /**< XRSC_RT_START_S: stream time of the session's first display time */
+    xrsc_headset headset; /**< ipd_m from XRSC_RT_IPD_MM, size, refresh */
     /* the preview window (hsrt_preview.c); off unless XRSC_RT_PREVIEW=1 */
     bool preview;
     uint32_t preview_w, preview_h;      /**< XRSC_RT_PREVIEW_SIZE; 0 = from the eyes' aspect */
@@ -241,6 +242,9 @@ XrTime hsrt_now_ns(void);
 PFN_xrVoidFunction hsrt_session_proc(const char *name);
 /** Frees the action sets of an instance (at xrDestroyInstance). */
 void hsrt_action_sets_free(hsrt_instance *inst);
+/** Stream time at an XrTime: XRSC_RT_START_S + (time − the session's first display time),
+ *  wrapped at the stream's end. */
+int64_t hsrt_stream_time(hsrt_session *s, XrTime time);
 /** Head pose in the stream's coordinates at an XrTime. */
 XrPosef hsrt_head_pose(hsrt_session *s, XrTime time);
 

@@ -299,7 +299,28 @@ static XrResult config_from_env(hsrt_config *cfg)
                              "XRSC_RT_REFRESH_HZ='%s' is not a rate in 1..1000 Hz", v);
         cfg->headset.refresh_hz = (float)hz;
     }
+    v = getenv("XRSC_RT_IPD_MM");
+    if (v && *v) {
+        char *end = NULL;
+        double mm = strtod(v, &end);
+        if (*end || !(mm >= 0.0 && mm <= 200.0))
+            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
+                             "XRSC_RT_IPD_MM='%s' is not millimetres in 0..200", v);
+        cfg->headset.ipd_m = (float)(mm * 1e-3);
+    }
+    v = getenv("XRSC_RT_START_S");
+    if (v && *v) {
+        char *end = NULL;
+        double sec = strtod(v, &end);
+        if (*end || !(sec >= 0.0 && sec <= 1e9))
+            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
+                             "XRSC_RT_START_S='%s' is not seconds >= 0", v);
+        cfg->start_ns = (int64_t)(sec * 1e9);
+    }
+    /* The same selector as the plugin's --device: XRSC_RT_DEVICE, else XRSC_DEVICE. */
     v = getenv("XRSC_RT_DEVICE");
+    if (!v || !*v)
+        v = getenv("XRSC_DEVICE");
     snprintf(cfg->device, sizeof(cfg->device), "%s", v ? v : "");
     return preview_config_from_env(cfg);
 }

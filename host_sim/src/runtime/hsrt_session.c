@@ -61,10 +61,11 @@ static bool pose_valid(XrPosef p)
 
 /* ---- poses ---- */
 
-XrPosef hsrt_head_pose(hsrt_session *s, XrTime time)
+int64_t hsrt_stream_time(hsrt_session *s, XrTime time)
 {
     const hs_pose_stream *ps = s->instance->poses;
-    int64_t t = s->first_display_time ? time - s->first_display_time : 0;
+    int64_t t = s->instance->cfg.start_ns + (s->first_display_time ? time - s->first_display_time
+                                                                    : 0);
     int64_t dur = hs_pose_stream_duration_ns(ps);
     if (dur > 0) {
         t %= dur;
@@ -73,8 +74,13 @@ XrPosef hsrt_head_pose(hsrt_session *s, XrTime time)
     } else {
         t = 0;
     }
+    return t;
+}
+
+XrPosef hsrt_head_pose(hsrt_session *s, XrTime time)
+{
     XrPosef head;
-    hs_pose_stream_sample(ps, t, &head);
+    hs_pose_stream_sample(s->instance->poses, hsrt_stream_time(s, time), &head);
     return head;
 }
 
@@ -731,7 +737,7 @@ static XrResult XRAPI_CALL hsrt_xrEndFrame(XrSession session, const XrFrameEndIn
         XrPosef h = hsrt_head_pose(s, frameEndInfo->displayTime);
         fprintf(s->frames_csv, "%llu,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%u\n",
                 (unsigned long long)s->frames_ended, (long long)frameEndInfo->displayTime,
-                (long long)(frameEndInfo->displayTime - s->first_display_time),
+                (long long)(cfg->start_ns + frameEndInfo->displayTime - s->first_display_time),
                 (double)h.position.x, (double)h.position.y, (double)h.position.z,
                 (double)h.orientation.x, (double)h.orientation.y, (double)h.orientation.z,
                 (double)h.orientation.w, frameEndInfo->layerCount);
@@ -792,11 +798,14 @@ static XrResult XRAPI_CALL hsrt_xrLocateViews(XrSession session, const XrViewLoc
         UNLOCK(s);
         return XR_ERROR_SIZE_INSUFFICIENT;
     }
-    const xrsc_headset *hs = &s->instance->cfg.headset;
     XrPosef base_pose;
     bool located = space_pose(s, base, viewLocateInfo->displayTime, &base_pose);
-    XrPosef eyes[2];
-    xrsc_headset_eye_poses(hs, hsrt_head_pose(s, viewLocateInfo->displayTime), eyes);
+    /* The recorded eye views and FOVs of a stream that has them (librnr `v` records), else
+     * the simulated headset's eyes (IPD along the head's +X) and FOVs: hs_pose_stream_eyes,
+     * as the direct replay places them. */
+    hs_view_sample eyes;
+    hs_pose_stream_eyes(s->instance->poses, &s->instance->cfg.headset,
+                        hsrt_stream_time(s, viewLocateInfo->displayTime), &eyes);
     viewState->viewStateFlags =
         located ? (XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
                    XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT)
@@ -806,9 +815,9 @@ static XrResult XRAPI_CALL hsrt_xrLocateViews(XrSession session, const XrViewLoc
             UNLOCK(s);
             return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "views[%d].type", i);
         }
-        views[i].pose = located ? xrsc_pose_mul(xrsc_pose_inverse(base_pose), eyes[i])
+        views[i].pose = located ? xrsc_pose_mul(xrsc_pose_inverse(base_pose), eyes.pose[i])
                                 : xrsc_pose_identity();
-        views[i].fov = hs->fov[i];
+        views[i].fov = eyes.fov[i];
     }
     UNLOCK(s);
     return XR_SUCCESS;

@@ -13,6 +13,7 @@
  */
 #include "hsrt.h"
 
+#include "u_device.h"
 #include "u_diag.h"
 
 #include <stdlib.h>
@@ -104,8 +105,43 @@ static XrResult XRAPI_CALL hsrt_xrGetVulkanDeviceExtensionsKHR(XrInstance instan
                                   buffer, "xrGetVulkanDeviceExtensionsKHR");
 }
 
-/** Picks a physical device: XRSC_RT_DEVICE is cpu, gpu, an index or part of a name (as
- *  XRSC_DEVICE); unset: discrete > integrated > virtual > CPU (lavapipe). */
+/** Device extensions xrsc's renderer needs (gpu_context.c's required list). */
+static const char *const k_ray_tracing_extensions[] = {
+    VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+    VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
+    VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
+};
+
+/** Whether a device offers Vulkan 1.3 and the ray-tracing extensions xrsc renders with. */
+static bool device_can_ray_trace(PFN_vkEnumerateDeviceExtensionProperties enum_ext,
+                                 VkPhysicalDevice pd, const VkPhysicalDeviceProperties *p)
+{
+    if (!enum_ext || p->apiVersion < VK_API_VERSION_1_3)
+        return false;
+    uint32_t n = 0;
+    if (enum_ext(pd, NULL, &n, NULL) != VK_SUCCESS || !n)
+        return false;
+    VkExtensionProperties *ext = calloc(n, sizeof(*ext));
+    if (!ext)
+        return false;
+    VkResult vr = enum_ext(pd, NULL, &n, ext);
+    size_t found = 0;
+    for (size_t k = 0; vr >= 0 && k < sizeof(k_ray_tracing_extensions) / sizeof(char *); k++)
+        for (uint32_t i = 0; i < n; i++)
+            if (!strcmp(ext[i].extensionName, k_ray_tracing_extensions[k])) {
+                found++;
+                break;
+            }
+    free(ext);
+    return found == sizeof(k_ray_tracing_extensions) / sizeof(char *);
+}
+
+/** Picks a physical device with the rule of the plugin's --device / XRSC_DEVICE (u_device.h):
+ *  XRSC_RT_DEVICE (else XRSC_DEVICE) is cpu, gpu, an index or part of a name, and the first
+ *  match that can ray trace is taken; unset, the first non-CPU device that can, else the CPU
+ *  one. So `xrsc replay` through OpenXR renders on the device its --direct path would. When
+ *  no matching device can ray trace (an application other than xrsc needs none), the first
+ *  match is taken all the same. */
 static XrResult pick_physical_device(hsrt_instance *inst, VkInstance vk, VkPhysicalDevice *out,
                                      const char *fn)
 {
@@ -114,6 +150,8 @@ static XrResult pick_physical_device(hsrt_instance *inst, VkInstance vk, VkPhysi
         (PFN_vkEnumeratePhysicalDevices)gipa(vk, "vkEnumeratePhysicalDevices");
     PFN_vkGetPhysicalDeviceProperties props_fn =
         (PFN_vkGetPhysicalDeviceProperties)gipa(vk, "vkGetPhysicalDeviceProperties");
+    PFN_vkEnumerateDeviceExtensionProperties enum_ext =
+        (PFN_vkEnumerateDeviceExtensionProperties)gipa(vk, "vkEnumerateDeviceExtensionProperties");
     if (!enumerate || !props_fn)
         return hsrt_fail(XR_ERROR_RUNTIME_FAILURE, fn, "vkGetInstanceProcAddr gave no "
                                                        "vkEnumeratePhysicalDevices");
@@ -123,55 +161,57 @@ static XrResult pick_physical_device(hsrt_instance *inst, VkInstance vk, VkPhysi
         return hsrt_fail(XR_ERROR_RUNTIME_FAILURE, fn, "no Vulkan physical devices (VkResult %d)",
                          (int)vr);
     VkPhysicalDevice *devs = calloc(n, sizeof(*devs));
-    if (!devs)
-        return hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "devices");
+    VkPhysicalDeviceProperties *props = calloc(n, sizeof(*props));
+    const char **names = calloc(n, sizeof(*names));
+    bool *is_cpu = calloc(n, sizeof(*is_cpu));
+    bool *rt = calloc(n, sizeof(*rt));
+    bool *all = calloc(n, sizeof(*all));
+    XrResult r = XR_SUCCESS;
+    int32_t best = -1;
+    if (!devs || !props || !names || !is_cpu || !rt || !all) {
+        r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "devices");
+        goto done;
+    }
     vr = enumerate(vk, &n, devs);
     if (vr != VK_SUCCESS && vr != VK_INCOMPLETE) {
-        free(devs);
-        return VK_FAIL(fn, "vkEnumeratePhysicalDevices", vr);
+        r = VK_FAIL(fn, "vkEnumeratePhysicalDevices", vr);
+        goto done;
     }
-    int best = -1, best_score = -1;
     for (uint32_t i = 0; i < n; i++) {
-        VkPhysicalDeviceProperties p;
-        props_fn(devs[i], &p);
-        const char *want = inst->cfg.device;
-        bool is_cpu = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-        int score;
-        switch (p.deviceType) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: score = 4; break;
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: score = 3; break;
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: score = 2; break;
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: score = 1; break;
-        default: score = 0; break;
-        }
-        if (!strcmp(want, "cpu"))
-            score = is_cpu ? 10 : -1;
-        else if (!strcmp(want, "gpu"))
-            score = is_cpu ? -1 : score;
-        else if (want[0] && strspn(want, "0123456789") == strlen(want))
-            score = (uint32_t)atoi(want) == i ? 10 : -1;
-        else if (want[0])
-            score = strstr(p.deviceName, want) ? 10 : -1;
-        if (score > best_score) {
-            best_score = score;
-            best = (int)i;
-        }
+        props_fn(devs[i], &props[i]);
+        names[i] = props[i].deviceName;
+        is_cpu[i] = props[i].deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+        rt[i] = device_can_ray_trace(enum_ext, devs[i], &props[i]);
+        all[i] = true;
+    }
+    const char *want = inst->cfg.device;
+    best = u_device_select(want, n, names, is_cpu, rt, NULL);
+    if (best < 0) {
+        best = u_device_select(want, n, names, is_cpu, all, NULL);
+        if (best >= 0)
+            U_LOG_I("runtime: no Vulkan device matching '%s' can ray trace; using %s", want,
+                    names[best]);
     }
     if (best < 0) {
-        free(devs);
-        return hsrt_fail(XR_ERROR_RUNTIME_FAILURE, fn,
-                         "no Vulkan device matches XRSC_RT_DEVICE='%s' (cpu, gpu, index, name part)", inst->cfg.device);
+        r = hsrt_fail(XR_ERROR_RUNTIME_FAILURE, fn,
+                      "no Vulkan device matches XRSC_RT_DEVICE='%s' (cpu, gpu, index, name part)",
+                      want);
+        goto done;
     }
-    VkPhysicalDeviceProperties p;
-    props_fn(devs[best], &p);
-    U_LOG_I("runtime: Vulkan device %s", p.deviceName);
+    U_LOG_I("runtime: Vulkan device %s", names[best]);
     *out = devs[best];
-    free(devs);
     pthread_mutex_lock(&inst->lock);
     inst->vk_instance = vk;
     inst->vk_physical = *out;
     pthread_mutex_unlock(&inst->lock);
-    return XR_SUCCESS;
+done:
+    free(devs);
+    free(props);
+    free(names);
+    free(is_cpu);
+    free(rt);
+    free(all);
+    return r;
 }
 
 static XrResult XRAPI_CALL hsrt_xrGetVulkanGraphicsDeviceKHR(XrInstance instance,

@@ -5,9 +5,9 @@
  */
 #include "gpu_context.h"
 
+#include "u_device.h"
 #include "u_diag.h"
 
-#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -229,31 +229,8 @@ static void query_caps(VkPhysicalDevice pd, gpu_device_caps *caps)
         append_lack(caps->lacks, sizeof(caps->lacks), "descriptorIndexing");
 }
 
-static bool str_contains_ci(const char *hay, const char *needle)
-{
-    size_t n = strlen(needle);
-    for (; *hay; hay++) {
-        size_t i = 0;
-        while (i < n && hay[i] &&
-               tolower((unsigned char)hay[i]) == tolower((unsigned char)needle[i]))
-            i++;
-        if (i == n)
-            return true;
-    }
-    return n == 0;
-}
-
-static bool is_index(const char *s)
-{
-    if (!*s)
-        return false;
-    for (; *s; s++)
-        if (!isdigit((unsigned char)*s))
-            return false;
-    return true;
-}
-
-/** Picks a physical device per the selector; fills *out_index. */
+/** Picks a physical device per the selector (u_device.h, the rule XRSC_RT_DEVICE shares);
+ *  fills *out_index. */
 static xrsc_result select_device(const char *selector, const gpu_device_caps *caps, uint32_t n,
                                  uint32_t *out_index, xrsc_diag *diag)
 {
@@ -263,41 +240,33 @@ static xrsc_result select_device(const char *selector, const gpu_device_caps *ca
         snprintf(summary + len, sizeof(summary) - len, "%s[%u] %s: %s", i ? "; " : "", i,
                  caps[i].name, caps[i].lacks[0] ? caps[i].lacks : "ok");
     }
-    if (!selector || !*selector) {
-        for (int want_cpu = 0; want_cpu < 2; want_cpu++) {
-            for (uint32_t i = 0; i < n; i++) {
-                if (caps[i].is_cpu == (bool)want_cpu && !caps[i].lacks[0]) {
-                    *out_index = i;
-                    return XRSC_OK;
-                }
-            }
-        }
-        return u_diag_set(diag, XRSC_ERROR_NO_RAY_TRACING_DEVICE, "", 0, "device",
-                          "no Vulkan device has what xrsc needs (%s)",
-                          n ? summary : "no devices");
+    const char **names = calloc(n ? n : 1, sizeof(*names));
+    bool *is_cpu = calloc(n ? n : 1, sizeof(*is_cpu));
+    bool *usable = calloc(n ? n : 1, sizeof(*usable));
+    if (!names || !is_cpu || !usable) {
+        free(names);
+        free(is_cpu);
+        free(usable);
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "device", "out of memory");
     }
-    int64_t match = -1;
+    for (uint32_t i = 0; i < n; i++) {
+        names[i] = caps[i].name;
+        is_cpu[i] = caps[i].is_cpu;
+        usable[i] = !caps[i].lacks[0];
+    }
     bool any_match = false;
-    for (uint32_t i = 0; i < n && match < 0; i++) {
-        bool m;
-        if (!strcmp(selector, "cpu"))
-            m = caps[i].is_cpu;
-        else if (!strcmp(selector, "gpu"))
-            m = !caps[i].is_cpu;
-        else if (is_index(selector))
-            m = strtoul(selector, NULL, 10) == i;
-        else
-            m = str_contains_ci(caps[i].name, selector);
-        if (!m)
-            continue;
-        any_match = true;
-        if (!caps[i].lacks[0])
-            match = i;
-    }
+    int32_t match = u_device_select(selector, n, names, is_cpu, usable, &any_match);
+    free(names);
+    free(is_cpu);
+    free(usable);
     if (match >= 0) {
         *out_index = (uint32_t)match;
         return XRSC_OK;
     }
+    if (!selector || !*selector)
+        return u_diag_set(diag, XRSC_ERROR_NO_RAY_TRACING_DEVICE, "", 0, "device",
+                          "no Vulkan device has what xrsc needs (%s)",
+                          n ? summary : "no devices");
     if (any_match)
         return u_diag_set(diag, XRSC_ERROR_NO_RAY_TRACING_DEVICE, "", 0, "device",
                           "device \"%s\" lacks what xrsc needs (%s)", selector, summary);
