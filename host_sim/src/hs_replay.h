@@ -39,7 +39,8 @@ typedef struct hs_replay_options {
     float exposure;               /**< 0 means 1 */
     bool progress;                /**< show progress on stderr after a few seconds */
     /** Optional: called with each frame just before it is rendered (its eye poses and FOVs
-     *  in scene space), e.g. for tests; user is passed through. */
+     *  in scene space), e.g. for tests; user is passed through. hs_xr_replay_run calls it
+     *  after each frame the plugin rendered through OpenXR. */
     void (*on_frame)(void *user, const xrsc_frame *frame);
     void *on_frame_user;
 } hs_replay_options;

@@ -131,7 +131,9 @@ static xrsc_result configure_runtime(const hs_replay_options *opt, const hs_pose
     snprintf(buf, sizeof(buf), "%.9g", (double)hs.ipd_m * 1e3);
     if ((res = set_env("XRSC_RT_IPD_MM", buf, diag)) != XRSC_OK)
         return res;
-    snprintf(buf, sizeof(buf), "%.9f", opt->start_s);
+    /* Round-trips the double, so the runtime's start (int64_t)(s * 1e9) is the direct path's
+     * to the nanosecond, and so is the anchored time (frame 0's minus the start). */
+    snprintf(buf, sizeof(buf), "%.17g", opt->start_s);
     if ((res = set_env("XRSC_RT_START_S", buf, diag)) != XRSC_OK)
         return res;
     const char *pace = getenv("XRSC_RT_PACE");
@@ -219,7 +221,12 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     ropt.height = h;
     if ((res = xrsc_renderer_create(ctx, scene, &ropt, &r, diag)) != XRSC_OK)
         goto done;
-    xrsc_xr_session_options so = {.anchor = !opt->no_anchor, .viewpoint = info.viewpoint};
+    /* Anchoring: the head at frame 0's display time minus the start is the stream's first
+     * sample (the runtime's stream time start + (t - frame 0's)), the pose the direct path
+     * anchors. */
+    xrsc_xr_session_options so = {.anchor = !opt->no_anchor,
+                                  .anchor_offset_ns = -(int64_t)(opt->start_s * NS_PER_S),
+                                  .viewpoint = info.viewpoint};
     if ((res = xrsc_xr_session_create(xr, r, &so, &session, diag)) != XRSC_OK)
         goto done;
     st->load_s = now_s() - t_start;
@@ -236,6 +243,13 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
             st->frames = frames + 1; /* past the end: not counted, only ends the session */
         } else if (fi.status == XRSC_XR_RENDERED) {
             last_progress = now_s();
+            if (opt->on_frame) {
+                xrsc_frame frame = {.display_time_ns = fi.scene_time_ns,
+                                    .frame_index = fi.frame_index};
+                frame.views[0] = fi.views[0];
+                frame.views[1] = fi.views[1];
+                opt->on_frame(opt->on_frame_user, &frame);
+            }
             st->render_ms_mean += fi.render_ms;
             if (fi.render_ms > st->render_ms_max)
                 st->render_ms_max = fi.render_ms;

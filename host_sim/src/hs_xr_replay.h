@@ -25,8 +25,12 @@ extern "C" {
 /**
  * Runs the replay through OpenXR. A forced pose format the runtime would read differently is
  * XRSC_ERROR_INVALID_ARGUMENT naming --pose-format (the direct path, hs_replay_run, has it).
- * With anchoring the plugin places the head of the first rendered frame (stream time
- * start + 1 / refresh) on the viewpoint, where the direct path places the stream's first pose.
+ * Anchoring places the same pose on the viewpoint as the direct path, the stream's first
+ * sample: the plugin locates the head at frame 0's predicted display time minus --start
+ * (xrsc_xr_session_options.anchor_offset_ns; frame 0 itself is not rendered), which the
+ * runtime maps to stream time 0. So frame k's eye poses equal the direct path's frame k's
+ * (within float rounding), anchored or not. opt->on_frame is called after each rendered frame
+ * with the views it was rendered with (frame_index k >= 1, scene time k / refresh).
  * A missing runtime is XRSC_ERROR_XR_RUNTIME_UNAVAILABLE naming XR_RUNTIME_JSON; a lost
  * session XRSC_ERROR_XR_SESSION_LOST. Everything made is destroyed on every path.
  */

@@ -6,9 +6,9 @@ if(NOT XRSC_EXE OR NOT OUT_DIR)
 endif()
 set(failures 0)
 
-# expect_run(NAME name EXIT code [STDOUT regex] [STDERR regex] ARGS ...)
+# expect_run(NAME name EXIT code [STDOUT regex] [STDERR regex] [NOT_STDERR regex] ARGS ...)
 function(expect_run)
-  cmake_parse_arguments(E "" "NAME;EXIT;STDOUT;STDERR" "ARGS" ${ARGN})
+  cmake_parse_arguments(E "" "NAME;EXIT;STDOUT;STDERR;NOT_STDERR" "ARGS" ${ARGN})
   execute_process(COMMAND ${XRSC_EXE} ${E_ARGS}
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   set(ok TRUE)
@@ -23,6 +23,10 @@ function(expect_run)
   if(E_STDERR AND NOT err MATCHES "${E_STDERR}")
     set(ok FALSE)
     message("FAIL ${E_NAME}: stderr does not match '${E_STDERR}':\n${err}")
+  endif()
+  if(E_NOT_STDERR AND err MATCHES "${E_NOT_STDERR}")
+    set(ok FALSE)
+    message("FAIL ${E_NAME}: stderr matches '${E_NOT_STDERR}':\n${err}")
   endif()
   if(ok)
     message("[ ok ] ${E_NAME}")
@@ -100,6 +104,17 @@ else()
   math(EXPR failures "${failures} + 1")
 endif()
 expect_run(NAME xr_bad_ipd EXIT 2 STDERR "--ipd" ARGS --ipd 300 --frames 1 --quiet)
+# --device means the same on both paths: a selector that matches no device ends in
+# XRSC_ERROR_DEVICE_NOT_FOUND naming it, through OpenXR too (the plugin checks it against the
+# devices of the instance made through the runtime before asking the runtime, whose own
+# answer, XR_ERROR_RUNTIME_FAILURE, would not say what was wrong).
+expect_run(NAME direct_device_not_found EXIT 1
+           STDERR "no Vulkan device matches \"nosuch\".*XRSC_ERROR_DEVICE_NOT_FOUND"
+           ARGS --direct --device nosuch --frames 1 --resolution 16x16 --write none --quiet)
+expect_run(NAME xr_device_not_found EXIT 1
+           STDERR "no Vulkan device matches \"nosuch\".*XRSC_ERROR_DEVICE_NOT_FOUND"
+           NOT_STDERR "XR_ERROR_RUNTIME_FAILURE|XRSC_ERROR_VULKAN"
+           ARGS --device nosuch --frames 1 --resolution 16x16 --write none --quiet)
 
 if(failures GREATER 0)
   message(FATAL_ERROR "${failures} failed (output kept in ${OUT_DIR})")

@@ -12,6 +12,7 @@
 #include "testing.h"
 #include "xrsc/xrsc_xr.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -106,6 +107,155 @@ static void test_pixel_identical(void)
             free(fb);
         }
     }
+}
+
+/* ---- anchoring on (the default): the same eye poses and pixels on both paths ---- */
+
+typedef struct captured {
+    xrsc_frame frames[16];
+    uint32_t count;
+} captured;
+
+static void capture_frame(void *user, const xrsc_frame *frame)
+{
+    captured *c = user;
+    if (c->count < 16)
+        c->frames[c->count++] = *frame;
+}
+
+static bool pose_near(XrPosef a, XrPosef b, double tol)
+{
+    return fabs(a.position.x - b.position.x) <= tol && fabs(a.position.y - b.position.y) <= tol &&
+           fabs(a.position.z - b.position.z) <= tol &&
+           fabs(a.orientation.x - b.orientation.x) <= tol &&
+           fabs(a.orientation.y - b.orientation.y) <= tol &&
+           fabs(a.orientation.z - b.orientation.z) <= tol &&
+           fabs(a.orientation.w - b.orientation.w) <= tol;
+}
+
+/*
+ * A head that starts away from the origin, pitched and rolled (so the runtime's LOCAL, the
+ * first pose turned about +Y only, is not the head) and keeps moving and turning: anchoring
+ * has real work to do, and anchoring the wrong moment (a later frame's head, or the head at
+ * --start) moves every view by far more than float rounding.
+ */
+static const char *write_tilted_stream(void)
+{
+    char text[8192];
+    size_t len = (size_t)snprintf(text, sizeof(text),
+                                  "xrsc-poses 1\ncolumns t_ns px py pz qx qy qz qw\n");
+    const double ax = 0.3, ay = 0.9, az = 0.2, an = sqrt(ax * ax + ay * ay + az * az);
+    for (int k = 0; k <= 60; k++) {
+        double t = k * 0.01, half = 0.5 * (0.4 + 2.0 * t), sh = sin(half) / an;
+        len += (size_t)snprintf(text + len, sizeof(text) - len,
+                                "%d %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", k * 10000000,
+                                0.3 + 0.5 * t, 1.6 + 0.1 * t, -0.2 - 0.3 * t, ax * sh, ay * sh,
+                                az * sh, cos(half));
+    }
+    return t_temp_file("tilted.xrpose", text);
+}
+
+/** Replays `frames` frames of `poses` through OpenXR (frames 1..frames) and directly (frames
+ *  0..frames) with anchoring on; the same frames must have the same eye poses (1e-5), FOVs
+ *  and scene times, and with `same_pixels` the same linear pixels. */
+static void anchored_pair(const char *tag, const char *poses, xrsc_method method, double start_s,
+                          bool same_pixels)
+{
+    runtime_env();
+    char dir_xr[512], dir_direct[512];
+    snprintf(dir_xr, sizeof(dir_xr), "%s/anchor_%s_xr", XRSC_TEST_OUT, tag);
+    snprintf(dir_direct, sizeof(dir_direct), "%s/anchor_%s_direct", XRSC_TEST_OUT, tag);
+    captured xr = {0}, direct = {0};
+    hs_replay_options opt = {
+        .scene_path = SCENE,
+        .poses_path = poses,
+        .write_linear = true,
+        .start_s = start_s, /* no_anchor false: anchoring on, as `xrsc replay` by default */
+        .renderer = {.method = method, .width = EYE_PX, .height = EYE_PX, .seed = 7,
+                     .spp = {.samples_per_pixel = 2}},
+        .on_frame = capture_frame,
+    };
+    xrsc_headset_default(&opt.headset);
+    opt.headset.refresh_hz = 100.0f;
+    opt.context.validation = true;
+    const uint32_t frames = 4;
+    hs_replay_stats st;
+    xrsc_diag d = {0};
+    opt.out_dir = dir_xr;
+    opt.frames = frames;
+    opt.on_frame_user = &xr;
+    xrsc_result r = hs_xr_replay_run(&opt, &st, &d);
+    CHECK_MSG(r == XRSC_OK, "%s OpenXR: %s: %s", tag, xrsc_result_name(r), d.message);
+    CHECK_EQ_INT(st.validation_errors, 0);
+    opt.out_dir = dir_direct;
+    opt.frames = frames + 1;
+    opt.on_frame_user = &direct;
+    r = hs_replay_run(&opt, &st, &d);
+    CHECK_MSG(r == XRSC_OK, "%s direct: %s: %s", tag, xrsc_result_name(r), d.message);
+    CHECK_EQ_INT(xr.count, frames);
+    CHECK_EQ_INT(direct.count, frames + 1);
+
+    double worst = 0.0;
+    for (uint32_t i = 0; i < xr.count; i++) {
+        const xrsc_frame *a = &xr.frames[i];
+        uint32_t k = a->frame_index;
+        CHECK_MSG(k == i + 1, "%s: OpenXR frame %u is frame_index %u", tag, i, k);
+        if (k >= direct.count)
+            continue;
+        const xrsc_frame *b = &direct.frames[k];
+        CHECK_EQ_INT(b->frame_index, k);
+        CHECK_EQ_INT(a->display_time_ns, b->display_time_ns);
+        for (int e = 0; e < 2; e++) {
+            CHECK(memcmp(&a->views[e].fov, &b->views[e].fov, sizeof(XrFovf)) == 0);
+            XrPosef pa = a->views[e].pose, pb = b->views[e].pose;
+            CHECK_MSG(pose_near(pa, pb, 1e-5),
+                      "%s frame %u eye %d: OpenXR (%.7f %.7f %.7f | %.7f %.7f %.7f %.7f) vs "
+                      "direct (%.7f %.7f %.7f | %.7f %.7f %.7f %.7f)",
+                      tag, k, e, pa.position.x, pa.position.y, pa.position.z, pa.orientation.x,
+                      pa.orientation.y, pa.orientation.z, pa.orientation.w, pb.position.x,
+                      pb.position.y, pb.position.z, pb.orientation.x, pb.orientation.y,
+                      pb.orientation.z, pb.orientation.w);
+            const float *fa = &pa.position.x, *fb = &pb.position.x;
+            for (int c = 0; c < 3; c++)
+                worst = fmax(worst, fabs(fa[c] - fb[c]));
+            fa = &pa.orientation.x;
+            fb = &pb.orientation.x;
+            for (int c = 0; c < 4; c++)
+                worst = fmax(worst, fabs(fa[c] - fb[c]));
+        }
+    }
+    fprintf(stderr, "  %s: largest eye-pose difference OpenXR vs direct %.3g\n", tag, worst);
+    if (!same_pixels)
+        return;
+    for (uint32_t k = 1; k <= frames; k++) {
+        for (int e = 0; e < 2; e++) {
+            char a[600], b[600];
+            const char *eye = e ? "right" : "left";
+            snprintf(a, sizeof(a), "%s/frame_%05u_%s.pfm", dir_xr, k, eye);
+            snprintf(b, sizeof(b), "%s/frame_%05u_%s.pfm", dir_direct, k, eye);
+            size_t na = 0, nb = 0;
+            char *fa = read_file(a, &na), *fb = read_file(b, &nb);
+            CHECK_MSG(fa && fb, "missing %s or %s", a, b);
+            if (fa && fb) {
+                CHECK_MSG(na == nb && memcmp(fa, fb, na) == 0, "%s frame %u %s differs", tag, k,
+                          eye);
+                CHECK(na > (size_t)EYE_PX * EYE_PX * 12);
+            }
+            free(fa);
+            free(fb);
+        }
+    }
+}
+
+static void test_anchored_same_views(void)
+{
+    const char *tilted = write_tilted_stream();
+    /* primary is deterministic: the same poses give the same pixels */
+    anchored_pair("primary", tilted, XRSC_METHOD_PRIMARY, 0.0, true);
+    /* --start: both paths anchor the stream's first sample, not the head at the start */
+    anchored_pair("primary_start", tilted, XRSC_METHOD_PRIMARY, 0.25, true);
+    anchored_pair("spp", POSES, XRSC_METHOD_SPP, 0.0, false);
+    anchored_pair("spp_start", tilted, XRSC_METHOD_SPP, 0.1, false);
 }
 
 /* ---- sessions on one instance; validation layers ---- */
@@ -281,13 +431,40 @@ static void test_bad_pose_stream(void)
     runtime_env();
 }
 
+/* A device selector that matches nothing is XRSC_ERROR_DEVICE_NOT_FOUND naming it, as
+ * without OpenXR: checked against the runtime-made instance's devices before the runtime is
+ * asked for its device (given the same selector, host_sim's would only fail). */
+static void test_device_not_found(void)
+{
+    runtime_env();
+    for (int rt_too = 0; rt_too < 2; rt_too++) {
+        if (rt_too)
+            setenv("XRSC_RT_DEVICE", "nosuch-device", 1);
+        else
+            unsetenv("XRSC_RT_DEVICE");
+        xrsc_xr_options xo = {.application_name = "test_xr_app",
+                              .context = {.device = "nosuch-device"}};
+        xrsc_xr *xr = NULL;
+        xrsc_diag d = {0};
+        xrsc_result r = xrsc_xr_create(&xo, &xr, &d);
+        CHECK_MSG(r == XRSC_ERROR_DEVICE_NOT_FOUND, "runtime selector %s: %s: %s",
+                  rt_too ? "too" : "unset", xrsc_result_name(r), d.message);
+        CHECK(xr == NULL);
+        CHECK(strstr(d.message, "\"nosuch-device\"") != NULL);
+        CHECK(strcmp(d.field, "device") == 0);
+    }
+    unsetenv("XRSC_RT_DEVICE");
+}
+
 int main(void)
 {
     mkdir(XRSC_TEST_OUT, 0777);
     RUN(test_missing_manifest);
     RUN(test_bad_pose_stream);
+    RUN(test_device_not_found);
     RUN(test_lost_session);
     RUN(test_sessions_and_validation);
     RUN(test_pixel_identical);
+    RUN(test_anchored_same_views);
     return t_finish();
 }

@@ -41,8 +41,12 @@ typedef struct xrsc_xr_session xrsc_xr_session;
  * Options of the OpenXR front end.
  * - application_name: NULL means "xrsc".
  * - context: validation as ::xrsc_context_options (VK_LAYER_KHRONOS_validation on the instance
- *   created through the runtime, also with XRSC_VALIDATION=1); `device` is ignored: the
- *   runtime names the physical device (xrGetVulkanGraphicsDevice2KHR).
+ *   created through the runtime, also with XRSC_VALIDATION=1). The runtime names the
+ *   physical device (xrGetVulkanGraphicsDevice2KHR); `device` (else XRSC_DEVICE), when set,
+ *   is checked against the devices of the instance made through the runtime before the
+ *   runtime is asked: one that matches none is XRSC_ERROR_DEVICE_NOT_FOUND naming it (as
+ *   without OpenXR), and the runtime's device must match it (else the same error). Give the
+ *   runtime the same selector (host_sim's: XRSC_RT_DEVICE, which `xrsc replay` sets).
  * - The XR_EXT_debug_utils messenger (served by the loader) is always installed when the
  *   extension exists: its messages (API layers such as XR_APILAYER_LUNARG_core_validation,
  *   the loader, the runtime) are logged and counted, see ::xrsc_xr_debug_messages.
@@ -80,9 +84,15 @@ uint32_t xrsc_xr_debug_messages(const xrsc_xr *xr, uint32_t *out_errors, uint32_
 /**
  * Session options. Zero means the documented default.
  * - space: the reference space views are located in; 0 means XR_REFERENCE_SPACE_TYPE_LOCAL.
- * - anchor: when true, the head pose at the session's first frame (the VIEW space located in
- *   `space`) is mapped onto `viewpoint` (the scene's, xrsc_scene_info.viewpoint), as the
- *   direct replay anchors a stream's first pose; when false `space` is scene space itself.
+ * - anchor: when true, the head pose (the VIEW space located in `space`) at the predicted
+ *   display time of the session's first frame (frame 0, located although that frame is
+ *   usually not rendered) plus anchor_offset_ns is mapped onto `viewpoint` (the scene's,
+ *   xrsc_scene_info.viewpoint), as the direct replay anchors a stream's first pose; when false
+ *   `space` is scene space itself. A runtime that cannot locate the head then (flags not
+ *   valid, XR_ERROR_TIME_INVALID) has the head of the first rendered frame anchored instead.
+ * - anchor_offset_ns: added to frame 0's predicted display time for anchoring (0: that
+ *   time). `xrsc replay` passes -start, so the stream's first sample is anchored on both of
+ *   its paths whatever --start is.
  * - near_m / far_m: the projection the depth layer is expressed in (D32 values
  *   far (z - near) / (z (far - near)), 1 for background), handed to the compositor in
  *   XrCompositionLayerDepthInfoKHR; 0 means 0.05 m / 1000 m.
@@ -91,6 +101,7 @@ uint32_t xrsc_xr_debug_messages(const xrsc_xr *xr, uint32_t *out_errors, uint32_
 typedef struct xrsc_xr_session_options {
     XrReferenceSpaceType space;
     bool anchor;
+    int64_t anchor_offset_ns;
     XrPosef viewpoint;
     float near_m, far_m;
     bool no_depth;

@@ -380,7 +380,8 @@ xrsc_result xrsc_context_create_hooked(const xrsc_context_options *options,
     xrsc_context *ctx = calloc(1, sizeof(*ctx));
     if (!ctx)
         return u_diag_set(out_diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
-    gpu_context_options go = {.validation = options && options->validation};
+    gpu_context_options go = {.validation = options && options->validation,
+                              .device = options ? options->device : NULL};
     xrsc_result res = gpu_context_create_hooked(&go, hooks, &ctx->gpu, out_diag);
     if (res != XRSC_OK) {
         free(ctx);

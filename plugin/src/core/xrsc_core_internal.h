@@ -15,8 +15,9 @@
 extern "C" {
 #endif
 
-/** xrsc_context_create with the instance and device made through hooks (gpu_context.h);
- *  options->device is ignored (the hooks decide the device). */
+/** xrsc_context_create with the instance and device made through hooks (gpu_context.h):
+ *  the hooks decide the device; options->device (else XRSC_DEVICE) is checked against it
+ *  (gpu_context_create_hooked). */
 xrsc_result xrsc_context_create_hooked(const xrsc_context_options *options,
                                        const gpu_context_hooks *hooks, xrsc_context **out_ctx,
                                        xrsc_diag *out_diag);

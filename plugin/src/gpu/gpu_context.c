@@ -404,6 +404,13 @@ static xrsc_result context_create(const gpu_context_options *options,
         query_caps(pds[i], &caps[i]);
     uint32_t index = 0;
     if (hooks) {
+        /* A selector is checked against the wrapper's instance before the wrapper is asked:
+         * one that matches nothing is the direct path's XRSC_ERROR_DEVICE_NOT_FOUND naming
+         * it, not the failure of a runtime given the same selector (XRSC_RT_DEVICE). */
+        bool selected = opt.device && *opt.device;
+        uint32_t pick = 0;
+        if (selected && (res = select_device(opt.device, caps, n, &pick, diag)) != XRSC_OK)
+            goto fail;
         VkPhysicalDevice want = VK_NULL_HANDLE;
         GPU_CHECK(res, diag, fail, hooks->physical_device(hooks->user, ctx->instance, &want));
         index = UINT32_MAX;
@@ -413,6 +420,14 @@ static xrsc_result context_create(const gpu_context_options *options,
         if (index == UINT32_MAX) {
             res = u_diag_set(diag, XRSC_ERROR_DEVICE_NOT_FOUND, "", 0, "device",
                              "the required physical device is not one of the instance's %u", n);
+            goto fail;
+        }
+        if (selected && !u_device_matches(opt.device, index, caps[index].name,
+                                          caps[index].is_cpu)) {
+            res = u_diag_set(diag, XRSC_ERROR_DEVICE_NOT_FOUND, "", 0, "device",
+                             "the XR runtime requires device [%u] %s, which \"%s\" does not "
+                             "select (the runtime chooses the device: set its selector too)",
+                             index, caps[index].name, opt.device);
             goto fail;
         }
         if (caps[index].lacks[0]) {

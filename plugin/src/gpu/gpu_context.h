@@ -98,9 +98,12 @@ xrsc_result gpu_context_create(const gpu_context_options *options, gpu_context *
                                xrsc_diag *diag);
 /**
  * As gpu_context_create, with the instance and device created through hooks (see
- * ::gpu_context_hooks); options->device is ignored (the hooks' device is used). A device that
- * lacks what xrsc needs is XRSC_ERROR_NO_RAY_TRACING_DEVICE. The queue family prefers one
- * with graphics and compute (a compositor's queue), else compute.
+ * ::gpu_context_hooks); the hooks' device is used. A selector (options->device, else
+ * XRSC_DEVICE) is checked first against the hooked instance's devices, with
+ * gpu_context_create's errors (XRSC_ERROR_DEVICE_NOT_FOUND naming it when it matches none),
+ * and the hooks' device must match it (else XRSC_ERROR_DEVICE_NOT_FOUND naming both). A
+ * device that lacks what xrsc needs is XRSC_ERROR_NO_RAY_TRACING_DEVICE. The queue family
+ * prefers one with graphics and compute (a compositor's queue), else compute.
  */
 xrsc_result gpu_context_create_hooked(const gpu_context_options *options,
                                       const gpu_context_hooks *hooks, gpu_context **out,

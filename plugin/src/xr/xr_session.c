@@ -42,7 +42,7 @@ struct xrsc_xr_session {
     xr_swapchain color[2], depth[2];
     gpu_present present;
     float *depth_host; /**< one eye's renderer depth (distance along -Z) */
-    bool anchored;     /**< space_in_scene is set (after the first frame, when anchoring) */
+    bool anchored;     /**< space_in_scene is set (at frame 0, when anchoring) */
     XrPosef space_in_scene;
     uint32_t frames;            /**< frames waited for (xrWaitFrame) in this session */
     uint32_t rendered;          /**< of them, rendered */
@@ -363,6 +363,34 @@ done:
     return res;
 }
 
+/**
+ * Anchoring (xrsc_xr.h): locates the head (VIEW in the session's space) at `time` and maps it
+ * onto the viewpoint. A head the runtime cannot locate then (flags not valid, or
+ * XR_ERROR_TIME_INVALID for a time it keeps no poses for) leaves the session unanchored, so a
+ * later frame is tried; other failures are errors.
+ */
+static xrsc_result anchor_at(xrsc_xr_session *s, XrTime time, xrsc_diag *diag)
+{
+    xrsc_xr *xr = s->xr;
+    if (time <= 0)
+        return XRSC_OK;
+    XrSpaceLocation loc = {.type = XR_TYPE_SPACE_LOCATION};
+    XrResult r = xrLocateSpace(s->view_space, s->space, time, &loc);
+    if (r == XR_ERROR_TIME_INVALID) {
+        U_LOG_D("openxr: the head cannot be located at %lld for anchoring", (long long)time);
+        return XRSC_OK;
+    }
+    if (XR_FAILED(r))
+        return xr_error(diag, xr->instance, r, "xrLocateSpace", __FILE__, __LINE__);
+    const XrSpaceLocationFlags need =
+        XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT;
+    if ((loc.locationFlags & need) == need) {
+        s->space_in_scene = xrsc_pose_mul(s->opt.viewpoint, xrsc_pose_inverse(loc.pose));
+        s->anchored = true;
+    }
+    return XRSC_OK;
+}
+
 /** Renders the located views and fills the two projection views (with depth infos). */
 static xrsc_result render_frame(xrsc_xr_session *s, XrTime display_time, const XrView views[2],
                                 XrCompositionLayerProjectionView pv[2],
@@ -372,19 +400,10 @@ static xrsc_result render_frame(xrsc_xr_session *s, XrTime display_time, const X
     xrsc_xr *xr = s->xr;
     gpu_context *gpu = xrsc_context_gpu(xr->ctx);
     xrsc_result res = XRSC_OK;
-    if (s->opt.anchor && !s->anchored) {
-        /* The head at the first frame lands on the viewpoint (as the direct replay anchors a
-         * stream's first pose). */
-        XrSpaceLocation loc = {.type = XR_TYPE_SPACE_LOCATION};
-        XR_CHECK(res, xr->instance, diag, done,
-                 xrLocateSpace(s->view_space, s->space, display_time, &loc));
-        const XrSpaceLocationFlags need =
-            XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT;
-        if ((loc.locationFlags & need) == need) {
-            s->space_in_scene = xrsc_pose_mul(s->opt.viewpoint, xrsc_pose_inverse(loc.pose));
-            s->anchored = true;
-        }
-    }
+    /* Normally anchored at frame 0 (xrsc_xr_session_step); a runtime that could not locate
+     * the head then has it anchored at the first rendered frame. */
+    if (s->opt.anchor && !s->anchored && (res = anchor_at(s, display_time, diag)) != XRSC_OK)
+        goto done;
     xrsc_frame frame = {
         .display_time_ns = display_time - s->first_display_time,
         .frame_index = s->frames,
@@ -502,6 +521,13 @@ xrsc_result xrsc_xr_session_step(xrsc_xr_session *s, xrsc_xr_frame_info *out_inf
      * first is usually not: SYNCHRONIZED, shouldRender false), as the runtime's clock does. */
     if (s->frames == 0)
         s->first_display_time = fs.predictedDisplayTime;
+    /* Anchoring (xrsc_xr.h): the head at frame 0's display time (plus the offset), located
+     * whether or not that frame is rendered; with `xrsc replay`'s offset (-start) it is the
+     * stream's first sample, the pose the direct replay anchors. */
+    if (s->frames == 0 && s->opt.anchor && !s->anchored &&
+        (res = anchor_at(s, fs.predictedDisplayTime + s->opt.anchor_offset_ns, out_diag)) !=
+            XRSC_OK)
+        goto fail;
     XrFrameBeginInfo bi = {.type = XR_TYPE_FRAME_BEGIN_INFO};
     XR_CHECK(res, xr->instance, out_diag, fail, xrBeginFrame(s->session, &bi));
     info->display_time = fs.predictedDisplayTime;
