@@ -9,10 +9,14 @@
  * 1. Reprojection by depth: the world point seen at the pixel centre at depth d (this eye's
  *    view_inv and tan_fov, as xs_camera.glsl shoots rays) is projected into the other eye o
  *    (view, proj of o); its depth there d_exp = -z_o.
- * 2. Resampling of the other eye around that position: PFJ23 with the bilinear tent, moments
- *    with Dodgson's quadratic kernel with spline parameter R (3 x 3 taps, xs_st_dodgson).
+ * 2. Resampling of the other eye around that position: the colour X with the bilinear tent
+ *    (2 x 2 taps, a texture fetch) for both blends; moments only: the other eye's mu_1, mu_2
+ *    with Dodgson's quadratic kernel with spline parameter R (3 x 3 taps, xs_st_dodgson). R
+ *    smooths the estimates, not the colour that enters Eq. 3 (seed 000 §5.2: R "controls how
+ *    much the 1st and 2nd raw moments are blurred"; Dodgson's R = 0 kernel is a [1 2 1] / 4
+ *    blur, which on X itself biased edges and highlights and lowered sharpness).
  *    Taps outside the image or failing xs_st_depth_ok(d_tap, d_exp) are dropped and the rest
- *    renormalised; below min_weight of the kernel left the pixel is disoccluded and kept
+ *    renormalised; below min_weight of either kernel left the pixel is disoccluded and kept
  *    (status XS_ST_STATUS_REJECTED, beta = 1).
  * 3. beta per colour channel:
  *    - PFJ23 (seed 004 Eq. 10-11): sigma_Y^2 over the 3 x 3 colour neighbourhood of this eye,
@@ -22,7 +26,7 @@
  *      d are skipped) times c_X; the other eye's pooled over the kernel taps with weights
  *      h_Dodgson,R times c_X; xs_st_beta_eq8. Pooling with c_X weighs every pixel's moments by
  *      its effective sample count, i.e. pools the samples (Eq. 5-6 over the union).
- * 4. out = lerp(X, Y, beta) (Eq. 3), X the resampled other-eye colour.
+ * 4. out = lerp(X, Y, beta) (Eq. 3), X the bilinearly resampled other-eye colour.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -75,37 +79,55 @@ void main()
     vec2 q = ok ? ((clip.xy / clip.w) * 0.5 + 0.5) * vec2(stp.width, stp.height) - 0.5
                 : vec2(0.0); /* continuous position in pixel-centre units */
 
-    /* 2. resample the other eye */
+    /* 2. resample the other eye: the colour X with the bilinear tent (2 x 2 taps, a texture
+     *    fetch, seed 000 §3.6) for both blends; moments: the other eye's raw moments also with
+     *    Dodgson's kernel of spline parameter R (3 x 3 taps), which smooths the ESTIMATES only
+     *    (seed 000 §5.2: R "controls how much the 1st and 2nd raw moments are blurred"), never
+     *    the colour that enters Eq. 3 */
     bool moments = stp.mode == XS_ST_MODE_MOMENTS;
     vec3 x = vec3(0.0), m1x = vec3(0.0), m2x = vec3(0.0);
-    float wsum = 0.0, cwsum = 0.0, w2c = 0.0; /* w2c: sum w^2 / c_X (variance of X) */
+    float wsum = 0.0, msum = 0.0, cwsum = 0.0, w2c = 0.0; /* w2c: sum w^2 / c_X of the colour taps */
     if (ok) {
-        ivec2 base = moments ? ivec2(floor(q + 0.5)) - 1 : ivec2(floor(q));
-        int taps = moments ? 3 : 2;
-        for (int j = 0; j < taps; j++) {
-            for (int i = 0; i < taps; i++) {
+        ivec2 base = ivec2(floor(q));
+        for (int j = 0; j < 2; j++) {
+            for (int i = 0; i < 2; i++) {
                 ivec2 t = base + ivec2(i, j);
                 vec2 s = q - vec2(t);
-                float w = moments ? xs_st_dodgson(s.x, stp.r) * xs_st_dodgson(s.y, stp.r)
-                                  : max(1.0 - abs(s.x), 0.0) * max(1.0 - abs(s.y), 0.0);
+                float w = max(1.0 - abs(s.x), 0.0) * max(1.0 - abs(s.y), 0.0);
                 if (w == 0.0 || !inside(t) ||
                     !xs_st_depth_ok(depth_at(t, other), d_exp, stp.depth_tolerance))
                     continue;
                 x += w * imageLoad(st_src, ivec3(t, other)).rgb;
                 wsum += w;
                 if (moments) {
+                    float c = imageLoad(st_mu1, ivec3(t, other)).a;
+                    w2c += c > 0.0 ? w * w / c : 0.0;
+                }
+            }
+        }
+        if (moments) {
+            base = ivec2(floor(q + 0.5)) - 1;
+            for (int j = 0; j < 3; j++) {
+                for (int i = 0; i < 3; i++) {
+                    ivec2 t = base + ivec2(i, j);
+                    vec2 s = q - vec2(t);
+                    float w = xs_st_dodgson(s.x, stp.r) * xs_st_dodgson(s.y, stp.r);
+                    if (w == 0.0 || !inside(t) ||
+                        !xs_st_depth_ok(depth_at(t, other), d_exp, stp.depth_tolerance))
+                        continue;
                     vec4 a = imageLoad(st_mu1, ivec3(t, other));
                     vec4 b = imageLoad(st_mu2, ivec3(t, other));
                     float cw = w * a.a;
                     m1x += cw * a.rgb;
                     m2x += cw * b.rgb;
                     cwsum += cw;
-                    w2c += a.a > 0.0 ? w * w / a.a : 0.0;
+                    msum += w;
                 }
             }
         }
     }
-    if (!(wsum >= stp.min_weight) || (moments && !(cwsum > 0.0))) {
+    if (!(wsum >= stp.min_weight) ||
+        (moments && (!(msum >= stp.min_weight) || !(cwsum > 0.0)))) {
         imageStore(st_out, coord, y4);
         imageStore(st_aux, coord, vec4(vec3(1.0), XS_ST_STATUS_REJECTED));
         return;
@@ -142,7 +164,7 @@ void main()
             m1y /= cy;
             m2y /= cy;
             /* effective sample counts of the two pixel values: Y averages its own c_X samples,
-             * X the kernel's taps, Var(X) = sigma^2 sum (w_i / W)^2 / c_i */
+             * X the colour's bilinear taps, Var(X) = sigma^2 sum (w_i / W)^2 / c_i */
             float n_y = max(imageLoad(st_mu1, coord).a, 1e-6);
             float n_x = w2c > 0.0 ? wsum * wsum / w2c : 1.0;
             for (int c = 0; c < 3; c++)
