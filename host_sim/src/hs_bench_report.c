@@ -571,16 +571,20 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
         res = diag ? diag->code : XRSC_ERROR_IO;
         goto done;
     }
+    /* One series per setting (a legend rather than labels: settings often share a point). */
+    names_string(g, opt);
     fprintf(g,
+            "N = words(names)\n"
             "set multiplot layout 1,2 title '%s'\n"
-            "set logscale y\nset xrange [0:*]\nset offsets 0, graph 0.15, graph 0.1, graph 0.1\n"
+            "set logscale y\nset xrange [0:*]\nset offsets 0, graph 0.1, graph 0.1, graph 0.1\n"
+            "set key bottom right font ',8' opaque\n"
             "set xlabel 'GPU time per stereo frame, ms (mean)'\n"
             "set ylabel 'relMSE vs reference (mean, eps 0.01)'\n"
-            "plot 'plot/summary.dat' using 3:5:1 with points pt 7 ps 1.6 lc variable notitle, \\\n"
-            "     '' using 3:5:2 with labels offset char 0,0.9 font ',8' notitle\n"
+            "plot for [i=1:N] 'plot/summary.dat' every ::(i-1)::(i-1) using 3:5 with points "
+            "pt (4+i%%8) ps 1.8 lw 2 lc i title word(names, i)\n"
             "set ylabel 'temporal difference (mean squared, reprojected)'\n"
-            "plot 'plot/summary.dat' using 3:6:1 with points pt 7 ps 1.6 lc variable notitle, \\\n"
-            "     '' using 3:6:2 with labels offset char 0,0.9 font ',8' notitle\n"
+            "plot for [i=1:N] 'plot/summary.dat' every ::(i-1)::(i-1) using 3:6 with points "
+            "pt (4+i%%8) ps 1.8 lw 2 lc i title word(names, i)\n"
             "unset multiplot\n",
             title);
     fclose(g);

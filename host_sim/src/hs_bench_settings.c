@@ -4,9 +4,9 @@
  * @brief `xrsc bench` settings: "METHOD[:KEY=VALUE,...]" texts to renderer options.
  *
  * Every setting dimension is one row of `keys` below: its name, the methods it applies to and
- * a function that writes the value into xrsc_renderer_options. A new renderer option (e.g. a
- * stereo blend and its radius R) is benchmarked by adding a row; a key named "r" is also
- * recorded as the setting's R for the stereo-vs-R chart (hs_bench_setting.r / .group).
+ * a function that writes the value into xrsc_renderer_options. A new renderer option is
+ * benchmarked by adding a row. The key "r" (the stereo blend's R) is also recorded as the
+ * setting's R for the stereo-vs-R chart (hs_bench_setting.r / .group).
  */
 #include "hs_bench.h"
 
@@ -158,6 +158,22 @@ static const char *set_alpha_fixed(xrsc_renderer_options *o, const char *v)
     return parse_pos(v, 1, &o->samplecache.alpha_fixed) ? NULL : "(0, 1]";
 }
 
+static const char *set_blend(xrsc_renderer_options *o, const char *v)
+{
+    return xrsc_blend_from_name(v, &o->blend) == XRSC_OK ? NULL : "none, pfj23, moments";
+}
+
+static const char *set_r(xrsc_renderer_options *o, const char *v)
+{
+    char *end;
+    errno = 0;
+    double d = strtod(v, &end);
+    if (errno || end == v || *end || !(d >= 0.0 && d <= 1.0))
+        return "R in [0, 1]";
+    o->blend_r = (float)d;
+    return NULL;
+}
+
 typedef struct bench_key {
     const char *key;
     uint32_t methods; /**< bit per xrsc_method */
@@ -166,8 +182,11 @@ typedef struct bench_key {
     const char *help;
 } bench_key;
 
-/* The setting dimensions. Add renderer options here (e.g. {"blend", ...}, {"r", ...}). */
+/* The setting dimensions. Add renderer options here. */
 static const bench_key keys[] = {
+    {"blend", M_SPP | M_PRIMARY | M_SC, set_blend, "",
+     "stereo blend none | pfj23 | moments (moments: spp, samplecache) [none]"},
+    {"r", M_SPP | M_PRIMARY | M_SC, set_r, "r", "sharpness R of the moments blend, [0, 1] [0]"},
     {"spp", M_SPP, set_spp, "", "samples per pixel per frame, 1..4096 [1]"},
     {"bounces", M_SPP | M_SC, set_bounces, "b", "bounces after the first hit, 0..16 [3]"},
     {"trace", M_SC, set_trace, "", "single | multi | adaptive [adaptive]"},

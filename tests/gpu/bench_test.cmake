@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 # `xrsc bench` from the outside (cmake -P): a CI-sized run (2 settings x 3 frames at 32 x 32,
 # 16-spp references), its CSV rows and columns, the charts, a restart that skips finished work,
-# an added setting that alone is run, and bad settings (exit 2).
+# an added setting that alone is run, an R sweep's chart, and bad settings (exit 2).
 # Inputs: -DXRSC_EXE=<program> -DOUT_DIR=<scratch folder, wiped first> -DHAVE_GNUPLOT=ON|OFF.
 if(NOT XRSC_EXE OR NOT OUT_DIR)
   message(FATAL_ERROR "usage: cmake -DXRSC_EXE=... -DOUT_DIR=... [-DHAVE_GNUPLOT=ON] -P bench_test.cmake")
@@ -154,6 +154,17 @@ file(STRINGS "${OUT_DIR}/b/bench.csv" lines)
 list(LENGTH lines n)
 if(NOT n EQUAL 10)
   fail("bench.csv after the added setting: ${n} lines, expected 10")
+endif()
+
+# Settings that vary R (the stereo blend's sharpness) get the stereo discrepancy / CPBD vs R chart.
+file(WRITE "${OUT_DIR}/r.txt" "spp:spp=1,blend=moments,r=0\nspp:spp=1,blend=moments,r=1\n")
+run(NAME r_sweep EXIT 0 OUT out ARGS --settings "@${OUT_DIR}/r.txt" --frames 2 --warmup 1
+    --score-every 1 --resolution 32x32 --ref-spp 4 --out "${OUT_DIR}/r")
+if(NOT out MATCHES "spp-1-moments-r1" OR NOT EXISTS "${OUT_DIR}/r/plot/r.dat")
+  fail("r sweep: no r.dat or summary:\n${out}")
+endif()
+if(HAVE_GNUPLOT AND NOT EXISTS "${OUT_DIR}/r/stereo_r.png")
+  fail("r sweep: stereo_r.png missing")
 endif()
 
 if(failures GREATER 0)
