@@ -57,3 +57,23 @@ const char *t_temp_file(const char *name, const char *contents)
     }
     return p;
 }
+
+void *t_read_file(const char *path, size_t *out_size)
+{
+    *out_size = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc(n > 0 ? (size_t)n : 1);
+    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
+        free(buf);
+        buf = NULL;
+    }
+    fclose(f);
+    if (buf)
+        *out_size = (size_t)n;
+    return buf;
+}

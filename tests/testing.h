@@ -58,3 +58,6 @@ const char *t_source_path(const char *rel);
 const char *t_shared_path(const char *rel);
 /** Writes text to a fresh temporary file and returns its path (static buffer, per call). */
 const char *t_temp_file(const char *name, const char *contents);
+/** Reads a whole file into a malloc'd buffer (free it); NULL and *out_size 0 unless all of it
+ *  was read. */
+void *t_read_file(const char *path, size_t *out_size);

@@ -12,7 +12,7 @@
  * - the mask agrees with the stored samples: each occupied slot decodes to a valid first hit
  *   (instance, primitive, material in range, barycentrics inside the triangle) or a unit
  *   background direction, and its world position (current transforms) projects into this
- *   frame's view of the eye INSIDE the pixel that holds it (T_PIXEL_MARGIN);
+ *   frame's view of the eye INSIDE the pixel that holds it (TSC_PIXEL_MARGIN);
  * - the pass names and order, zero validation errors.
  * Runs for 1-pass and 2-pass reprojection and for the multi trace mode.
  */
@@ -20,6 +20,7 @@
 #include "hs_pose_stream.h"
 #include "mt_samplecache.h"
 #include "sc_scene.h"
+#include "test_samplecache_util.h"
 #include "testing.h"
 #include "xrsc/xrsc.h"
 #include "xs_sc_math.h"
@@ -37,12 +38,8 @@
 /* Listing 1: the barycentric quantisation error bound (xs_sc_math.h). */
 #define T_BARY_TOL (1.0 / 16777216.0)
 #define T_SELFTEST_COUNT 4096u
-/* Projection of a stored sample vs its pixel: float (GPU) vs double (here). */
-#define T_PIXEL_MARGIN 1e-2
 /* Adaptive shading: shadings per pixel vs the rate (coin tosses, 4096 pixels). */
 #define T_SHADE_RATE_TOL 0.1
-/* Barycentrics inside the triangle, up to quantisation. */
-#define T_BARY_SLACK 1e-6
 /* Eq. 1 on the device vs C, relative to t (1 - cos/cos cancels: Delta itself can carry a
  * large relative error when tiny; Eq. 2 compares it with distances). */
 #define T_DELTA_REL_TOL 1e-5
@@ -171,121 +168,11 @@ static void test_edge_test_synthetic(void)
 
 /* ---- invariants over the replay ---- */
 
-typedef struct t_view {
-    double view[16]; /* world -> eye, column-major */
-    double tan_l, tan_r, tan_u, tan_d;
-} t_view;
-
-static void make_view(const xrsc_view *v, t_view *out)
-{
-    float m[16];
-    xrsc_pose_view_matrix(v->pose, m);
-    for (int i = 0; i < 16; i++)
-        out->view[i] = m[i];
-    out->tan_l = tan(v->fov.angleLeft);
-    out->tan_r = tan(v->fov.angleRight);
-    out->tan_u = tan(v->fov.angleUp);
-    out->tan_d = tan(v->fov.angleDown);
-}
-
-/** Image position (pixels) of world point p (w = 1) or direction (w = 0); false behind. */
-static bool project(const t_view *v, const double p[3], double w, double out[2])
-{
-    double q[3];
-    for (int r = 0; r < 3; r++)
-        q[r] =
-            v->view[r] * p[0] + v->view[4 + r] * p[1] + v->view[8 + r] * p[2] + v->view[12 + r] * w;
-    if (!(q[2] < 0.0))
-        return false;
-    double tx = q[0] / -q[2], ty = q[1] / -q[2];
-    out[0] = (tx - v->tan_l) / (v->tan_r - v->tan_l) * T_W;
-    out[1] = (ty - v->tan_u) / (v->tan_d - v->tan_u) * T_H;
-    return true;
-}
-
-/** World position of a Listing 1 first hit on the CPU scene; false if ids are out of range. */
-static bool hit_position(const sc_scene *s, const uint32_t fh[4], double out[3])
-{
-    uint32_t inst = fh[3], prim = fh[2];
-    if (inst >= s->instance_count)
-        return false;
-    const sc_instance *in = &s->instances[inst];
-    const sc_mesh *mesh = &s->meshes[in->mesh];
-    if (prim >= mesh->index_count / 3 || xs_sc_unpack_material(fh[0], fh[1]) >= s->material_count)
-        return false;
-    double u = xs_sc_unpack_bary(fh[0]), v = xs_sc_unpack_bary(fh[1]);
-    if (u + v > 1.0 + T_BARY_SLACK)
-        return false;
-    double w[3] = {1.0 - u - v, u, v};
-    out[0] = out[1] = out[2] = 0.0;
-    for (int c = 0; c < 3; c++) {
-        const float *p = s->vertices[s->indices[mesh->first_index + 3 * prim + c]].position;
-        for (int r = 0; r < 3; r++)
-            out[r] += w[c] * ((double)in->world[r] * p[0] + (double)in->world[4 + r] * p[1] +
-                              (double)in->world[8 + r] * p[2] + (double)in->world[12 + r]);
-    }
-    return true;
-}
-
 typedef struct t_counts {
-    uint32_t bad_bits, vis_not_occ, no_visible, bad_hit, outside, samples, visible, background;
+    uint32_t samples, visible, background;
     uint32_t shaded, traced; /* last frame, left eye */
     uint32_t shaded_both;    /* last frame, both eyes */
 } t_counts;
-
-static void check_snapshot(const mt_sc_snapshot *sn, const sc_scene *cpu, const t_view *v,
-                           t_counts *c)
-{
-    uint32_t n = sn->slots, px = sn->width * sn->height;
-    uint32_t all = (1u << n) - 1u;
-    for (uint32_t p = 0; p < px; p++) {
-        uint32_t m = sn->mask[p];
-        uint32_t occ = m & XS_SC_OCC_MASK, vis = m >> XS_SC_MAX_SLOTS;
-        if ((occ & ~all) || (vis & ~all))
-            c->bad_bits++;
-        if (vis & ~occ)
-            c->vis_not_occ++;
-        if ((vis & all) == 0)
-            c->no_visible++;
-        uint32_t x = p % sn->width, y = p / sn->width;
-        for (uint32_t s = 0; s < n; s++) {
-            if (!(occ >> s & 1u))
-                continue;
-            c->samples++;
-            c->visible += vis >> s & 1u;
-            const uint32_t *fh = &sn->fh[((size_t)s * px + p) * 4];
-            double pos[2], wp[3];
-            bool ok;
-            if (fh[3] == XS_SC_BACKGROUND) {
-                float d[3];
-                memcpy(d, fh, sizeof(d));
-                double len = sqrt((double)d[0] * d[0] + (double)d[1] * d[1] + (double)d[2] * d[2]);
-                c->background++;
-                if (fabs(len - 1.0) > 1e-5) {
-                    c->bad_hit++;
-                    continue;
-                }
-                wp[0] = d[0];
-                wp[1] = d[1];
-                wp[2] = d[2];
-                ok = project(v, wp, 0.0, pos);
-            } else {
-                if (!hit_position(cpu, fh, wp)) {
-                    c->bad_hit++;
-                    continue;
-                }
-                ok = project(v, wp, 1.0, pos);
-            }
-            if (!ok || pos[0] < x - T_PIXEL_MARGIN || pos[0] > x + 1 + T_PIXEL_MARGIN ||
-                pos[1] < y - T_PIXEL_MARGIN || pos[1] > y + 1 + T_PIXEL_MARGIN) {
-                if (c->outside < 5)
-                    fprintf(stderr, "  sample (%u,%u) slot %u projects to (%.4f, %.4f)\n", x, y, s,
-                            pos[0], pos[1]);
-                c->outside++;
-            }
-        }
-    }
-}
 
 static void run_replay(const char *label, const xrsc_samplecache_options *opt)
 {
@@ -342,10 +229,10 @@ static void run_replay(const char *label, const xrsc_samplecache_options *opt)
                 CHECK(false);
                 continue;
             }
-            t_view v;
-            make_view(&frame.views[e], &v);
-            t_counts c = {0};
-            check_snapshot(&sn, cpu, &v, &c);
+            tsc_view v;
+            tsc_make_view(&frame.views[e], T_W, T_H, &v);
+            tsc_invariants c = {0};
+            tsc_check_invariants(&sn, cpu, &v, &c);
             CHECK_MSG(c.bad_bits == 0 && c.vis_not_occ == 0,
                       "frame %u eye %u: %u masks with bits >= N, %u v without o", k, e, c.bad_bits,
                       c.vis_not_occ);

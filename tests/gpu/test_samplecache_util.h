@@ -460,6 +460,7 @@ typedef struct tsc_invariants {
     uint32_t bad_hit;     /**< occupied slots that decode to no valid first hit / direction */
     uint32_t outside;     /**< samples whose position projects outside their pixel */
     uint32_t samples, visible;
+    uint32_t background; /**< occupied slots holding a background direction */
 } tsc_invariants;
 
 /** Checks the invariants of snapshot sn against the scene's current transforms and view v. */
@@ -481,7 +482,9 @@ static inline void tsc_check_invariants(const mt_sc_snapshot *sn, const sc_scene
             c->samples++;
             c->visible += vis >> s & 1u;
             double wp[3], w, pos[2] = {0.0, 0.0};
-            if (!tsc_sample_world(cpu, tsc_fh(sn, s, p), wp, &w)) {
+            const uint32_t *fh = tsc_fh(sn, s, p);
+            c->background += fh[3] == XS_SC_BACKGROUND;
+            if (!tsc_sample_world(cpu, fh, wp, &w)) {
                 c->bad_hit++;
                 continue;
             }

@@ -39,6 +39,14 @@ static xrsc_result load_text(const char *file_name, const char *text, xrsc_diag 
     return r;
 }
 
+/** Loads text and checks that it is rejected with ID want, naming field; d keeps the diag. */
+static void check_rejected(const char *file_name, const char *text, xrsc_result want,
+                           const char *field, xrsc_diag *d)
+{
+    CHECK_EQ_INT(load_text(file_name, text, d), want);
+    CHECK_MSG(strcmp(d->field, field) == 0, "field '%s', expected '%s'", d->field, field);
+}
+
 static void test_control_loads(void)
 {
     char *g = sct_triangle_gltf(NULL, 4, "", 0, 1, 2, 3);
@@ -51,8 +59,7 @@ static void test_missing_buffer(void)
 {
     char *g = sct_triangle_gltf("no-such-file.bin", 4, "", 0, 1, 2, 3);
     xrsc_diag d;
-    CHECK_EQ_INT(load_text("missing-bin.gltf", g, &d), XRSC_ERROR_GLTF_MISSING_BUFFER);
-    CHECK(strcmp(d.field, "buffers[0].uri") == 0);
+    check_rejected("missing-bin.gltf", g, XRSC_ERROR_GLTF_MISSING_BUFFER, "buffers[0].uri", &d);
     CHECK_EQ_INT(d.line, line_of(g, "\"no-such-file.bin\""));
     CHECK(strstr(d.file, "missing-bin.gltf") != NULL);
     free(g);
@@ -79,8 +86,7 @@ static void test_missing_image(void)
         "  \"materials\": [{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}}],",
         0, 1, 2, 3);
     xrsc_diag d;
-    CHECK_EQ_INT(load_text("missing-png.gltf", g, &d), XRSC_ERROR_GLTF_MISSING_BUFFER);
-    CHECK(strcmp(d.field, "images[0].uri") == 0);
+    check_rejected("missing-png.gltf", g, XRSC_ERROR_GLTF_MISSING_BUFFER, "images[0].uri", &d);
     CHECK_EQ_INT(d.line, line_of(g, "\"missing-texture.png\""));
     free(g);
 }
@@ -92,8 +98,7 @@ static void test_required_extension(void)
                                 "  \"extensionsRequired\": [\"KHR_draco_mesh_compression\"],",
                                 0, 1, 2, 3);
     xrsc_diag d;
-    CHECK_EQ_INT(load_text("draco.gltf", g, &d), XRSC_ERROR_GLTF_UNSUPPORTED);
-    CHECK(strcmp(d.field, "extensionsRequired") == 0);
+    check_rejected("draco.gltf", g, XRSC_ERROR_GLTF_UNSUPPORTED, "extensionsRequired", &d);
     CHECK_EQ_INT(d.line, line_of(g, "\"extensionsRequired\""));
     CHECK(strstr(d.message, "KHR_draco_mesh_compression") != NULL);
     free(g);
@@ -109,8 +114,8 @@ static void test_lines_mode(void)
 {
     char *g = sct_triangle_gltf(NULL, 1, "", 0, 1, 2, 3);
     xrsc_diag d;
-    CHECK_EQ_INT(load_text("lines.gltf", g, &d), XRSC_ERROR_GLTF_UNSUPPORTED);
-    CHECK(strcmp(d.field, "meshes[0].primitives[0].mode") == 0);
+    check_rejected("lines.gltf", g, XRSC_ERROR_GLTF_UNSUPPORTED, "meshes[0].primitives[0].mode",
+                   &d);
     free(g);
 }
 
@@ -118,8 +123,8 @@ static void test_index_out_of_range(void)
 {
     char *g = sct_triangle_gltf(NULL, 4, "", 0, 1, 3, 3);
     xrsc_diag d;
-    CHECK_EQ_INT(load_text("index-range.gltf", g, &d), XRSC_ERROR_GLTF_INVALID);
-    CHECK(strcmp(d.field, "meshes[0].primitives[0].indices") == 0);
+    check_rejected("index-range.gltf", g, XRSC_ERROR_GLTF_INVALID,
+                   "meshes[0].primitives[0].indices", &d);
     free(g);
 }
 
@@ -128,8 +133,7 @@ static void test_accessor_overrun(void)
     /* 4 positions do not fit in the 36-byte view. */
     char *g = sct_triangle_gltf(NULL, 4, "", 0, 1, 2, 4);
     xrsc_diag d;
-    CHECK_EQ_INT(load_text("overrun.gltf", g, &d), XRSC_ERROR_GLTF_INVALID);
-    CHECK(strcmp(d.field, "accessors[0]") == 0);
+    check_rejected("overrun.gltf", g, XRSC_ERROR_GLTF_INVALID, "accessors[0]", &d);
     free(g);
 }
 
@@ -140,8 +144,7 @@ static void test_view_overruns_buffer(void)
     CHECK(p != NULL);
     if (p) p[strlen("\"byteOffset\": ")] = '4'; /* 36 -> 46 */
     xrsc_diag d;
-    CHECK_EQ_INT(load_text("view-overrun.gltf", g, &d), XRSC_ERROR_GLTF_INVALID);
-    CHECK(strcmp(d.field, "bufferViews[1]") == 0);
+    check_rejected("view-overrun.gltf", g, XRSC_ERROR_GLTF_INVALID, "bufferViews[1]", &d);
     free(g);
 }
 
@@ -162,8 +165,7 @@ static void test_empty_scene(void)
     const char *text = "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0]}],"
                        " \"nodes\": [{\"name\": \"empty\"}]}";
     xrsc_diag d;
-    CHECK_EQ_INT(load_text("empty.gltf", text, &d), XRSC_ERROR_GLTF_INVALID);
-    CHECK(strcmp(d.field, "meshes") == 0);
+    check_rejected("empty.gltf", text, XRSC_ERROR_GLTF_INVALID, "meshes", &d);
 }
 
 static void test_node_graph(void)
@@ -181,8 +183,7 @@ static void test_node_graph(void)
     CHECK(strstr(d.field, "nodes[") == d.field);
     snprintf(h, cap, "%.*s\"nodes\": [{\"mesh\": 0, \"children\": [7]}]%s", (int)(p - g), g,
              p + strlen("\"nodes\": [{\"mesh\": 0}]"));
-    CHECK_EQ_INT(load_text("bad-child.gltf", h, &d), XRSC_ERROR_GLTF_INVALID);
-    CHECK(strcmp(d.field, "nodes[0].children[0]") == 0);
+    check_rejected("bad-child.gltf", h, XRSC_ERROR_GLTF_INVALID, "nodes[0].children[0]", &d);
     free(h);
     free(g);
 }
@@ -194,8 +195,7 @@ static void test_bad_references(void)
     CHECK(p != NULL);
     p[strlen("\"nodes\": [{\"mesh\": ")] = '5';
     xrsc_diag d;
-    CHECK_EQ_INT(load_text("bad-mesh.gltf", g, &d), XRSC_ERROR_GLTF_INVALID);
-    CHECK(strcmp(d.field, "nodes[0].mesh") == 0);
+    check_rejected("bad-mesh.gltf", g, XRSC_ERROR_GLTF_INVALID, "nodes[0].mesh", &d);
     free(g);
 }
 

@@ -25,22 +25,6 @@ static void write_bytes(const char *path, const void *data, size_t size)
     }
 }
 
-static uint8_t *read_all(const char *path, size_t *out_size)
-{
-    *out_size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    uint8_t *b = malloc(n > 0 ? (size_t)n : 1);
-    if (b && fread(b, 1, (size_t)n, f) == (size_t)n)
-        *out_size = (size_t)n;
-    fclose(f);
-    return b;
-}
-
 /* Independent reference of the documented tone curve (hs_image.h): ACES fit of Narkowicz
  * (2015) clamped to 1, then the sRGB OETF, in double precision. */
 static double ref_tonemap(double x)
@@ -120,7 +104,7 @@ static void test_pfm_stores_rows_bottom_to_top(void)
     const char *path = t_temp_file("order.pfm", "");
     CHECK_EQ_INT(hs_write_pfm(path, src, PFM_W, PFM_H, NULL), XRSC_OK);
     size_t size = 0;
-    uint8_t *file = read_all(path, &size);
+    uint8_t *file = t_read_file(path, &size);
     static const char header[] = "PF\n5 3\n-1.0\n"; /* x86/ARM hosts are little-endian */
     size_t hl = sizeof(header) - 1;
     CHECK_EQ_INT(size, hl + (size_t)PFM_W * PFM_H * 3 * sizeof(float));

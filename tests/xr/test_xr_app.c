@@ -9,6 +9,7 @@
  */
 #include "hs_replay.h"
 #include "hs_xr_replay.h"
+#include "t_xr_frames.h"
 #include "testing.h"
 #include "xrsc/xrsc_xr.h"
 
@@ -35,24 +36,6 @@ static void runtime_env(void)
     char size[32];
     snprintf(size, sizeof(size), "%ux%u", EYE_PX, EYE_PX);
     setenv("XRSC_RT_EYE_SIZE", size, 1);
-}
-
-static char *read_file(const char *path, size_t *out_size)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc(n > 0 ? (size_t)n : 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-        free(buf);
-        buf = NULL;
-    }
-    fclose(f);
-    *out_size = (size_t)n;
-    return buf;
 }
 
 /* ---- the same poses and seed through OpenXR and directly: equal PFM files ---- */
@@ -90,23 +73,8 @@ static void test_pixel_identical(void)
     r = hs_replay_run(&opt, &st, &d);
     CHECK_MSG(r == XRSC_OK, "%s: %s", xrsc_result_name(r), d.message);
 
-    for (uint32_t k = 1; k <= frames; k++) {
-        for (int e = 0; e < 2; e++) {
-            char a[512], b[512];
-            const char *eye = e ? "right" : "left";
-            snprintf(a, sizeof(a), "%s/frame_%05u_%s.pfm", dir_xr, k, eye);
-            snprintf(b, sizeof(b), "%s/frame_%05u_%s.pfm", dir_direct, k, eye);
-            size_t na = 0, nb = 0;
-            char *fa = read_file(a, &na), *fb = read_file(b, &nb);
-            CHECK_MSG(fa && fb, "missing %s or %s", a, b);
-            if (fa && fb) {
-                CHECK_MSG(na == nb && memcmp(fa, fb, na) == 0, "frame %u %s differs", k, eye);
-                CHECK(na > (size_t)EYE_PX * EYE_PX * 12); /* RGB float32 PFM */
-            }
-            free(fa);
-            free(fb);
-        }
-    }
+    t_check_same_frames("identical", dir_xr, dir_direct, 1, frames,
+                        (size_t)EYE_PX * EYE_PX * 12 /* RGB float32 PFM */);
 }
 
 /* ---- anchoring on (the default): the same eye poses and pixels on both paths ---- */
@@ -227,24 +195,7 @@ static void anchored_pair(const char *tag, const char *poses, xrsc_method method
     fprintf(stderr, "  %s: largest eye-pose difference OpenXR vs direct %.3g\n", tag, worst);
     if (!same_pixels)
         return;
-    for (uint32_t k = 1; k <= frames; k++) {
-        for (int e = 0; e < 2; e++) {
-            char a[600], b[600];
-            const char *eye = e ? "right" : "left";
-            snprintf(a, sizeof(a), "%s/frame_%05u_%s.pfm", dir_xr, k, eye);
-            snprintf(b, sizeof(b), "%s/frame_%05u_%s.pfm", dir_direct, k, eye);
-            size_t na = 0, nb = 0;
-            char *fa = read_file(a, &na), *fb = read_file(b, &nb);
-            CHECK_MSG(fa && fb, "missing %s or %s", a, b);
-            if (fa && fb) {
-                CHECK_MSG(na == nb && memcmp(fa, fb, na) == 0, "%s frame %u %s differs", tag, k,
-                          eye);
-                CHECK(na > (size_t)EYE_PX * EYE_PX * 12);
-            }
-            free(fa);
-            free(fb);
-        }
-    }
+    t_check_same_frames(tag, dir_xr, dir_direct, 1, frames, (size_t)EYE_PX * EYE_PX * 12);
 }
 
 static void test_anchored_same_views(void)

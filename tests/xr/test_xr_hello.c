@@ -10,6 +10,7 @@
  * written to where a case wants it to quit). Each run has a timeout; a run that needs it, or
  * dies by a signal, fails the case.
  */
+#include "t_hello_xr.h"
 #include "testing.h"
 
 #include "hs_image.h"
@@ -33,13 +34,6 @@ typedef struct t_proc {
     char log[256 * 1024]; /**< stdout and stderr, truncated */
 } t_proc;
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 /**
  * Runs hello_xr -g Vulkan2 with the runtime's manifest and the given extra environment
  * ("NAME=value", NULL-terminated; "NAME=" unsets). quit_after_s > 0 presses a key then.
@@ -55,30 +49,10 @@ static void run_hello_g(const char *graphics, const char *const *env, double tim
         CHECK_MSG(0, "pipe: %s", strerror(errno));
         return;
     }
-    double t0 = now_s();
+    double t0 = t_now_s();
     pid_t pid = fork();
-    if (pid == 0) {
-        int fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        dup2(in[0], 0);
-        dup2(fd, 1);
-        dup2(fd, 2);
-        close(in[1]);
-        unsetenv("DISPLAY"); /* headless */
-        unsetenv("WAYLAND_DISPLAY");
-        setenv("XR_RUNTIME_JSON", XRSC_RUNTIME_JSON, 1);
-        setenv("XRSC_RT_PACE", "fast", 1);
-        for (const char *const *e = env; e && *e; e++) {
-            char name[128];
-            const char *eq = strchr(*e, '=');
-            snprintf(name, sizeof(name), "%.*s", (int)(eq - *e), *e);
-            if (eq[1])
-                setenv(name, eq + 1, 1);
-            else
-                unsetenv(name);
-        }
-        execl(XRSC_HELLO_XR, "hello_xr", "-g", graphics, (char *)NULL);
-        _exit(127);
-    }
+    if (pid == 0)
+        t_exec_hello(graphics, env, log_path, in);
     close(in[0]);
     bool quit_sent = false;
     for (;;) {
@@ -91,7 +65,7 @@ static void run_hello_g(const char *graphics, const char *const *env, double tim
             out->sig = out->signaled ? WTERMSIG(status) : 0;
             break;
         }
-        double el = now_s() - t0;
+        double el = t_now_s() - t0;
         if (quit_after_s > 0 && el > quit_after_s && !quit_sent) {
             if (write(in[1], "q\n", 2) != 2)
                 fprintf(stderr, "could not press a key for hello_xr\n");
@@ -106,7 +80,7 @@ static void run_hello_g(const char *graphics, const char *const *env, double tim
         struct timespec ts = {0, 10 * 1000 * 1000};
         nanosleep(&ts, NULL);
     }
-    out->wall_s = now_s() - t0;
+    out->wall_s = t_now_s() - t0;
     close(in[1]);
     FILE *f = fopen(log_path, "rb");
     if (f) {
@@ -129,24 +103,6 @@ static int count_substr(const char *s, const char *sub)
     for (const char *p = strstr(s, sub); p; p = strstr(p + 1, sub))
         n++;
     return n;
-}
-
-static void clean_dir(const char *dir)
-{
-    mkdir(XRSC_TEST_OUT, 0777);
-    mkdir(dir, 0777);
-    DIR *d = opendir(dir);
-    if (!d)
-        return;
-    struct dirent *e;
-    char p[1024];
-    while ((e = readdir(d))) {
-        if (e->d_name[0] == '.')
-            continue;
-        snprintf(p, sizeof(p), "%s/%s", dir, e->d_name);
-        unlink(p);
-    }
-    closedir(d);
 }
 
 static bool is_png(const char *path)
@@ -186,7 +142,7 @@ static int read_display_times(const char *dir, long long *t, int cap)
 static void hello_xr_frames_are_captured(void)
 {
     const char *dir = XRSC_TEST_OUT "/frames";
-    clean_dir(dir);
+    t_clean_dir(dir);
     char out_env[600];
     snprintf(out_env, sizeof(out_env), "XRSC_RT_OUT=%s", dir);
     const char *env[] = {out_env, "XRSC_RT_FRAMES=10", "XRSC_RT_EYE_SIZE=256x280",
@@ -241,7 +197,7 @@ static void hello_xr_frames_are_captured(void)
 static void hello_xr_realtime_pace(void)
 {
     const char *dir = XRSC_TEST_OUT "/realtime";
-    clean_dir(dir);
+    t_clean_dir(dir);
     char out_env[600];
     snprintf(out_env, sizeof(out_env), "XRSC_RT_OUT=%s", dir);
     const char *env[] = {out_env, "XRSC_RT_FRAMES=45", "XRSC_RT_EYE_SIZE=128x140",
@@ -269,7 +225,7 @@ static void hello_xr_realtime_pace(void)
 static void hello_xr_vulkan1_under_core_validation(void)
 {
     const char *dir = XRSC_TEST_OUT "/vulkan1";
-    clean_dir(dir);
+    t_clean_dir(dir);
     char out_env[600];
     snprintf(out_env, sizeof(out_env), "XRSC_RT_OUT=%s", dir);
     bool layer = access("/usr/share/openxr/1/api_layers/explicit.d/"

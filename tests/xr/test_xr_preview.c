@@ -15,6 +15,7 @@
  * wrote for that frame, scaled as the preview scales (each eye fitted into its half,
  * bilinear with pixel centres aligned); keys are sent to the window with XSendEvent.
  */
+#include "t_hello_xr.h"
 #include "testing.h"
 
 #include <X11/Xlib.h>
@@ -42,13 +43,6 @@
 #define EYE_H 272
 #define HOLD_FRAME 5
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 static void sleep_s(double s)
 {
     struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
@@ -71,28 +65,8 @@ static bool start_hello(const char *const *env, const char *tag, t_child *c)
     if (pipe(in) != 0)
         return false;
     c->pid = fork();
-    if (c->pid == 0) {
-        int fd = open(c->log_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        dup2(in[0], 0);
-        dup2(fd, 1);
-        dup2(fd, 2);
-        close(in[1]);
-        unsetenv("DISPLAY");
-        unsetenv("WAYLAND_DISPLAY");
-        setenv("XR_RUNTIME_JSON", XRSC_RUNTIME_JSON, 1);
-        setenv("XRSC_RT_PACE", "fast", 1);
-        for (const char *const *e = env; e && *e; e++) {
-            char name[128];
-            const char *eq = strchr(*e, '=');
-            snprintf(name, sizeof(name), "%.*s", (int)(eq - *e), *e);
-            if (eq[1])
-                setenv(name, eq + 1, 1);
-            else
-                unsetenv(name);
-        }
-        execl(XRSC_HELLO_XR, "hello_xr", "-g", "Vulkan2", (char *)NULL);
-        _exit(127);
-    }
+    if (c->pid == 0)
+        t_exec_hello("Vulkan2", env, c->log_path, in);
     close(in[0]);
     c->stdin_fd = in[1];
     return c->pid > 0;
@@ -101,7 +75,7 @@ static bool start_hello(const char *const *env, const char *tag, t_child *c)
 /** Waits for the child; returns its exit code, -1 after a signal or the timeout (killed). */
 static int wait_child(t_child *c, double timeout_s, bool *timed_out)
 {
-    double t0 = now_s();
+    double t0 = t_now_s();
     *timed_out = false;
     for (;;) {
         int status = 0;
@@ -110,7 +84,7 @@ static int wait_child(t_child *c, double timeout_s, bool *timed_out)
             close(c->stdin_fd);
             return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
         }
-        if (now_s() - t0 > timeout_s) {
+        if (t_now_s() - t0 > timeout_s) {
             *timed_out = true;
             kill(c->pid, SIGKILL);
             waitpid(c->pid, &status, 0);
@@ -173,8 +147,8 @@ static bool start_xvfb(void)
     close(fds[1]);
     char num[16] = {0};
     ssize_t n = 0;
-    double t0 = now_s();
-    while (now_s() - t0 < 20.0 && n < (ssize_t)sizeof(num) - 1) {
+    double t0 = t_now_s();
+    while (t_now_s() - t0 < 20.0 && n < (ssize_t)sizeof(num) - 1) {
         ssize_t r = read(fds[0], num + n, sizeof(num) - 1 - (size_t)n);
         if (r <= 0)
             break;
@@ -189,6 +163,24 @@ static bool start_xvfb(void)
     }
     snprintf(g_display, sizeof(g_display), ":%d", atoi(num));
     return true;
+}
+
+/** Starts Xvfb and opens its display; NULL (and Xvfb stopped again) when either fails. */
+static Display *open_xvfb_display(void)
+{
+    CHECK_MSG(start_xvfb(), "Xvfb (%s) did not start", XRSC_XVFB);
+    if (g_xvfb <= 0)
+        return NULL;
+    Display *dpy = NULL;
+    for (int i = 0; i < 100 && !dpy; i++) {
+        dpy = XOpenDisplay(g_display);
+        if (!dpy)
+            sleep_s(0.05);
+    }
+    CHECK_MSG(dpy != NULL, "cannot open display %s", g_display);
+    if (!dpy)
+        stop_xvfb();
+    return dpy;
 }
 
 /* ---- images ---- */
@@ -344,8 +336,8 @@ static bool find_preview(Display *dpy, t_win *out)
 static bool wait_title(Display *dpy, const char *want, double timeout_s, t_win *win,
                        const t_child *c)
 {
-    double t0 = now_s();
-    while (now_s() - t0 < timeout_s) {
+    double t0 = t_now_s();
+    while (t_now_s() - t0 < timeout_s) {
         if (find_preview(dpy, win) && strstr(win->title, want))
             return true;
         if (c && !child_alive(c))
@@ -432,9 +424,9 @@ static void check_screen(Display *dpy, const t_win *win, const char *dir, int fr
                                                       : "sbs",
                               win->w, win->h);
     t_diff best = {1e9, 1};
-    double t0 = now_s();
+    double t0 = t_now_s();
     uint8_t *shot = NULL;
-    while (now_s() - t0 < 10.0) {
+    while (t_now_s() - t0 < 10.0) {
         free(shot);
         shot = screenshot(dpy, win);
         if (!shot)
@@ -480,24 +472,6 @@ static void check_screen(Display *dpy, const t_win *win, const char *dir, int fr
     free(r.rgb);
 }
 
-static void clean_dir(const char *dir)
-{
-    mkdir(XRSC_TEST_OUT, 0777);
-    mkdir(dir, 0777);
-    DIR *d = opendir(dir);
-    if (!d)
-        return;
-    struct dirent *e;
-    char p[1024];
-    while ((e = readdir(d))) {
-        if (e->d_name[0] == '.')
-            continue;
-        snprintf(p, sizeof(p), "%s/%s", dir, e->d_name);
-        unlink(p);
-    }
-    closedir(d);
-}
-
 static bool exists(const char *dir, int frame, const char *eye)
 {
     char p[1024];
@@ -530,21 +504,10 @@ static bool read_times(const char *dir, int frame, long long *display, long long
 static void preview_shows_submitted_frames_side_by_side(void)
 {
     const char *dir = XRSC_TEST_OUT "/preview";
-    clean_dir(dir);
-    CHECK_MSG(start_xvfb(), "Xvfb (%s) did not start", XRSC_XVFB);
-    if (g_xvfb <= 0)
+    t_clean_dir(dir);
+    Display *dpy = open_xvfb_display();
+    if (!dpy)
         return;
-    Display *dpy = NULL;
-    for (int i = 0; i < 100 && !dpy; i++) {
-        dpy = XOpenDisplay(g_display);
-        if (!dpy)
-            sleep_s(0.05);
-    }
-    CHECK_MSG(dpy != NULL, "cannot open display %s", g_display);
-    if (!dpy) {
-        stop_xvfb();
-        return;
-    }
     char out_env[600], disp_env[64], hold_env[64], size_env[64], eye_env[64];
     snprintf(out_env, sizeof(out_env), "XRSC_RT_OUT=%s", dir);
     snprintf(disp_env, sizeof(disp_env), "DISPLAY=%s", g_display);
@@ -620,21 +583,10 @@ static void preview_shows_submitted_frames_side_by_side(void)
 static void preview_view_setting_resume_and_escape(void)
 {
     const char *dir = XRSC_TEST_OUT "/preview_view";
-    clean_dir(dir);
-    CHECK(start_xvfb());
-    if (g_xvfb <= 0)
+    t_clean_dir(dir);
+    Display *dpy = open_xvfb_display();
+    if (!dpy)
         return;
-    Display *dpy = NULL;
-    for (int i = 0; i < 100 && !dpy; i++) {
-        dpy = XOpenDisplay(g_display);
-        if (!dpy)
-            sleep_s(0.05);
-    }
-    CHECK(dpy != NULL);
-    if (!dpy) {
-        stop_xvfb();
-        return;
-    }
     char out_env[600], disp_env[64], eye_env[64];
     snprintf(out_env, sizeof(out_env), "XRSC_RT_OUT=%s", dir);
     snprintf(disp_env, sizeof(disp_env), "DISPLAY=%s", g_display);
@@ -662,8 +614,8 @@ static void preview_view_setting_resume_and_escape(void)
          * while still paused, the eyes fitted into the new halves */
         XResizeWindow(dpy, win.id, 640, 480);
         XFlush(dpy);
-        double t0 = now_s();
-        while (now_s() - t0 < 10.0 && !(find_preview(dpy, &win) && win.w == 640 && win.h == 480))
+        double t0 = t_now_s();
+        while (t_now_s() - t0 < 10.0 && !(find_preview(dpy, &win) && win.w == 640 && win.h == 480))
             sleep_s(0.05);
         CHECK_EQ_INT(win.w, 640);
         CHECK_EQ_INT(win.h, 480);
@@ -696,7 +648,7 @@ static void preview_view_setting_resume_and_escape(void)
 static void preview_off_needs_no_display(void)
 {
     const char *dir = XRSC_TEST_OUT "/preview_off";
-    clean_dir(dir);
+    t_clean_dir(dir);
     char out_env[600];
     snprintf(out_env, sizeof(out_env), "XRSC_RT_OUT=%s", dir);
     for (int k = 0; k < 2; k++) {

@@ -10,6 +10,7 @@
 #include "hs_image.h"
 #include "hs_pose_stream.h"
 #include "hs_replay.h"
+#include "t_xr_frames.h"
 #include "testing.h"
 #include "xrsc_core_internal.h" /* xrsc_renderer_output_image */
 #include "xrsc/xrsc_xr.h"
@@ -205,24 +206,6 @@ static void test_recorded_views(void)
 
 /* ---- samplecache through OpenXR = the same frames rendered directly ---- */
 
-static char *read_all(const char *path, size_t *out_size)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc(n > 0 ? (size_t)n : 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-        free(buf);
-        buf = NULL;
-    }
-    fclose(f);
-    *out_size = (size_t)n;
-    return buf;
-}
-
 static void test_samplecache_identity(void)
 {
     static const char *const dir_xr = XRSC_TEST_OUT "/replay_sc_xr";
@@ -296,24 +279,7 @@ static void test_samplecache_identity(void)
     CHECK_EQ_INT(xrsc_context_validation_errors(xrsc_xr_context(xr)), 0);
     xrsc_xr_destroy(&xr);
 
-    for (uint32_t k = first; k < first + rendered; k++) {
-        for (int e = 0; e < 2; e++) {
-            char a[512], b[512];
-            const char *eye = e ? "right" : "left";
-            snprintf(a, sizeof(a), "%s/frame_%05u_%s.pfm", dir_xr, k, eye);
-            snprintf(b, sizeof(b), "%s/frame_%05u_%s.pfm", dir_direct, k, eye);
-            size_t na = 0, nb = 0;
-            char *fa = read_all(a, &na), *fb = read_all(b, &nb);
-            CHECK_MSG(fa && fb, "missing %s or %s", a, b);
-            if (fa && fb) {
-                CHECK_MSG(na == nb && memcmp(fa, fb, na) == 0, "samplecache frame %u %s differs",
-                          k, eye);
-                CHECK(na > px * 12);
-            }
-            free(fa);
-            free(fb);
-        }
-    }
+    t_check_same_frames("samplecache", dir_xr, dir_direct, first, rendered, px * 12);
     unsetenv("XRSC_RT_WRITE");
 }
 

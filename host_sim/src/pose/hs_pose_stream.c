@@ -209,6 +209,18 @@ static xrsc_result parse_double(hs_parser *p, hs_field f, const char *field, dou
 }
 
 /** An integer field (timestamps in ns or ticks, viewpoint ids). */
+/** Parses count fields f[i] (named names[i]) as doubles into out[i]. */
+static xrsc_result parse_doubles(hs_parser *p, const hs_field *f, const char *const *names,
+                                 int count, double *out)
+{
+    for (int i = 0; i < count; i++) {
+        xrsc_result r = parse_double(p, f[i], names[i], &out[i]);
+        if (r != XRSC_OK)
+            return r;
+    }
+    return XRSC_OK;
+}
+
 static xrsc_result parse_int64(hs_parser *p, hs_field f, const char *field, int64_t *out)
 {
     char buf[HS_MAX_FIELD_CHARS + 1];
@@ -320,6 +332,17 @@ static xrsc_result time_from_raw(hs_parser *p, int64_t raw, int64_t ns_per_unit,
     p->last_raw = raw;
     *out_ns = rel * ns_per_unit;
     return XRSC_OK;
+}
+
+/** Appends a sample whose timestamp is raw in the file's unit (see time_from_raw). */
+static xrsc_result push_raw_sample(hs_parser *p, int64_t raw, int64_t ns_per_unit,
+                                   const char *field, XrPosef pose)
+{
+    int64_t t_ns = 0;
+    xrsc_result r = time_from_raw(p, raw, ns_per_unit, field, &t_ns);
+    if (r != XRSC_OK)
+        return r;
+    return push_sample(p, t_ns, pose);
 }
 
 /* ---- canonical format ------------------------------------------------------------------- */
@@ -440,11 +463,7 @@ static xrsc_result parse_canonical(hs_parser *p)
         r = check_quat(p, &pose.orientation, "qx qy qz qw");
         if (r != XRSC_OK)
             return r;
-        int64_t t_ns;
-        r = time_from_raw(p, t_raw, 1, "t_ns", &t_ns);
-        if (r != XRSC_OK)
-            return r;
-        r = push_sample(p, t_ns, pose);
+        r = push_raw_sample(p, t_raw, 1, "t_ns", pose);
         if (r != XRSC_OK)
             return r;
     }
@@ -469,35 +488,52 @@ static bool next_content_line(hs_parser *p, const char **line, size_t *len)
     return false;
 }
 
+/** The first content line must be the importer's fixed header. */
+static xrsc_result expect_header(hs_parser *p, const char *header)
+{
+    const char *line;
+    size_t len;
+    if (!next_content_line(p, &line, &len))
+        return u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "", "empty file");
+    if (!line_equals(line, len, header))
+        return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line, "header",
+                          "expected '%s'", header);
+    return XRSC_OK;
+}
+
+/** A sample line of a fixed-column importer holds exactly ncols fields; names[i] names field i. */
+static xrsc_result check_field_count(hs_parser *p, size_t n, size_t ncols, const char *const *names)
+{
+    if (n < ncols)
+        return u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line, names[n],
+                          "%zu of %zu fields", n, ncols);
+    if (n > ncols)
+        return extra_field(p, ncols, n);
+    return XRSC_OK;
+}
+
 /** The pred6dof HoloLens CSV (poses/README.md, "Importer: pred6dof"). */
 static xrsc_result parse_pred6dof(hs_parser *p)
 {
     const char *line;
     size_t len;
-    xrsc_result r;
-    if (!next_content_line(p, &line, &len))
-        return u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "", "empty file");
-    if (!line_equals(line, len, HS_PRED6DOF_HEADER))
-        return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line, "header",
-                          "expected '%s'", HS_PRED6DOF_HEADER);
+    xrsc_result r = expect_header(p, HS_PRED6DOF_HEADER);
+    if (r != XRSC_OK)
+        return r;
     while (next_content_line(p, &line, &len)) {
         hs_field f[9];
         size_t n = split_fields(line, len, ',', f, 9);
-        if (n < 8)
-            return u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
-                              hs_pred6dof_names[n], "%zu of 8 fields", n);
-        if (n > 8)
-            return extra_field(p, 8, n);
+        r = check_field_count(p, n, 8, hs_pred6dof_names);
+        if (r != XRSC_OK)
+            return r;
         int64_t ticks;
         r = parse_int64(p, f[0], "timestamp", &ticks);
         if (r != XRSC_OK)
             return r;
         double v[8];
-        for (int i = 1; i < 8; i++) {
-            r = parse_double(p, f[i], hs_pred6dof_names[i], &v[i]);
-            if (r != XRSC_OK)
-                return r;
-        }
+        r = parse_doubles(p, &f[1], &hs_pred6dof_names[1], 7, &v[1]);
+        if (r != XRSC_OK)
+            return r;
         /* Left-handed, +Z forward (Unity) -> OpenXR: mirror z; the rotation's x and y
          * components change sign (poses/README.md). */
         XrPosef pose;
@@ -511,11 +547,7 @@ static xrsc_result parse_pred6dof(hs_parser *p)
         r = check_quat(p, &pose.orientation, "qx qy qz qw");
         if (r != XRSC_OK)
             return r;
-        int64_t t_ns;
-        r = time_from_raw(p, ticks, HS_NS_PER_DOTNET_TICK, "timestamp", &t_ns);
-        if (r != XRSC_OK)
-            return r;
-        r = push_sample(p, t_ns, pose);
+        r = push_raw_sample(p, ticks, HS_NS_PER_DOTNET_TICK, "timestamp", pose);
         if (r != XRSC_OK)
             return r;
     }
@@ -527,21 +559,16 @@ static xrsc_result parse_360video(hs_parser *p)
 {
     const char *line;
     size_t len;
-    xrsc_result r;
-    if (!next_content_line(p, &line, &len))
-        return u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "", "empty file");
-    if (!line_equals(line, len, HS_360VIDEO_HEADER))
-        return u_diag_set(p->diag, XRSC_ERROR_BAD_HEADER, p->name, p->line, "header",
-                          "expected '%s'", HS_360VIDEO_HEADER);
+    xrsc_result r = expect_header(p, HS_360VIDEO_HEADER);
+    if (r != XRSC_OK)
+        return r;
     p->stream->orientation_only = true;
     while (next_content_line(p, &line, &len)) {
         hs_field f[7];
         size_t n = split_fields(line, len, 0, f, 7);
-        if (n < 6)
-            return u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
-                              hs_360video_names[n], "%zu of 6 fields", n);
-        if (n > 6)
-            return extra_field(p, 6, n);
+        r = check_field_count(p, n, 6, hs_360video_names);
+        if (r != XRSC_OK)
+            return r;
         double seconds;
         r = parse_number(p, f[0], "timestamp", false, &seconds);
         if (r != XRSC_OK)
@@ -551,11 +578,9 @@ static xrsc_result parse_360video(hs_parser *p)
         if (r != XRSC_OK)
             return r;
         double q[4]; /* w x y z */
-        for (int i = 0; i < 4; i++) {
-            r = parse_double(p, f[2 + i], hs_360video_names[2 + i], &q[i]);
-            if (r != XRSC_OK)
-                return r;
-        }
+        r = parse_doubles(p, &f[2], &hs_360video_names[2], 4, q);
+        if (r != XRSC_OK)
+            return r;
         /* The trace is right-handed with x forward, y left, z up; OpenXR's x (right) is -y,
          * its y (up) is z and its z (back) is -x. A proper rotation of the axes maps the
          * quaternion's vector part the same way (poses/README.md). */
@@ -634,11 +659,9 @@ static xrsc_result librnr_pose(hs_parser *p, const hs_field *f, const char *cons
                                XrPosef *out)
 {
     double v[7];
-    for (int i = 0; i < 7; i++) {
-        xrsc_result r = parse_double(p, f[i], names[i], &v[i]);
-        if (r != XRSC_OK)
-            return r;
-    }
+    xrsc_result r = parse_doubles(p, f, names, 7, v);
+    if (r != XRSC_OK)
+        return r;
     out->orientation = (XrQuaternionf){(float)v[0], (float)v[1], (float)v[2], (float)v[3]};
     out->position = (XrVector3f){(float)v[4], (float)v[5], (float)v[6]};
     return check_quat(p, &out->orientation, "ox oy oz ow");
@@ -656,11 +679,7 @@ static xrsc_result librnr_push_views(hs_parser *p, int64_t raw, const hs_view_sa
     head.position.z = 0.5f * (views->pose[0].position.z + views->pose[1].position.z);
     head.orientation = xrsc_quat_normalize(
         xrsc_quat_slerp(views->pose[0].orientation, views->pose[1].orientation, 0.5f));
-    int64_t t_ns;
-    xrsc_result r = time_from_raw(p, raw, 1, "timestamp", &t_ns);
-    if (r != XRSC_OK)
-        return r;
-    r = push_sample(p, t_ns, head);
+    xrsc_result r = push_raw_sample(p, raw, 1, "timestamp", head);
     if (r != XRSC_OK)
         return r;
     if (*views_capacity < p->capacity) {
@@ -833,9 +852,8 @@ static xrsc_result parse_librnr(hs_parser *p)
     }
     if (p->stream->count == 0) {
         for (size_t i = 0; i < head_count; i++) {
-            int64_t t_ns;
-            if ((r = time_from_raw(p, heads[i].time_ns, 1, "timestamp", &t_ns)) != XRSC_OK ||
-                (r = push_sample(p, t_ns, heads[i].pose)) != XRSC_OK)
+            if ((r = push_raw_sample(p, heads[i].time_ns, 1, "timestamp", heads[i].pose)) !=
+                XRSC_OK)
                 goto done;
         }
     }

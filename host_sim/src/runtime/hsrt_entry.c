@@ -624,6 +624,19 @@ static XrResult check_system(hsrt_instance *inst, XrSystemId systemId, const cha
     return XR_SUCCESS;
 }
 
+/** This runtime's system and the only view configuration it offers (primary stereo). */
+static XrResult check_stereo_system(hsrt_instance *inst, XrSystemId systemId,
+                                    XrViewConfigurationType viewConfigurationType, const char *fn)
+{
+    XrResult r = check_system(inst, systemId, fn);
+    if (XR_FAILED(r))
+        return r;
+    if (viewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
+        return hsrt_fail(XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED, fn, "type %d",
+                         (int)viewConfigurationType);
+    return XR_SUCCESS;
+}
+
 static XrResult XRAPI_CALL hsrt_xrGetSystem(XrInstance instance, const XrSystemGetInfo *getInfo,
                                             XrSystemId *systemId)
 {
@@ -671,12 +684,9 @@ static XrResult XRAPI_CALL hsrt_xrEnumerateEnvironmentBlendModes(
 {
     const char *fn = "xrEnumerateEnvironmentBlendModes";
     GET_INSTANCE(inst, instance, fn);
-    XrResult r = check_system(inst, systemId, fn);
+    XrResult r = check_stereo_system(inst, systemId, viewConfigurationType, fn);
     if (XR_FAILED(r))
         return r;
-    if (viewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
-        return hsrt_fail(XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED, fn, "type %d",
-                         (int)viewConfigurationType);
     if (!environmentBlendModeCountOutput)
         return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "NULL count");
     *environmentBlendModeCountOutput = 1;
@@ -714,12 +724,9 @@ static XrResult XRAPI_CALL hsrt_xrGetViewConfigurationProperties(
 {
     const char *fn = "xrGetViewConfigurationProperties";
     GET_INSTANCE(inst, instance, fn);
-    XrResult r = check_system(inst, systemId, fn);
+    XrResult r = check_stereo_system(inst, systemId, viewConfigurationType, fn);
     if (XR_FAILED(r))
         return r;
-    if (viewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
-        return hsrt_fail(XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED, fn, "type %d",
-                         (int)viewConfigurationType);
     if (!configurationProperties ||
         configurationProperties->type != XR_TYPE_VIEW_CONFIGURATION_PROPERTIES)
         return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad configurationProperties");
@@ -734,12 +741,9 @@ static XrResult XRAPI_CALL hsrt_xrEnumerateViewConfigurationViews(
 {
     const char *fn = "xrEnumerateViewConfigurationViews";
     GET_INSTANCE(inst, instance, fn);
-    XrResult r = check_system(inst, systemId, fn);
+    XrResult r = check_stereo_system(inst, systemId, viewConfigurationType, fn);
     if (XR_FAILED(r))
         return r;
-    if (viewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
-        return hsrt_fail(XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED, fn, "type %d",
-                         (int)viewConfigurationType);
     if (!viewCountOutput)
         return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "NULL count");
     *viewCountOutput = 2;
