@@ -8,16 +8,19 @@
  *
  * Glossy setup: 64 x 64 per eye, 4 spp `spp` input (jittered, 3 bounces), reference 1024 spp;
  * every metric is the mean over both eyes and over T_INPUTS independent noisy inputs (seeds),
- * because one 4-spp input's relMSE is too noisy to rank blends: over 12 inputs the no-blend
- * relMSE ranged about 0.06 to 0.15. All pixels are scored (relMSE: every pixel of both eyes;
- * discrepancy: xrsc_metrics_stereo_discrepancy's valid pixels). The reference's own stereo
- * discrepancy is printed beside: on this scene the sun's glossy streak on the floor reflects a
- * distant source, so it is misregistered by reprojection at floor depth and the converged
- * images already differ there by about 90 % of the noisy input's discrepancy.
+ * printed with its standard error over the inputs, and each claimed comparison is printed as the
+ * paired difference over the same inputs +- its standard error (one 4-spp input's relMSE is too
+ * noisy to rank blends). All pixels are scored (relMSE: every pixel of both eyes; discrepancy:
+ * xrsc_metrics_stereo_discrepancy's valid pixels). The scene is in the regime of seed 000 §5.2:
+ * the converged reference's own stereo discrepancy (real view dependence of the floor's glossy
+ * highlight, resampling at edges) must stay below 30 % of the noisy input's, i.e. the input's
+ * discrepancy is mostly Monte Carlo noise, which is what the blends are meant to remove (see
+ * scenes/README.md for the earlier sun-streak scene where it was not).
  *
  * Must hold: Eq. 8 from sample moments converges to Eq. 4's beta and a brute-force beta search
- * of the blend's MSE agrees with it; moments R = 0 lowers discrepancy and relMSE against none
- * and pfj23; R = 0 beats R = 1 on relMSE; disoccluded and background pixels are untouched;
+ * of the blend's MSE agrees with it; the scene's regime (above); moments R = 0 lowers discrepancy
+ * and relMSE against none and pfj23; R = 0 beats R = 1 on relMSE, by more than 3 standard errors
+ * of the paired difference; disoccluded and background pixels are untouched;
  * swapping the eyes swaps the result; the renderer's in-frame blend equals the pass run on the
  * same inputs; zero validation errors.
  */
@@ -37,7 +40,7 @@
 #define T_W 64u
 #define T_H 64u
 #define T_SPP 4u          /* noisy input */
-#define T_INPUTS 4u       /* independent noisy inputs the glossy metrics are averaged over */
+#define T_INPUTS 16u      /* independent noisy inputs the glossy metrics are averaged over */
 #define T_REF_SPP 256u    /* reference: T_REF_FRAMES x T_REF_SPP accumulated */
 #define T_REF_FRAMES 4u
 #define T_IPD_M 0.063f
@@ -174,6 +177,18 @@ static void measure(const float *rgba, const float *depth, const float *ref, con
     }
     *out_relmse = rel;
     *out_disc = disc;
+}
+
+/** Mean and standard error of the mean of v[0..n-1]. */
+static void mean_se(const double *v, uint32_t n, double *out_mean, double *out_se)
+{
+    double m = 0, ss = 0;
+    for (uint32_t i = 0; i < n; i++)
+        m += v[i] / n;
+    for (uint32_t i = 0; i < n; i++)
+        ss += (v[i] - m) * (v[i] - m);
+    *out_mean = m;
+    *out_se = n > 1 ? sqrt(ss / (n - 1) / n) : 0.0;
 }
 
 /* ---- 2. the pass on synthetic images: device vs the C formulas ---- */
@@ -324,20 +339,22 @@ static void test_glossy_consistency(void)
         const char *name;
         xrsc_blend blend;
         float r;
-        double relmse, disc, cpbd;
-    } runs[] = {{"none", XRSC_BLEND_NONE, 0.0f, 0, 0, 0},
-                {"pfj23", XRSC_BLEND_PFJ23, 0.0f, 0, 0, 0},
-                {"moments R=0", XRSC_BLEND_MOMENTS, 0.0f, 0, 0, 0},
-                {"moments R=0.8", XRSC_BLEND_MOMENTS, 0.8f, 0, 0, 0},
-                {"moments R=1", XRSC_BLEND_MOMENTS, 1.0f, 0, 0, 0}};
+        double relmse, relmse_se, disc, disc_se, cpbd;
+        double rel_n[T_INPUTS], disc_n[T_INPUTS]; /* per input */
+    } runs[] = {{.name = "none", .blend = XRSC_BLEND_NONE},
+                {.name = "pfj23", .blend = XRSC_BLEND_PFJ23},
+                {.name = "moments R=0", .blend = XRSC_BLEND_MOMENTS, .r = 0.0f},
+                {.name = "moments R=0.8", .blend = XRSC_BLEND_MOMENTS, .r = 0.8f},
+                {.name = "moments R=1", .blend = XRSC_BLEND_MOMENTS, .r = 1.0f}};
     enum { NONE, PFJ, M0, M08, M1, NRUNS };
     float *keep_m0 = malloc(2 * px * 16);
-    printf("  glossy %ux%u, %u spp input, reference %u spp; means over both eyes and %u inputs\n",
+    printf("  glossy %ux%u, %u spp input, reference %u spp; means over both eyes and %u inputs "
+           "(+- standard error over the inputs)\n",
            T_W, T_H, T_SPP, T_REF_SPP * T_REF_FRAMES, T_INPUTS);
-    printf("  %-14s %12s %14s %8s %8s %8s\n", "blend", "relMSE", "discrepancy", "CPBD", "blended",
+    printf("  %-14s %21s %24s %8s %8s %8s\n", "blend", "relMSE", "discrepancy", "CPBD", "blended",
            "kept");
-    printf("  %-14s %12s %14.8f %8.4f   (the converged images' own discrepancy)\n", "reference",
-           "-", ref_disc, ref_cpbd);
+    printf("  %-14s %21s %24.6f %8.4f   (the converged images' own)\n", "reference", "-", ref_disc,
+           ref_cpbd);
     const char *ps_env = getenv("T_PIXEL_MEAN"); /* experiment: the other estimate */
     for (int k = 0; k < NRUNS; k++) {
         st_settings set = {.blend = runs[k].blend, .r = runs[k].r, .pixel_mean = ps_env != NULL};
@@ -347,10 +364,7 @@ static void test_glossy_consistency(void)
             CHECK_EQ_INT(st_blend_run_host(gpu, T_W, T_H, &set, frame.views, ik->color, ik->depth,
                                            ik->mu1, ik->mu2, out, aux, NULL),
                          XRSC_OK);
-            double rel, disc;
-            measure(out, ik->depth, ref, frame.views, &rel, &disc);
-            runs[k].relmse += rel / T_INPUTS;
-            runs[k].disc += disc / T_INPUTS;
+            measure(out, ik->depth, ref, frame.views, &runs[k].rel_n[n], &runs[k].disc_n[n]);
             for (uint32_t e = 0; e < 2; e++) {
                 xrsc_cpbd cp;
                 CHECK_EQ_INT(xrsc_metrics_cpbd(out + e * px * 4, T_W, T_H, NULL, &cp), XRSC_OK);
@@ -368,17 +382,41 @@ static void test_glossy_consistency(void)
             if (k == M0 && n == 0)
                 memcpy(keep_m0, out, 2 * px * 16);
         }
-        printf("  %-14s %12.6f %14.8f %8.4f %8u %8u\n", runs[k].name, runs[k].relmse,
-               runs[k].disc, runs[k].cpbd, blended / T_INPUTS, kept / T_INPUTS);
+        mean_se(runs[k].rel_n, T_INPUTS, &runs[k].relmse, &runs[k].relmse_se);
+        mean_se(runs[k].disc_n, T_INPUTS, &runs[k].disc, &runs[k].disc_se);
+        printf("  %-14s %10.6f +- %7.6f %12.6f +- %8.6f %8.4f %8u %8u\n", runs[k].name,
+               runs[k].relmse, runs[k].relmse_se, runs[k].disc, runs[k].disc_se, runs[k].cpbd,
+               blended / T_INPUTS, kept / T_INPUTS);
         CHECK_EQ_INT(touched, 0); /* disoccluded and background pixels untouched */
         if (k != NONE) {
             CHECK(blended / T_INPUTS > px); /* most foreground pixels find the other eye */
             CHECK(rejected > 0);            /* the objects' sides seen by one eye only */
         }
     }
+    printf("  reference discrepancy / noisy input's: %.1f %%\n", 100.0 * ref_disc / runs[NONE].disc);
+    /* the regime: discrepancy mostly noise, not real view dependence */
+    CHECK_MSG(ref_disc < 0.3 * runs[NONE].disc, "reference discrepancy %g vs input %g", ref_disc,
+              runs[NONE].disc);
+    /* paired differences over the same inputs: margin +- its standard error */
+    static const struct { int a, b; bool relmse; } cmp[] = {
+        {NONE, M0, false}, {PFJ, M0, false}, {NONE, M0, true}, {PFJ, M0, true}, {M1, M0, true}};
+    double m1_m0 = 0, m1_m0_se = 0;
+    for (size_t c = 0; c < sizeof(cmp) / sizeof(cmp[0]); c++) {
+        double d[T_INPUTS], m, se;
+        for (uint32_t n = 0; n < T_INPUTS; n++)
+            d[n] = cmp[c].relmse ? runs[cmp[c].a].rel_n[n] - runs[cmp[c].b].rel_n[n]
+                                 : runs[cmp[c].a].disc_n[n] - runs[cmp[c].b].disc_n[n];
+        mean_se(d, T_INPUTS, &m, &se);
+        printf("  %-12s: %-13s - %-13s = %+.6f +- %.6f (%.1f standard errors)\n",
+               cmp[c].relmse ? "relMSE" : "discrepancy", runs[cmp[c].a].name, runs[cmp[c].b].name,
+               m, se, se > 0 ? m / se : 0.0);
+        if (cmp[c].a == M1)
+            m1_m0 = m, m1_m0_se = se;
+    }
     CHECK(runs[M0].disc < runs[NONE].disc && runs[M0].disc < runs[PFJ].disc);
     CHECK(runs[M0].relmse < runs[NONE].relmse && runs[M0].relmse < runs[PFJ].relmse);
     CHECK(runs[M0].relmse < runs[M1].relmse);
+    CHECK_MSG(m1_m0 > 3 * m1_m0_se, "R = 1 - R = 0 relMSE %g +- %g: not resolved", m1_m0, m1_m0_se);
 
     /* swapping the eyes swaps the result (bit for bit) */
     {
