@@ -111,6 +111,25 @@ xs_surface sc_surface(uvec4 fh)
     return s;
 }
 
+/** The world position of a stored surface hit with the CURRENT instance transforms, and the
+ *  unit geometric normal of its triangle UP TO SIGN (not oriented by the vertex normals):
+ *  the arithmetic of xs_surface_at for s.p and s.ng without the vertex normals and uv, for
+ *  passes that need only the position and |cos| (the reprojection's Eq. 1 slope). */
+vec3 sc_hit_position(uvec4 fh, out vec3 ng_unsigned)
+{
+    xs_instance inst = instances[fh.w];
+    uint base = inst.first_index + 3u * fh.z;
+    vec2 bary = sc_bary(fh);
+    vec3 w = vec3(1.0 - bary.x - bary.y, bary.x, bary.y);
+    vec3 p0 = (inst.object_to_world * vec4(vertices[indices[base]].position_u.xyz, 1.0)).xyz;
+    vec3 p1 = (inst.object_to_world * vec4(vertices[indices[base + 1u]].position_u.xyz, 1.0)).xyz;
+    vec3 p2 = (inst.object_to_world * vec4(vertices[indices[base + 2u]].position_u.xyz, 1.0)).xyz;
+    vec3 cr = cross(p1 - p0, p2 - p0);
+    float cr_len = length(cr);
+    ng_unsigned = cr_len > 0.0 ? cr / cr_len : vec3(0.0, 0.0, 1.0);
+    return w.x * p0 + w.y * p1 + w.z * p2;
+}
+
 /**
  * Projects a world point (w = 1) or direction (w = 0) into eye `eye` of this frame with the
  * camera convention of xs_camera.glsl (eye-space direction (mix(tanL, tanR, u), mix(tanU,

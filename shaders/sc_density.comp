@@ -20,7 +20,7 @@
  * New samples take free slots first, then invisible ones, picked in random order; they get
  * their occupancy bit now and are traced through a random point of the pixel by sc_trace.rgen
  * (plan.y). Reads the visible counts of the 5 x 5 neighbourhood from plan.w (written by
- * sc_trace_mask.comp) and writes only its own pixel.
+ * sc_trace_mask.comp; each once) and writes only its own pixel.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -51,21 +51,30 @@ void main()
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
     /* the 3 x 3 means of the neighbourhoods containing this pixel (each clipped to the
-     * image, as each of those pixels measures its own) */
-    uvec2 lo, hi;
-    sc_neighbourhood(g.xy, lo, hi);
+     * image, as each of those pixels measures its own), from the visible counts of the 5 x 5
+     * window loaded once (pixels outside the image count 0; integer sums, so the order of
+     * summation does not matter) */
+    uint cnt[5][5];
+    ivec2 size = ivec2(frame.width, frame.height);
+    for (int dy = 0; dy < 5; dy++)
+        for (int dx = 0; dx < 5; dx++) {
+            ivec2 c = ivec2(g.xy) + ivec2(dx - 2, dy - 2);
+            bool inside = all(greaterThanEqual(c, ivec2(0))) && all(lessThan(c, size));
+            cnt[dy][dx] = inside ? sc_plan[sc_pix(eye, uvec2(c))].w : 0u;
+        }
     float mean_min = 1e30, mean_max = 0.0;
-    for (uint qy = lo.y; qy <= hi.y; qy++)
-        for (uint qx = lo.x; qx <= hi.x; qx++) {
-            uvec2 lo2, hi2;
-            sc_neighbourhood(uvec2(qx, qy), lo2, hi2);
-            uint sum = 0u, n = 0u;
-            for (uint y = lo2.y; y <= hi2.y; y++)
-                for (uint x = lo2.x; x <= hi2.x; x++) {
-                    sum += sc_plan[sc_pix(eye, uvec2(x, y))].w;
-                    n++;
-                }
-            float mean = float(sum) / float(n);
+    for (int oy = -1; oy <= 1; oy++)
+        for (int ox = -1; ox <= 1; ox++) {
+            ivec2 q = ivec2(g.xy) + ivec2(ox, oy);
+            if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
+                continue;
+            uint sum = 0u;
+            for (int y = 0; y < 3; y++)
+                for (int x = 0; x < 3; x++)
+                    sum += cnt[oy + 1 + y][ox + 1 + x];
+            /* pixels of q's clipped neighbourhood */
+            ivec2 ext = min(q + 1, size - 1) - max(q - 1, ivec2(0)) + 1;
+            float mean = float(sum) / float(uint(ext.x * ext.y));
             mean_min = min(mean_min, mean);
             mean_max = max(mean_max, mean);
         }

@@ -96,12 +96,14 @@ void main()
             if (!sc_project(eye, vec4(sc_background_dir(fh), 0.0), pos))
                 continue;
         } else {
-            xs_surface sf = sc_surface(fh);
-            if (!sc_project(eye, vec4(sf.p, 1.0), pos))
+            /* position and |cos| only (the normal's sign does not matter under abs) */
+            vec3 ng;
+            vec3 p = sc_hit_position(fh, ng);
+            if (!sc_project(eye, vec4(p, 1.0), pos))
                 continue;
-            vec3 to_eye = eye_pos - sf.p;
+            vec3 to_eye = eye_pos - p;
             t = length(to_eye);
-            slope = xs_sc_slope(t, abs(dot(sf.ng, to_eye / max(t, 1e-30))), sc_phi(eye));
+            slope = xs_sc_slope(t, abs(dot(ng, to_eye / max(t, 1e-30))), sc_phi(eye));
         }
         uint tpix = sc_pix(eye, uvec2(pos));
         uint tmask = sc_mask_at(cur, tpix);

@@ -88,6 +88,11 @@
 #define XS_SC_SHADE_SLOT_MASK 0xFu
 /* uints before the entries of the shade list (count + padding to 16 bytes) */
 #define XS_SC_SHADE_LIST_HEADER 4u
+/* The shading launch is width x (XS_SC_SHADE_STRIPES * q) invocations; launch row r shades
+ * list row (r % q) * XS_SC_SHADE_STRIPES + r / q, so every contiguous band of launch rows
+ * (lavapipe gives each worker thread one) gets an equal share of the filled prefix of the
+ * list, whatever its count (sc_shade.rgen). */
+#define XS_SC_SHADE_STRIPES 16u
 
 /* Compute workgroup size (x, y) of every sample-cache compute shader. */
 #define XS_SC_GROUP 8u

@@ -285,8 +285,11 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     gpu_cmd_barrier_all(cmd);
     dispatch(cmd, s, PROG_SHADE_SELECT);
     gpu_cmd_barrier_all(cmd);
-    /* one invocation per shade-list entry, rows of width w (entries past the count exit) */
-    gpu_rt_program_cmd_trace(ctx, cmd, &s->shade, NULL, w, (s->p.shade_capacity + w - 1) / w, 1);
+    /* one invocation per shade-list entry, rows of width w striped over XS_SC_SHADE_STRIPES
+     * bands of the launch (entries past the count exit) */
+    uint32_t list_rows = (s->p.shade_capacity + w - 1) / w;
+    uint32_t stripe_rows = (list_rows + XS_SC_SHADE_STRIPES - 1) / XS_SC_SHADE_STRIPES;
+    gpu_rt_program_cmd_trace(ctx, cmd, &s->shade, NULL, w, XS_SC_SHADE_STRIPES * stripe_rows, 1);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
     gpu_cmd_barrier_all(cmd);
     if (s->stop_after == STAGE_SHADE)
