@@ -6,10 +6,10 @@
  */
 #include "hs_metrics_cmd.h"
 
+#include "hs_args.h"
 #include "hs_image.h"
 #include "xrsc/xrsc_metrics.h"
 
-#include <errno.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -51,28 +51,14 @@ static void usage(FILE *f)
 
 static int bad_arg(const char *flag, const char *value, const char *why)
 {
-    fprintf(stderr, "xrsc metrics: error: %s%s%s: %s (see xrsc metrics --help)\n", flag,
-            value ? " " : "", value ? value : "", why);
-    return 2;
+    return hs_bad_arg("xrsc metrics", flag, value, why);
 }
 
-static bool parse_u32(const char *s, uint32_t *out)
-{
-    char *end;
-    errno = 0;
-    unsigned long v = strtoul(s, &end, 10);
-    if (errno || end == s || *end || v > 0xFFFFFFFFul || s[0] == '-')
-        return false;
-    *out = (uint32_t)v;
-    return true;
-}
-
+/* A number in (0, 1e30]. */
 static bool parse_positive(const char *s, double *out)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (errno || end == s || *end || !(v > 0.0) || v > 1e30)
+    double v;
+    if (!hs_parse_f(s, &v) || !(v > 0.0) || v > 1e30)
         return false;
     *out = v;
     return true;
@@ -217,10 +203,7 @@ int hs_metrics_main(int argc, char **argv)
         }
         static const char *const with_value[] = {"--ref",    "--test", "--pattern",    "--first",
                                                  "--frames", "--csv",  "--relmse-eps", "--range"};
-        bool known = false;
-        for (size_t k = 0; k < sizeof(with_value) / sizeof(with_value[0]); k++)
-            known |= !strcmp(a, with_value[k]);
-        if (!known)
+        if (!hs_arg_in(a, with_value, sizeof(with_value) / sizeof(with_value[0])))
             return bad_arg(a, NULL, a[0] == '-' ? "unknown option" : "unexpected argument");
         if (i + 1 >= argc)
             return bad_arg(a, NULL, "needs a value");
@@ -232,10 +215,10 @@ int hs_metrics_main(int argc, char **argv)
         } else if (!strcmp(a, "--pattern")) {
             pattern = v;
         } else if (!strcmp(a, "--first")) {
-            if (!parse_u32(v, &first))
+            if (!hs_parse_u32(v, &first))
                 return bad_arg(a, v, "expected a frame number");
         } else if (!strcmp(a, "--frames")) {
-            if (!parse_u32(v, &max_frames))
+            if (!hs_parse_u32(v, &max_frames))
                 return bad_arg(a, v, "expected a count");
         } else if (!strcmp(a, "--csv")) {
             csv_path = v;

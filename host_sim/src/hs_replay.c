@@ -135,6 +135,16 @@ static bool headset_is_zero(const xrsc_headset *hs)
     return memcmp(hs, &zero, sizeof(zero)) == 0;
 }
 
+void hs_replay_stats_average(hs_replay_stats *st)
+{
+    if (st->frames) {
+        st->render_ms_mean /= st->frames;
+        st->rays_per_frame /= st->frames;
+        for (uint32_t p = 0; p < st->pass_count; p++)
+            st->pass_mean[p].gpu_ms /= st->frames;
+    }
+}
+
 xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_stats,
                           xrsc_diag *diag)
 {
@@ -270,12 +280,7 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
         st->frames = k + 1;
         show_progress(opt, k + 1, frames, started, &last_print, k + 1 == frames);
     }
-    if (st->frames) {
-        st->render_ms_mean /= st->frames;
-        st->rays_per_frame /= st->frames;
-        for (uint32_t p = 0; p < st->pass_count; p++)
-            st->pass_mean[p].gpu_ms /= st->frames;
-    }
+    hs_replay_stats_average(st);
     res = XRSC_OK;
 
 done:

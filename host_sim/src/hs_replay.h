@@ -66,6 +66,12 @@ typedef struct hs_replay_stats {
 xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_stats,
                           xrsc_diag *diag);
 
+/**
+ * Turns the per-frame sums a run gathered in st (render_ms_mean, rays_per_frame, pass_mean)
+ * into means over st->frames; both replay paths (hs_replay_run, hs_xr_replay_run) end with it.
+ */
+void hs_replay_stats_average(hs_replay_stats *st);
+
 #ifdef __cplusplus
 }
 #endif

@@ -282,12 +282,7 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     }
     if (st->frames > frames)
         st->frames = frames;
-    if (st->frames) {
-        st->render_ms_mean /= st->frames;
-        st->rays_per_frame /= st->frames;
-        for (uint32_t p = 0; p < st->pass_count; p++)
-            st->pass_mean[p].gpu_ms /= st->frames;
-    }
+    hs_replay_stats_average(st);
     res = XRSC_OK;
 
 done:

@@ -4,13 +4,13 @@
  * @brief The `xrsc` program: replays a head-pose stream over a glTF scene and writes the
  *        stereo result (per-eye and side-by-side PNG, linear PFM, per-frame timing).
  */
+#include "hs_args.h"
 #include "hs_bench.h"
 #include "hs_metrics_cmd.h"
 #include "hs_replay.h"
 #include "hs_xr_replay.h"
 #include "u_diag.h"
 
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -107,9 +107,7 @@ static void usage(FILE *f)
 
 static int bad_arg(const char *flag, const char *value, const char *why)
 {
-    fprintf(stderr, "xrsc: error: %s%s%s: %s (see xrsc --help)\n", flag, value ? " " : "",
-            value ? value : "", why);
-    return 2;
+    return hs_bad_arg("xrsc", flag, value, why);
 }
 
 /* Options that take a value; anything else starting with "--" is unknown. */
@@ -122,41 +120,11 @@ static const char *const value_options[] = {
     "--sc-alpha", "--sc-alpha-fixed", "--blend", "--blend-r",
 };
 
-static bool takes_value(const char *flag)
-{
-    for (size_t k = 0; k < sizeof(value_options) / sizeof(value_options[0]); k++)
-        if (!strcmp(flag, value_options[k]))
-            return true;
-    return false;
-}
-
-static bool parse_u32(const char *s, uint32_t *out)
-{
-    char *end;
-    errno = 0;
-    unsigned long v = strtoul(s, &end, 10);
-    if (errno || end == s || *end || v > 0xFFFFFFFFul || s[0] == '-')
-        return false;
-    *out = (uint32_t)v;
-    return true;
-}
-
-static bool parse_f(const char *s, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (errno || end == s || *end || v != v)
-        return false;
-    *out = v;
-    return true;
-}
-
 /* Positive float option; returns 0 or the exit code of bad_arg. */
 static int parse_positive(const char *flag, const char *v, float max, float *out)
 {
     double d;
-    if (!parse_f(v, &d) || !(d > 0) || d > max) {
+    if (!hs_parse_f(v, &d) || !(d > 0) || d > max) {
         char why[64];
         snprintf(why, sizeof(why), "expected a number in (0, %g]", max);
         return bad_arg(flag, v, why);
@@ -170,11 +138,11 @@ static int parse_samplecache(const char *a, const char *v, xrsc_samplecache_opti
 {
     uint32_t u;
     if (!strcmp(a, "--sc-slots")) {
-        if (!parse_u32(v, &u) || u < 1 || u > 16)
+        if (!hs_parse_u32(v, &u) || u < 1 || u > 16)
             return bad_arg(a, v, "expected 1..16");
         sc->slots = u;
     } else if (!strcmp(a, "--sc-block")) {
-        if (!parse_u32(v, &u) || u < 1 || u > 64)
+        if (!hs_parse_u32(v, &u) || u < 1 || u > 64)
             return bad_arg(a, v, "expected 1..64");
         sc->block = u;
     } else if (!strcmp(a, "--sc-target")) {
@@ -282,7 +250,7 @@ int main(int argc, char **argv)
         }
         if (a[0] != '-' || a[1] != '-')
             return bad_arg(a, NULL, "unexpected argument");
-        if (!takes_value(a))
+        if (!hs_arg_in(a, value_options, sizeof(value_options) / sizeof(value_options[0])))
             return bad_arg(a, NULL, "unknown option");
         if (i + 1 >= argc)
             return bad_arg(a, NULL, "needs a value");
@@ -307,11 +275,11 @@ int main(int argc, char **argv)
             else
                 return bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
         } else if (!strcmp(a, "--start")) {
-            if (!parse_f(v, &d) || d < 0)
+            if (!hs_parse_f(v, &d) || d < 0)
                 return bad_arg(a, v, "expected seconds >= 0");
             opt.start_s = d;
         } else if (!strcmp(a, "--frames")) {
-            if (!parse_u32(v, &opt.frames))
+            if (!hs_parse_u32(v, &opt.frames))
                 return bad_arg(a, v, "expected a count");
         } else if (!strcmp(a, "--method")) {
             if (xrsc_method_from_name(v, &opt.renderer.method) != XRSC_OK)
@@ -320,15 +288,15 @@ int main(int argc, char **argv)
             if (xrsc_blend_from_name(v, &opt.renderer.blend) != XRSC_OK)
                 return bad_arg(a, v, "unknown blend (none, pfj23, moments)");
         } else if (!strcmp(a, "--blend-r")) {
-            if (!parse_f(v, &d) || !(d >= 0.0 && d <= 1.0))
+            if (!hs_parse_f(v, &d) || !(d >= 0.0 && d <= 1.0))
                 return bad_arg(a, v, "expected R in [0, 1]");
             opt.renderer.blend_r = (float)d;
         } else if (!strcmp(a, "--spp")) {
-            if (!parse_u32(v, &u) || u == 0 || u > 4096)
+            if (!hs_parse_u32(v, &u) || u == 0 || u > 4096)
                 return bad_arg(a, v, "expected 1..4096");
             opt.renderer.spp.samples_per_pixel = u;
         } else if (!strcmp(a, "--bounces")) {
-            if (!parse_u32(v, &u) || u > 16)
+            if (!hs_parse_u32(v, &u) || u > 16)
                 return bad_arg(a, v, "expected 0..16");
             opt.renderer.spp.max_bounces = u ? u : XRSC_BOUNCES_NONE;
             opt.renderer.samplecache.max_bounces = opt.renderer.spp.max_bounces;
@@ -341,7 +309,7 @@ int main(int argc, char **argv)
             opt.renderer.width = w;
             opt.renderer.height = h;
         } else if (!strcmp(a, "--seed")) {
-            if (!parse_u32(v, &opt.renderer.seed))
+            if (!hs_parse_u32(v, &opt.renderer.seed))
                 return bad_arg(a, v, "expected an unsigned integer");
         } else if (!strcmp(a, "--env")) {
             float r, g, b;
@@ -355,11 +323,11 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--device")) {
             opt.context.device = v;
         } else if (!strcmp(a, "--ipd")) {
-            if (!parse_f(v, &d) || d < 0 || d > 200)
+            if (!hs_parse_f(v, &d) || d < 0 || d > 200)
                 return bad_arg(a, v, "expected millimetres 0..200");
             opt.headset.ipd_m = (float)(d * 1e-3);
         } else if (!strcmp(a, "--refresh")) {
-            if (!parse_f(v, &d) || d < 1 || d > 1000)
+            if (!hs_parse_f(v, &d) || d < 1 || d > 1000)
                 return bad_arg(a, v, "expected 1..1000 Hz");
             opt.headset.refresh_hz = (float)d;
         } else if (!strcmp(a, "--out")) {
@@ -379,7 +347,7 @@ int main(int argc, char **argv)
                     return bad_arg(a, v, "expected eyes, sbs, linear or none");
             }
         } else if (!strcmp(a, "--exposure")) {
-            if (!parse_f(v, &d) || d <= 0)
+            if (!hs_parse_f(v, &d) || d <= 0)
                 return bad_arg(a, v, "expected a positive number");
             opt.exposure = (float)d;
         } else if (!strncmp(a, "--sc-", 5)) {

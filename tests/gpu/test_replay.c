@@ -7,6 +7,7 @@
  */
 #include "hs_image.h"
 #include "hs_replay.h"
+#include "t_frames.h"
 #include "testing.h"
 
 #include <dirent.h>
@@ -242,28 +243,6 @@ static void test_replay_parallax_from_ipd(void)
 /* Anchoring at the replay level: the first frame's eyes of an anchored replay are the scene's
  * viewpoint ± IPD/2 along its +X (with its orientation); --no-anchor keeps the stream's own
  * coordinates (the headset's eyes at the stream's poses at 0 and 1 / refresh). */
-typedef struct seen_frames {
-    xrsc_frame frames[4];
-    uint32_t count;
-} seen_frames;
-
-static void on_frame(void *user, const xrsc_frame *frame)
-{
-    seen_frames *seen = user;
-    if (seen->count < 4)
-        seen->frames[seen->count++] = *frame;
-}
-
-static bool poses_near(XrPosef a, XrPosef b, float tol)
-{
-    return fabsf(a.position.x - b.position.x) <= tol && fabsf(a.position.y - b.position.y) <= tol &&
-           fabsf(a.position.z - b.position.z) <= tol &&
-           fabsf(a.orientation.x - b.orientation.x) <= tol &&
-           fabsf(a.orientation.y - b.orientation.y) <= tol &&
-           fabsf(a.orientation.z - b.orientation.z) <= tol &&
-           fabsf(a.orientation.w - b.orientation.w) <= tol;
-}
-
 static void test_replay_anchoring(void)
 {
     hs_replay_options opt = base_options(NULL);
@@ -287,10 +266,10 @@ static void test_replay_anchoring(void)
     if (!stream)
         return;
     /* Meaningful only if the stream does not already start at the viewpoint. */
-    CHECK(!poses_near(stream->samples[0].pose, info.viewpoint, 1e-3f));
+    CHECK(!t_pose_near(stream->samples[0].pose, info.viewpoint, 1e-3f));
 
-    seen_frames seen = {0};
-    opt.on_frame = on_frame;
+    t_captured seen = {0};
+    opt.on_frame = t_capture_frame;
     opt.on_frame_user = &seen;
     CHECK_EQ_INT(hs_replay_run(&opt, NULL, NULL), XRSC_OK);
     CHECK_EQ_INT(seen.count, 2);
@@ -302,7 +281,7 @@ static void test_replay_anchoring(void)
                         .position = {vp.position.x + off.x, vp.position.y + off.y,
                                      vp.position.z + off.z}};
         const XrPosef got = seen.frames[0].views[e].pose;
-        CHECK_MSG(poses_near(got, want, 2e-5f),
+        CHECK_MSG(t_pose_near(got, want, 2e-5f),
                   "anchored eye %d at (%g %g %g), want (%g %g %g)", e, got.position.x,
                   got.position.y, got.position.z, want.position.x, want.position.y,
                   want.position.z);

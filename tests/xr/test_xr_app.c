@@ -9,6 +9,7 @@
  */
 #include "hs_replay.h"
 #include "hs_xr_replay.h"
+#include "t_frames.h"
 #include "t_xr_frames.h"
 #include "testing.h"
 #include "xrsc/xrsc_xr.h"
@@ -79,28 +80,6 @@ static void test_pixel_identical(void)
 
 /* ---- anchoring on (the default): the same eye poses and pixels on both paths ---- */
 
-typedef struct captured {
-    xrsc_frame frames[16];
-    uint32_t count;
-} captured;
-
-static void capture_frame(void *user, const xrsc_frame *frame)
-{
-    captured *c = user;
-    if (c->count < 16)
-        c->frames[c->count++] = *frame;
-}
-
-static bool pose_near(XrPosef a, XrPosef b, double tol)
-{
-    return fabs(a.position.x - b.position.x) <= tol && fabs(a.position.y - b.position.y) <= tol &&
-           fabs(a.position.z - b.position.z) <= tol &&
-           fabs(a.orientation.x - b.orientation.x) <= tol &&
-           fabs(a.orientation.y - b.orientation.y) <= tol &&
-           fabs(a.orientation.z - b.orientation.z) <= tol &&
-           fabs(a.orientation.w - b.orientation.w) <= tol;
-}
-
 /*
  * A head that starts away from the origin, pitched and rolled (so the runtime's LOCAL, the
  * first pose turned about +Y only, is not the head) and keeps moving and turning: anchoring
@@ -133,7 +112,7 @@ static void anchored_pair(const char *tag, const char *poses, xrsc_method method
     char dir_xr[512], dir_direct[512];
     snprintf(dir_xr, sizeof(dir_xr), "%s/anchor_%s_xr", XRSC_TEST_OUT, tag);
     snprintf(dir_direct, sizeof(dir_direct), "%s/anchor_%s_direct", XRSC_TEST_OUT, tag);
-    captured xr = {0}, direct = {0};
+    t_captured xr = {0}, direct = {0};
     hs_replay_options opt = {
         .scene_path = SCENE,
         .poses_path = poses,
@@ -141,7 +120,7 @@ static void anchored_pair(const char *tag, const char *poses, xrsc_method method
         .start_s = start_s, /* no_anchor false: anchoring on, as `xrsc replay` by default */
         .renderer = {.method = method, .width = EYE_PX, .height = EYE_PX, .seed = 7,
                      .spp = {.samples_per_pixel = 2}},
-        .on_frame = capture_frame,
+        .on_frame = t_capture_frame,
     };
     xrsc_headset_default(&opt.headset);
     opt.headset.refresh_hz = 100.0f;
@@ -176,7 +155,7 @@ static void anchored_pair(const char *tag, const char *poses, xrsc_method method
         for (int e = 0; e < 2; e++) {
             CHECK(memcmp(&a->views[e].fov, &b->views[e].fov, sizeof(XrFovf)) == 0);
             XrPosef pa = a->views[e].pose, pb = b->views[e].pose;
-            CHECK_MSG(pose_near(pa, pb, 1e-5),
+            CHECK_MSG(t_pose_near(pa, pb, 1e-5),
                       "%s frame %u eye %d: OpenXR (%.7f %.7f %.7f | %.7f %.7f %.7f %.7f) vs "
                       "direct (%.7f %.7f %.7f | %.7f %.7f %.7f %.7f)",
                       tag, k, e, pa.position.x, pa.position.y, pa.position.z, pa.orientation.x,

@@ -10,6 +10,7 @@
 #include "hs_image.h"
 #include "hs_pose_stream.h"
 #include "hs_replay.h"
+#include "t_frames.h"
 #include "t_xr_frames.h"
 #include "testing.h"
 #include "xrsc_core_internal.h" /* xrsc_renderer_output_image */
@@ -73,18 +74,6 @@ static const char *write_trace(void)
     return t_temp_file("views.librnr", text);
 }
 
-typedef struct captured {
-    xrsc_frame frames[16];
-    uint32_t count;
-} captured;
-
-static void capture_frame(void *user, const xrsc_frame *frame)
-{
-    captured *c = user;
-    if (c->count < 16)
-        c->frames[c->count++] = *frame;
-}
-
 static bool fov_equal(XrFovf a, XrFovf b)
 {
     return a.angleLeft == b.angleLeft && a.angleRight == b.angleRight &&
@@ -93,12 +82,7 @@ static bool fov_equal(XrFovf a, XrFovf b)
 
 static void check_pose_near(XrPosef a, XrPosef b, double tol, const char *what, uint32_t k)
 {
-    CHECK_MSG(fabs(a.position.x - b.position.x) <= tol && fabs(a.position.y - b.position.y) <= tol &&
-                  fabs(a.position.z - b.position.z) <= tol &&
-                  fabs(a.orientation.x - b.orientation.x) <= tol &&
-                  fabs(a.orientation.y - b.orientation.y) <= tol &&
-                  fabs(a.orientation.z - b.orientation.z) <= tol &&
-                  fabs(a.orientation.w - b.orientation.w) <= tol,
+    CHECK_MSG(t_pose_near(a, b, tol),
               "%s frame %u: pose (%g %g %g | %g %g %g %g) vs (%g %g %g | %g %g %g %g)", what, k,
               a.position.x, a.position.y, a.position.z, a.orientation.x, a.orientation.y,
               a.orientation.z, a.orientation.w, b.position.x, b.position.y, b.position.z,
@@ -121,14 +105,14 @@ static void test_recorded_views(void)
     xrsc_headset_default(&def);
 
     /* Direct: frame k at 10 k ms = sample k: exactly the recorded views, not the headset's. */
-    captured direct = {0};
+    t_captured direct = {0};
     hs_replay_options opt = {
         .scene_path = SCENE,
         .poses_path = trace,
         .no_anchor = true,
         .frames = FRAMES + 1,
         .renderer = {.method = XRSC_METHOD_PRIMARY, .width = EYE_PX, .height = EYE_PX},
-        .on_frame = capture_frame,
+        .on_frame = t_capture_frame,
         .on_frame_user = &direct,
     };
     xrsc_headset_default(&opt.headset);

@@ -37,6 +37,15 @@ xrsc_result me_check_image(const float *data, uint32_t width, uint32_t height, u
     return XRSC_OK;
 }
 
+xrsc_result me_check_pair(const float *test_rgba, const float *ref_rgba, uint32_t width,
+                          uint32_t height, size_t *out_pixels)
+{
+    xrsc_result res = me_check_image(test_rgba, width, height, 4, out_pixels);
+    if (res == XRSC_OK)
+        res = me_check_image(ref_rgba, width, height, 4, out_pixels);
+    return res;
+}
+
 /* Rec. 709 luminance weights of linear sRGB primaries (ITU-R BT.709-6, item 3.2). */
 double xrsc_metrics_luminance(const float rgba[4])
 {

@@ -14,9 +14,7 @@ xrsc_result xrsc_metrics_error(const float *test_rgba, const float *ref_rgba, ui
     if (!out)
         return XRSC_ERROR_INVALID_ARGUMENT;
     size_t n;
-    xrsc_result res = me_check_image(test_rgba, width, height, 4, &n);
-    if (res == XRSC_OK)
-        res = me_check_image(ref_rgba, width, height, 4, &n);
+    xrsc_result res = me_check_pair(test_rgba, ref_rgba, width, height, &n);
     if (res != XRSC_OK)
         return res;
     const xrsc_metrics_options o = me_options_fill(options);

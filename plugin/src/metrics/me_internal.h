@@ -19,5 +19,9 @@ xrsc_metrics_options me_options_fill(const xrsc_metrics_options *options);
 xrsc_result me_check_image(const float *data, uint32_t width, uint32_t height, unsigned channels,
                            size_t *out_pixels);
 
+/** me_check_image of a test and a reference RGBA image of the same size (the test's first). */
+xrsc_result me_check_pair(const float *test_rgba, const float *ref_rgba, uint32_t width,
+                          uint32_t height, size_t *out_pixels);
+
 /** Luminance clamped to [0, L] and divided by L (L = options->display_range). */
 double me_display_luminance(const float rgba[4], double display_range);

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_args.h
+ * @brief Command-line helpers shared by `xrsc`, `xrsc metrics` and `xrsc bench`: whole-string
+ *        number parsing, option-list lookup and the one format of a bad-argument error.
+ */
+#pragma once
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** The exit code of a bad command line. */
+#define HS_EXIT_BAD_ARGS 2
+
+/**
+ * Prints "CMD: error: FLAG[ VALUE]: WHY (see CMD --help)" to stderr (value may be NULL) and
+ * returns HS_EXIT_BAD_ARGS. cmd is the command as typed, e.g. "xrsc" or "xrsc bench".
+ */
+int hs_bad_arg(const char *cmd, const char *flag, const char *value, const char *why);
+
+/** A decimal unsigned 32-bit integer, the whole of s (no sign); *out is set only on success. */
+bool hs_parse_u32(const char *s, uint32_t *out);
+
+/** A number (strtod), the whole of s, not NaN; infinities pass (callers bound the value). *out
+ *  is set only on success. */
+bool hs_parse_f(const char *s, double *out);
+
+/** Whether flag is one of the count options in list. */
+bool hs_arg_in(const char *flag, const char *const *list, size_t count);
+
+#ifdef __cplusplus
+}
+#endif

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file t_frames.h
+ * @brief The frames a replay hands to its on_frame callback, kept for checks, and a pose
+ *        comparison with a tolerance (tests of the direct and the OpenXR replay paths).
+ */
+#pragma once
+
+#include "xrsc/xrsc.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#define T_CAPTURED_MAX 16
+
+/** The first T_CAPTURED_MAX frames seen; count stops there. */
+typedef struct t_captured {
+    xrsc_frame frames[T_CAPTURED_MAX];
+    uint32_t count;
+} t_captured;
+
+/** An on_frame callback (hs_replay_options): user is a t_captured. */
+static inline void t_capture_frame(void *user, const xrsc_frame *frame)
+{
+    t_captured *c = user;
+    if (c->count < T_CAPTURED_MAX)
+        c->frames[c->count++] = *frame;
+}
+
+/** Whether every position and quaternion component of a and b differs by at most tol. */
+static inline bool t_pose_near(XrPosef a, XrPosef b, double tol)
+{
+    return fabs(a.position.x - b.position.x) <= tol && fabs(a.position.y - b.position.y) <= tol &&
+           fabs(a.position.z - b.position.z) <= tol &&
+           fabs(a.orientation.x - b.orientation.x) <= tol &&
+           fabs(a.orientation.y - b.orientation.y) <= tol &&
+           fabs(a.orientation.z - b.orientation.z) <= tol &&
+           fabs(a.orientation.w - b.orientation.w) <= tol;
+}
