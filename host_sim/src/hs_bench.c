@@ -27,6 +27,8 @@
 #define DEFAULT_REFRESH_HZ 90.0
 /** Seed of the references: independent of the benchmarked settings' noise. */
 #define REF_SEED_XOR 0x9E3779B9u
+/** Seed of the second reference (--ref-floor): independent of both. */
+#define REF_FLOOR_SEED_XOR 0x85EBCA6Bu
 /** Accumulation passes of a reference use frame indices REF_FRAME_STRIDE apart per frame. */
 #define REF_FRAME_STRIDE 65536u
 /** Progress lines without a terminal: one per this many seconds. */
@@ -102,6 +104,8 @@ typedef struct bench_run {
     char ref_dir[HS_BENCH_PATH_MAX - 64];
     progress prog;
     uint32_t metric_failures;
+    double ref_floor_relmse; /**< --ref-floor: relMSE between the two references; else NaN */
+    uint32_t floor_frame;
 } bench_run;
 
 bool hs_bench_is_scored(uint32_t k, uint32_t warmup, uint32_t score_every)
@@ -109,9 +113,11 @@ bool hs_bench_is_scored(uint32_t k, uint32_t warmup, uint32_t score_every)
     return k >= warmup && (k - warmup) % score_every == 0;
 }
 
-static void ref_path(const bench_run *b, uint32_t k, int eye, char *out, size_t cap)
+/* suffix: "" for the reference, "_floor" for the second one of --ref-floor. */
+static void ref_path_s(const bench_run *b, uint32_t k, int eye, const char *suffix, char *out,
+                       size_t cap)
 {
-    snprintf(out, cap, "%s/frame_%05u_%s.pfm", b->ref_dir, k, eye ? "right" : "left");
+    snprintf(out, cap, "%s/frame_%05u_%s%s.pfm", b->ref_dir, k, eye ? "right" : "left", suffix);
 }
 
 /* Head pose at t of the anchored stream; eye views from the recorded views when the stream
@@ -164,12 +170,13 @@ static xrsc_result write_text_atomic(const char *path, const char *text, xrsc_di
 
 /* ---- references ---- */
 
-/* Reads both eyes of frame k's reference; false when missing, unreadable or of another size. */
-static bool ref_load(const bench_run *b, uint32_t k, float *out[2])
+/* Reads both eyes of frame k's reference (suffix: ref_path_s); false when missing, unreadable
+ * or of another size. */
+static bool ref_load_s(const bench_run *b, uint32_t k, const char *suffix, float *out[2])
 {
     for (int e = 0; e < 2; e++) {
         char path[HS_BENCH_PATH_MAX];
-        ref_path(b, k, e, path, sizeof(path));
+        ref_path_s(b, k, e, suffix, path, sizeof(path));
         float *px = NULL;
         uint32_t w = 0, h = 0;
         xrsc_diag d = {0};
@@ -187,6 +194,11 @@ static bool ref_load(const bench_run *b, uint32_t k, float *out[2])
     return true;
 }
 
+static bool ref_load(const bench_run *b, uint32_t k, float *out[2])
+{
+    return ref_load_s(b, k, "", out);
+}
+
 /* Largest power of two <= 64 dividing n: samples per accumulation pass. */
 static uint32_t ref_chunk(uint32_t n)
 {
@@ -194,6 +206,39 @@ static uint32_t ref_chunk(uint32_t n)
     while (c > 1 && n % c)
         c /= 2;
     return c;
+}
+
+/* Renders frame k's reference (ref_spp samples accumulated with renderer r) into both eyes'
+ * ref_path_s(suffix) files. px: w*h*4 floats of scratch. */
+static xrsc_result render_reference(bench_run *b, xrsc_renderer *r, uint32_t k,
+                                    const char *suffix, float *px, double t0, uint32_t done,
+                                    uint32_t todo, xrsc_diag *diag)
+{
+    uint32_t chunk = ref_chunk(b->ref_spp), passes = b->ref_spp / chunk;
+    size_t n = (size_t)b->w * b->h;
+    xrsc_result res = XRSC_OK;
+    xrsc_frame f = b->frame[k];
+    for (uint32_t p = 0; p < passes && res == XRSC_OK; p++) {
+        f.frame_index = k * REF_FRAME_STRIDE + p;
+        if ((res = xrsc_renderer_render(r, &f)) != XRSC_OK)
+            u_diag_set(diag, res, b->opt->scene_path, 0, "", "reference of frame %u failed", k);
+        double per = (now_s() - t0) / (done + (p + 1.0) / passes);
+        progress_line(&b->prog, false, "reference%s %u/%u (frame %u)  %u/%u spp  left ~%.0f s",
+                      suffix, done + 1, todo, k, (p + 1) * chunk, b->ref_spp,
+                      per * (todo - done - (p + 1.0) / passes));
+    }
+    for (int e = 0; e < 2 && res == XRSC_OK; e++) {
+        char path[HS_BENCH_PATH_MAX], tmp[HS_BENCH_PATH_MAX + 8];
+        ref_path_s(b, k, e, suffix, path, sizeof(path));
+        snprintf(tmp, sizeof(tmp), "%s.tmp", path);
+        if ((res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, px,
+                                      n * 4 * sizeof(float))) != XRSC_OK)
+            u_diag_set(diag, res, "", 0, "", "reading reference of frame %u", k);
+        else if ((res = hs_write_pfm(tmp, px, b->w, b->h, diag)) == XRSC_OK &&
+                 rename(tmp, path) != 0)
+            res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "rename: %s", strerror(errno));
+    }
+    return res;
 }
 
 static xrsc_result make_references(bench_run *b, xrsc_diag *diag)
@@ -207,73 +252,96 @@ static xrsc_result make_references(bench_run *b, xrsc_diag *diag)
     if (!reuse) {
         /* Another configuration's references must not be taken for this one's. */
         for (uint32_t k = 0; k < b->frames; k++)
-            for (int e = 0; e < 2; e++) {
-                char path[HS_BENCH_PATH_MAX];
-                ref_path(b, k, e, path, sizeof(path));
-                unlink(path);
-            }
+            for (int e = 0; e < 2; e++)
+                for (int s = 0; s < 2; s++) {
+                    char path[HS_BENCH_PATH_MAX];
+                    ref_path_s(b, k, e, s ? "_floor" : "", path, sizeof(path));
+                    unlink(path);
+                }
         char text[sizeof(b->ref_config) + 2];
         snprintf(text, sizeof(text), "%s\n", b->ref_config);
         if ((res = write_text_atomic(cfg_path, text, diag)) != XRSC_OK)
             return res;
     }
     uint32_t todo = 0, scored = 0;
+    bool have_floor_frame = false;
     for (uint32_t k = 0; k < b->frames; k++)
         if (hs_bench_is_scored(k, b->warmup, b->score_every)) {
+            if (!have_floor_frame) {
+                b->floor_frame = k;
+                have_floor_frame = true;
+            }
             scored++;
             if (!ref_load(b, k, NULL))
                 todo++;
         }
+    bool floor_todo = opt->ref_floor && have_floor_frame &&
+                      !ref_load_s(b, b->floor_frame, "_floor", NULL);
     if (opt->progress)
-        fprintf(stderr, "xrsc bench: %u scored frames, %u references to render (%u spp), %u cached\n",
-                scored, todo, b->ref_spp, scored - todo);
-    if (todo == 0)
-        return XRSC_OK;
+        fprintf(stderr,
+                "xrsc bench: %u scored frames, %u references to render (%u spp), %u cached%s\n",
+                scored, todo, b->ref_spp, scored - todo,
+                !opt->ref_floor ? ""
+                : floor_todo    ? "; +1 for --ref-floor"
+                                : "; --ref-floor's cached");
 
-    uint32_t chunk = ref_chunk(b->ref_spp), passes = b->ref_spp / chunk;
-    xrsc_renderer_options ro = {.method = XRSC_METHOD_SPP, .width = b->w, .height = b->h,
-                                .seed = opt->seed ^ REF_SEED_XOR,
-                                .spp = {.samples_per_pixel = chunk, .accumulate = true}};
-    xrsc_renderer *r = NULL;
-    if ((res = xrsc_renderer_create(b->ctx, b->scene, &ro, &r, diag)) != XRSC_OK)
-        return res;
     size_t n = (size_t)b->w * b->h;
     float *px = malloc(n * 4 * sizeof(float));
-    if (!px) {
-        xrsc_renderer_destroy(&r);
+    if (!px)
         return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "reference image");
-    }
+    res = XRSC_OK;
     double t0 = now_s();
-    uint32_t done = 0;
-    for (uint32_t k = 0; k < b->frames && res == XRSC_OK; k++) {
-        if (!hs_bench_is_scored(k, b->warmup, b->score_every) || ref_load(b, k, NULL))
+    uint32_t done = 0, all = todo + (floor_todo ? 1u : 0u);
+    for (int pass = 0; pass < 2 && res == XRSC_OK; pass++) {
+        /* pass 0: the references; pass 1: --ref-floor's second reference, another seed. */
+        if ((pass == 0 && todo == 0) || (pass == 1 && !floor_todo))
             continue;
-        xrsc_frame f = b->frame[k];
-        for (uint32_t p = 0; p < passes && res == XRSC_OK; p++) {
-            f.frame_index = k * REF_FRAME_STRIDE + p;
-            if ((res = xrsc_renderer_render(r, &f)) != XRSC_OK)
-                u_diag_set(diag, res, opt->scene_path, 0, "", "reference of frame %u failed", k);
-            double per = (now_s() - t0) / (done + (p + 1.0) / passes);
-            progress_line(&b->prog, false, "reference %u/%u (frame %u)  %u/%u spp  left ~%.0f s",
-                          done + 1, todo, k, (p + 1) * chunk, b->ref_spp,
-                          per * (todo - done - (p + 1.0) / passes));
+        uint32_t chunk = ref_chunk(b->ref_spp);
+        xrsc_renderer_options ro = {
+            .method = XRSC_METHOD_SPP, .width = b->w, .height = b->h,
+            .seed = opt->seed ^ (pass ? REF_FLOOR_SEED_XOR : REF_SEED_XOR),
+            .spp = {.samples_per_pixel = chunk, .accumulate = true}};
+        xrsc_renderer *r = NULL;
+        if ((res = xrsc_renderer_create(b->ctx, b->scene, &ro, &r, diag)) != XRSC_OK)
+            break;
+        for (uint32_t k = 0; k < b->frames && res == XRSC_OK; k++) {
+            if (pass == 1 ? k != b->floor_frame
+                          : !hs_bench_is_scored(k, b->warmup, b->score_every) ||
+                                ref_load(b, k, NULL))
+                continue;
+            res = render_reference(b, r, k, pass ? "_floor" : "", px, t0, done, all, diag);
+            done++;
         }
-        for (int e = 0; e < 2 && res == XRSC_OK; e++) {
-            char path[HS_BENCH_PATH_MAX], tmp[HS_BENCH_PATH_MAX + 8];
-            ref_path(b, k, e, path, sizeof(path));
-            snprintf(tmp, sizeof(tmp), "%s.tmp", path);
-            if ((res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, px,
-                                          n * 4 * sizeof(float))) != XRSC_OK)
-                u_diag_set(diag, res, "", 0, "", "reading reference of frame %u", k);
-            else if ((res = hs_write_pfm(tmp, px, b->w, b->h, diag)) == XRSC_OK &&
-                     rename(tmp, path) != 0)
-                res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "rename: %s", strerror(errno));
-        }
-        done++;
+        xrsc_renderer_destroy(&r);
     }
-    progress_line(&b->prog, true, "references: %u rendered", done);
+    if (all)
+        progress_line(&b->prog, true, "references: %u rendered", done);
+
+    /* The noise floor: relMSE of the second reference against the first, as a setting's. */
+    if (res == XRSC_OK && opt->ref_floor && have_floor_frame) {
+        float *ra[2] = {malloc(n * 4 * sizeof(float)), malloc(n * 4 * sizeof(float))};
+        float *rb[2] = {px, malloc(n * 4 * sizeof(float))};
+        const xrsc_metrics_options mo = {0};
+        if (!ra[0] || !ra[1] || !rb[1])
+            res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "reference images");
+        else if (!ref_load(b, b->floor_frame, ra) || !ref_load_s(b, b->floor_frame, "_floor", rb))
+            res = u_diag_set(diag, XRSC_ERROR_IO, b->ref_dir, 0, "--ref-floor",
+                             "references of frame %u are missing or unreadable", b->floor_frame);
+        else {
+            double sum = 0;
+            for (int e = 0; e < 2; e++) {
+                xrsc_error_metrics em;
+                sum += xrsc_metrics_error(rb[e], ra[e], b->w, b->h, &mo, &em) == XRSC_OK
+                           ? 0.5 * em.relmse
+                           : NAN;
+            }
+            b->ref_floor_relmse = sum;
+        }
+        free(ra[0]);
+        free(ra[1]);
+        free(rb[1]);
+    }
     free(px);
-    xrsc_renderer_destroy(&r);
     return res;
 }
 
@@ -337,7 +405,7 @@ const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT] = {
     "setting",    "method",       "frame",          "display_time_ns", "warmup",
     "scored",     "wall_ms",      "gpu_ms",         "rays",            "rays_per_px",
     "relmse",     "rmse",         "ssim",           "cpbd",            "ref_cpbd",
-    "temporal_msd", "temporal_valid", "stereo_msd", "stereo_valid",
+    "temporal_msd", "temporal_valid", "stereo_msd", "stereo_valid", "ref_stereo_msd",
 };
 
 static xrsc_result run_setting(bench_run *b, const hs_bench_setting *s, uint32_t index,
@@ -515,6 +583,23 @@ static xrsc_result run_setting(bench_run *b, const hs_bench_setting *s, uint32_t
                 fputs(",nan,0", csv);
             }
         }
+        /* The reference's own stereo discrepancy (scored frames): not zero where shading is
+         * view-dependent, the level a blend should reach rather than zero. */
+        if (scored) {
+            eye_images rim = *cur;
+            rim.color[0] = ref[0];
+            rim.color[1] = ref[1];
+            xrsc_metrics_view vr = metrics_view(b, &rim, k, 1), vl = metrics_view(b, &rim, k, 0);
+            xrsc_reproj_diff d;
+            put_num(csv,
+                    metric_ok(b, xrsc_metrics_stereo_discrepancy(&vr, &vl, &mo, &d, NULL, NULL)) &&
+                            d.valid_count
+                        ? d.mean_sq_diff
+                        : NAN,
+                    true);
+        } else {
+            fputc(',', csv);
+        }
         for (uint32_t p = 0; p < np; p++)
             fprintf(csv, ",%.4f", pass[p].gpu_ms);
         fputc('\n', csv);
@@ -569,7 +654,7 @@ xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *
         !opt->settings || opt->setting_count == 0)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "",
                           "bench needs a scene, a pose stream, an output folder and settings");
-    bench_run b = {.opt = opt};
+    bench_run b = {.opt = opt, .ref_floor_relmse = NAN};
     b.prog.on = opt->progress;
     b.prog.tty = isatty(STDERR_FILENO);
     b.prog.started = now_s();
@@ -637,8 +722,10 @@ xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *
              opt->scene_path, opt->poses_path, hs_pose_format_name(opt->pose_format),
              anchor_name[opt->anchor], opt->start_s, b.w, b.h, b.ref_spp, opt->seed,
              b.headset.ipd_m, b.headset.refresh_hz, fov0, fov1, env);
-    snprintf(b.config, sizeof(b.config), "%s frames=%u warmup=%u score_every=%u device=%s",
-             b.ref_config, b.frames, b.warmup, b.score_every, xrsc_context_device_name(b.ctx));
+    /* columns=: CSVs written with other columns are rendered again, not reused. */
+    snprintf(b.config, sizeof(b.config),
+             "%s frames=%u warmup=%u score_every=%u device=%s columns=%u", b.ref_config, b.frames,
+             b.warmup, b.score_every, xrsc_context_device_name(b.ctx), HS_BENCH_COLUMN_COUNT);
 
     char dir[HS_BENCH_PATH_MAX];
     snprintf(b.ref_dir, sizeof(b.ref_dir), "%s/ref", opt->out_dir);
@@ -672,6 +759,7 @@ xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *
     hs_bench_report_info ri = {
         .frames = b.frames, .warmup = b.warmup, .score_every = b.score_every, .ref_spp = b.ref_spp,
         .width = b.w, .height = b.h, .device = xrsc_context_device_name(b.ctx),
+        .ref_floor_relmse = b.ref_floor_relmse, .floor_frame = b.floor_frame,
     };
     res = hs_bench_report(opt, &ri, summary, diag);
 

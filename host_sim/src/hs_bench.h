@@ -15,7 +15,8 @@
  *                     renamed when the setting is complete, so a rerun with the same
  *                     configuration skips complete settings (restartable).
  * - ref/              frame_NNNNN_{left,right}.pfm references and config.txt; a rerun with the
- *                     same reference configuration reuses them (resumable).
+ *                     same reference configuration reuses them (resumable). With ref_floor also
+ *                     frame_NNNNN_{left,right}_floor.pfm (the second reference, another seed).
  * - bench.csv         all rows of all settings, pass columns the union over the methods.
  * - summary.csv       one row per setting: means and ratios to the baseline.
  * - NAME.gp, NAME.png gnuplot scripts and their charts; plot/ holds their data.
@@ -98,6 +99,9 @@ typedef struct hs_bench_options {
     uint32_t setting_count;
     const char *baseline; /**< setting name for the ratios; NULL: first samplecache single, else
                                the first setting */
+    /** Also render a second reference of the first scored frame with another seed and print
+     *  the relMSE between the two references: the noise floor of the relMSE column. */
+    bool ref_floor;
     bool fresh;           /**< ignore results and references already in out_dir */
     bool no_plots;        /**< write the gnuplot scripts but do not run gnuplot */
     bool progress;        /**< progress lines on stderr */

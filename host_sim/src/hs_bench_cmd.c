@@ -5,9 +5,9 @@
  */
 #include "hs_bench.h"
 
+#include "hs_args.h"
 #include "u_diag.h"
 
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,6 +60,8 @@ static void usage(FILE *f)
 "  --baseline NAME     setting the ratios are to     [the first samplecache trace=single]\n"
 "  --resolution WxH    per eye                                  [%dx%d]\n"
 "  --ref-spp N         samples per pixel of the references      [%d]\n"
+"  --ref-floor         also render a second reference of the first scored frame with\n"
+"                      another seed; prints the relMSE between the two (the noise floor)\n"
 "  --seed N            random seed of every setting             [0]\n"
 "  --env R,G,B         constant environment radiance\n"
 "  --ipd MM            interpupillary distance                  [63]\n"
@@ -87,31 +89,7 @@ static void usage(FILE *f)
 
 static int bad_arg(const char *flag, const char *value, const char *why)
 {
-    fprintf(stderr, "xrsc bench: error: %s%s%s: %s (see xrsc bench --help)\n", flag,
-            value ? " " : "", value ? value : "", why);
-    return 2;
-}
-
-static bool parse_u32(const char *s, uint32_t *out)
-{
-    char *end;
-    errno = 0;
-    unsigned long v = strtoul(s, &end, 10);
-    if (errno || end == s || *end || v > 0xFFFFFFFFul || s[0] == '-')
-        return false;
-    *out = (uint32_t)v;
-    return true;
-}
-
-static bool parse_f(const char *s, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (errno || end == s || *end || v != v)
-        return false;
-    *out = v;
-    return true;
+    return hs_bad_arg("xrsc bench", flag, value, why);
 }
 
 /* A relative path that does not exist is looked up under the shared folder. */
@@ -182,6 +160,10 @@ int hs_bench_main(int argc, char **argv)
             opt.fresh = true;
             continue;
         }
+        if (!strcmp(a, "--ref-floor")) {
+            opt.ref_floor = true;
+            continue;
+        }
         if (!strcmp(a, "--no-plots")) {
             opt.no_plots = true;
             continue;
@@ -238,18 +220,18 @@ int hs_bench_main(int argc, char **argv)
             else
                 bad = bad_arg(a, v, "expected start, first or none");
         } else if (!strcmp(a, "--start")) {
-            if (!parse_f(v, &d) || d < 0)
+            if (!hs_parse_f(v, &d) || d < 0)
                 bad = bad_arg(a, v, "expected seconds >= 0");
             opt.start_s = d;
         } else if (!strcmp(a, "--frames")) {
-            if (!parse_u32(v, &opt.frames) || opt.frames > 1000000)
+            if (!hs_parse_u32(v, &opt.frames) || opt.frames > 1000000)
                 bad = bad_arg(a, v, "expected 0..1000000");
         } else if (!strcmp(a, "--warmup")) {
-            if (!parse_u32(v, &opt.warmup))
+            if (!hs_parse_u32(v, &opt.warmup))
                 bad = bad_arg(a, v, "expected a count");
             warmup_given = true;
         } else if (!strcmp(a, "--score-every")) {
-            if (!parse_u32(v, &opt.score_every) || opt.score_every == 0)
+            if (!hs_parse_u32(v, &opt.score_every) || opt.score_every == 0)
                 bad = bad_arg(a, v, "expected a count >= 1");
         } else if (!strcmp(a, "--settings")) {
             if (v[0] == '@') {
@@ -272,11 +254,11 @@ int hs_bench_main(int argc, char **argv)
             opt.width = w;
             opt.height = h;
         } else if (!strcmp(a, "--ref-spp")) {
-            if (!parse_u32(v, &u) || u == 0 || u > 1u << 20)
+            if (!hs_parse_u32(v, &u) || u == 0 || u > 1u << 20)
                 bad = bad_arg(a, v, "expected 1..1048576");
             opt.ref_spp = u;
         } else if (!strcmp(a, "--seed")) {
-            if (!parse_u32(v, &opt.seed))
+            if (!hs_parse_u32(v, &opt.seed))
                 bad = bad_arg(a, v, "expected an unsigned integer");
         } else if (!strcmp(a, "--env")) {
             float r, g, b;
@@ -290,11 +272,11 @@ int hs_bench_main(int argc, char **argv)
                 opt.scene.environment[2] = b;
             }
         } else if (!strcmp(a, "--ipd")) {
-            if (!parse_f(v, &d) || d < 0 || d > 200)
+            if (!hs_parse_f(v, &d) || d < 0 || d > 200)
                 bad = bad_arg(a, v, "expected millimetres 0..200");
             opt.headset.ipd_m = (float)(d * 1e-3);
         } else if (!strcmp(a, "--refresh")) {
-            if (!parse_f(v, &d) || d < 1 || d > 1000)
+            if (!hs_parse_f(v, &d) || d < 1 || d > 1000)
                 bad = bad_arg(a, v, "expected 1..1000 Hz");
             opt.headset.refresh_hz = (float)d;
         } else if (!strcmp(a, "--device")) {

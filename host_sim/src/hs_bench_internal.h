@@ -15,7 +15,7 @@
 #define HS_BENCH_PATH_MAX 1024
 
 /** The fixed leading columns of a setting's CSV (then "gpu_<pass>_ms" per pass). */
-#define HS_BENCH_COLUMN_COUNT 19
+#define HS_BENCH_COLUMN_COUNT 20
 extern const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT];
 
 /** out_dir/frames/NAME.csv */
@@ -29,6 +29,10 @@ xrsc_result hs_bench_make_dirs(const char *path, xrsc_diag *diag);
 typedef struct hs_bench_report_info {
     uint32_t frames, warmup, score_every, ref_spp, width, height;
     const char *device;
+    /** relMSE between two independent references of floor_frame (both eyes' mean); NaN when
+     *  --ref-floor was not given. */
+    double ref_floor_relmse;
+    uint32_t floor_frame;
 } hs_bench_report_info;
 
 /**

@@ -132,6 +132,9 @@ done:
 typedef struct setting_summary {
     uint32_t measured, scored;
     double wall_ms, gpu_ms, rays_per_px, relmse, rmse, ssim, cpbd, ref_cpbd, temporal, stereo;
+    double ref_stereo; /**< the reference's own stereo discrepancy (scored frames) */
+    double blend_ms;   /**< the stereo blend pass (gpu_blend_ms); NaN without a blend */
+    double blend_pct;  /**< blend_ms as a percentage of gpu_ms (ratio of the means) */
     double pass_ms[MAX_COLS]; /**< by union pass index */
 } setting_summary;
 
@@ -321,6 +324,9 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
         s->rmse = mean_of(t, "rmse", true, NULL);
         s->ssim = mean_of(t, "ssim", true, NULL);
         s->ref_cpbd = mean_of(t, "ref_cpbd", true, NULL);
+        s->ref_stereo = mean_of(t, "ref_stereo_msd", true, NULL);
+        s->blend_ms = mean_of(t, "gpu_blend_ms", false, NULL);
+        s->blend_pct = 100.0 * ratio(s->blend_ms, s->gpu_ms);
         for (uint32_t p = 0; p < npass; p++) {
             s->pass_ms[p] = mean_of(t, pass_names[p], false, NULL);
         }
@@ -350,7 +356,8 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
     }
     fprintf(f, "setting,spec,r,measured_frames,scored_frames,wall_ms,gpu_ms,gpu_ms_ratio,"
                "wall_ms_ratio,rays_per_px,relmse,relmse_ratio,rmse,ssim,cpbd,ref_cpbd,"
-               "temporal_msd,temporal_ratio,stereo_msd,baseline");
+               "temporal_msd,temporal_ratio,stereo_msd,ref_stereo_msd,blend_ms,blend_pct,"
+               "baseline");
     for (uint32_t p = 0; p < npass; p++)
         fprintf(f, ",%s", pass_names[p]);
     fputc('\n', f);
@@ -362,7 +369,8 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
         double v[] = {s->wall_ms,  s->gpu_ms, ratio(s->gpu_ms, bs->gpu_ms),
                       ratio(s->wall_ms, bs->wall_ms), s->rays_per_px, s->relmse,
                       ratio(s->relmse, bs->relmse), s->rmse, s->ssim, s->cpbd, s->ref_cpbd,
-                      s->temporal, ratio(s->temporal, bs->temporal), s->stereo};
+                      s->temporal, ratio(s->temporal, bs->temporal), s->stereo,
+                      s->ref_stereo, s->blend_ms, s->blend_pct};
         for (size_t k = 0; k < sizeof(v) / sizeof(v[0]); k++) {
             fputc(',', f);
             fmt_value(f, v[k]);
@@ -389,9 +397,9 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
                 info->device, info->width, info->height, info->frames, info->warmup,
                 XRSC_METRICS_RELMSE_EPSILON, info->ref_spp, info->score_every,
                 opt->settings[base].name);
-        fprintf(out, "%-24s %8s %6s %8s %6s %7s %9s %6s %6s %6s %6s %10s %6s %10s\n", "setting",
-                "GPU ms", "x", "wall ms", "x", "rays/px", "relMSE", "x", "SSIM", "CPBD", "ref",
-                "temporal", "x", "stereo");
+        fprintf(out, "%-24s %8s %6s %8s %6s %7s %9s %6s %6s %6s %6s %10s %6s %10s %10s %8s %6s\n",
+                "setting", "GPU ms", "x", "wall ms", "x", "rays/px", "relMSE", "x", "SSIM", "CPBD",
+                "ref", "temporal", "x", "stereo", "ref stereo", "blend ms", "blend%");
         for (uint32_t i = 0; i < ns; i++) {
             const setting_summary *s = &sum[i];
             fprintf(out, "%-24s ", opt->settings[i].name);
@@ -407,9 +415,21 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             print_num(out, "%6.3f ", 6, s->ref_cpbd);
             print_num(out, "%10.4g ", 10, s->temporal);
             print_num(out, "%6.2f ", 6, ratio(s->temporal, bs->temporal));
-            print_num(out, "%10.4g", 10, s->stereo);
+            print_num(out, "%10.4g ", 10, s->stereo);
+            print_num(out, "%10.4g ", 10, s->ref_stereo);
+            print_num(out, "%8.3f ", 8, s->blend_ms);
+            print_num(out, "%6.2f", 6, s->blend_pct);
             fputc('\n', out);
         }
+        fprintf(out,
+                "CPBD, stereo: means over the measured frames; ref, ref stereo: the references "
+                "(scored frames); blend%%: the blend pass's share of the GPU time\n");
+        if (isfinite(info->ref_floor_relmse))
+            fprintf(out,
+                    "reference floor relMSE \u2248 %.4g (two %u-spp references of frame %u, "
+                    "independent seeds; a setting's relMSE holds about half of it as the "
+                    "reference's own noise)\n",
+                    info->ref_floor_relmse, info->ref_spp, info->floor_frame);
         fprintf(out, "per pass, GPU ms (mean):\n%-24s", "setting");
         for (uint32_t p = 0; p < npass; p++) {
             char nm[64];
@@ -447,7 +467,7 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             res = u_diag_set(diag, XRSC_ERROR_IO, plotdir, 0, "", "cannot write plot data");
         } else {
             fprintf(d, "# idx name gpu_ms wall_ms relmse temporal_msd stereo_msd cpbd ref_cpbd "
-                       "rays_per_px\n");
+                       "rays_per_px ref_stereo_msd\n");
             fprintf(pa, "setting");
             for (uint32_t p = 0; p < npass; p++) {
                 char nm[64];
@@ -459,9 +479,9 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             for (uint32_t i = 0; i < ns; i++) {
                 const setting_summary *s = &sum[i];
                 const table *t = &tab[i];
-                fprintf(d, "%u %s %g %g %g %g %g %g %g %g\n", i + 1, opt->settings[i].name,
+                fprintf(d, "%u %s %g %g %g %g %g %g %g %g %g\n", i + 1, opt->settings[i].name,
                         s->gpu_ms, s->wall_ms, s->relmse, s->temporal, s->stereo, s->cpbd,
-                        s->ref_cpbd, s->rays_per_px);
+                        s->ref_cpbd, s->rays_per_px, s->ref_stereo);
                 fprintf(pa, "%s", opt->settings[i].name);
                 for (uint32_t p = 0; p < npass; p++)
                     fprintf(pa, " %g", isfinite(s->pass_ms[p]) ? s->pass_ms[p] : 0.0);
@@ -513,7 +533,8 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
                     first = false;
             if (!first)
                 continue;
-            fprintf(d, "%s# %s: r stereo_msd cpbd ref_cpbd\n", blocks ? "\n\n" : "", s->group);
+            fprintf(d, "%s# %s: r stereo_msd cpbd ref_cpbd ref_stereo_msd\n", blocks ? "\n\n" : "",
+                    s->group);
             snprintf(groups + strlen(groups), sizeof(groups) - strlen(groups), "%s%s",
                      blocks ? " " : "", s->group);
             /* Selection sort by r over the group's members. */
@@ -529,8 +550,8 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
                 if (pick < 0)
                     break;
                 last = opt->settings[pick].r;
-                fprintf(d, "%g %g %g %g\n", last, sum[pick].stereo, sum[pick].cpbd,
-                        sum[pick].ref_cpbd);
+                fprintf(d, "%g %g %g %g %g\n", last, sum[pick].stereo, sum[pick].cpbd,
+                        sum[pick].ref_cpbd, sum[pick].ref_stereo);
             }
             blocks++;
         }
@@ -538,24 +559,46 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "writing failed");
             goto done;
         }
-        FILE *g = open_script(opt->out_dir, "stereo_r.gp", "stereo_r.png", 1100, 450, diag);
+        FILE *g = open_script(opt->out_dir, "stereo_r.gp", "stereo_r.png", 1100, 520, diag);
         if (!g) {
             res = diag ? diag->code : XRSC_ERROR_IO;
             goto done;
         }
         fprintf(g, "groups = \"%s\"\n", groups);
+        /* Settings without R (no blend, pfj23) as horizontal lines, like the reference. */
+        static const char *const flat_colour[] = {"dark-orange", "dark-green", "red",
+                                                  "dark-cyan", "brown", "dark-magenta"};
+        char flat_stereo[2048] = "", flat_cpbd[2048] = "";
+        uint32_t nflat = 0;
+        for (uint32_t i = 0; i < ns; i++) {
+            if (isfinite(opt->settings[i].r))
+                continue;
+            const char *colour = flat_colour[nflat++ % 6];
+            if (isfinite(sum[i].stereo))
+                snprintf(flat_stereo + strlen(flat_stereo),
+                         sizeof(flat_stereo) - strlen(flat_stereo),
+                         ", %.9g with lines dt 3 lw 2 lc '%s' title '%s'", sum[i].stereo, colour,
+                         opt->settings[i].name);
+            if (isfinite(sum[i].cpbd))
+                snprintf(flat_cpbd + strlen(flat_cpbd), sizeof(flat_cpbd) - strlen(flat_cpbd),
+                         ", %.9g with lines dt 3 lw 2 lc '%s' title '%s'", sum[i].cpbd, colour,
+                         opt->settings[i].name);
+        }
         fprintf(g, "set multiplot layout 1,2 title 'stereo discrepancy and sharpness vs R'\n"
-                   "set xlabel 'R'\nset key bottom right font ',8'\n"
-                   "set ylabel 'stereo discrepancy (mean squared, right vs left reprojected)'\n"
+                   "set xlabel 'R'\nset xrange [-0.05:1.05]\nset key below font ',8'\n"
+                   "set ylabel 'stereo discrepancy (MSE, right vs left reprojected)'\n"
                    "plot for [i=0:%u] 'plot/r.dat' index i using 1:2 with linespoints pt 7 "
-                   "title word(groups, i+1)\n",
-                blocks ? blocks - 1 : 0);
+                   "title word(groups, i+1), "
+                   "'plot/r.dat' index 0 using 1:5 with lines dt 2 lc 'black' title 'reference'"
+                   "%s\n",
+                blocks ? blocks - 1 : 0, flat_stereo);
         fprintf(g, "set ylabel 'CPBD (higher = sharper)'\n"
                    "plot for [i=0:%u] 'plot/r.dat' index i using 1:3 with linespoints pt 7 "
                    "title word(groups, i+1), "
-                   "'plot/r.dat' index 0 using 1:4 with lines dt 2 lc 'black' title 'reference'\n"
+                   "'plot/r.dat' index 0 using 1:4 with lines dt 2 lc 'black' title 'reference'"
+                   "%s\n"
                    "unset multiplot\n",
-                blocks ? blocks - 1 : 0);
+                blocks ? blocks - 1 : 0, flat_cpbd);
         fclose(g);
     }
 
