@@ -261,6 +261,46 @@ static double hit_centroid_x(xrsc_renderer *r)
     return n ? sum / n : -1.0;
 }
 
+/** XRSC_BOUNCES_NONE ends every path at its first hit: no shadow and no bounce rays, so a
+ *  frame traces exactly one camera ray per sample, on both methods that take the option. A
+ *  sentinel passed through unmapped would instead mean "unlimited" to the shader. */
+static void count_rays(const char *path, xrsc_method method, uint32_t bounces, uint64_t *out)
+{
+    *out = 0;
+    xrsc_scene *scene = NULL;
+    xrsc_diag diag;
+    if (xrsc_scene_load(g_ctx, path, NULL, &scene, &diag) != XRSC_OK) {
+        CHECK(false);
+        return;
+    }
+    xrsc_renderer_options ro = {.method = method, .width = T_SIZE, .height = T_SIZE};
+    ro.spp.samples_per_pixel = 1;
+    ro.spp.max_bounces = bounces;
+    ro.samplecache.max_bounces = bounces;
+    xrsc_renderer *rend = NULL;
+    if (xrsc_renderer_create(g_ctx, scene, &ro, &rend, &diag) == XRSC_OK) {
+        xrsc_frame frame;
+        default_frame(scene, &frame);
+        CHECK_EQ_INT(xrsc_renderer_render(rend, &frame), XRSC_OK);
+        *out = xrsc_renderer_rays_last_frame(rend);
+    } else {
+        CHECK(false);
+    }
+    xrsc_renderer_destroy(&rend);
+    xrsc_scene_destroy(&scene);
+}
+
+static void test_no_bounces(void)
+{
+    const char *path = t_source_path("scenes/cornell.gltf");
+    uint64_t none = 0, one = 0;
+    count_rays(path, XRSC_METHOD_SPP, XRSC_BOUNCES_NONE, &none);
+    count_rays(path, XRSC_METHOD_SPP, 1, &one);
+    CHECK_EQ_INT(none, 2ull * T_SIZE * T_SIZE);
+    CHECK_MSG(one > none, "1 bounce traces %llu rays, none %llu", (unsigned long long)one,
+              (unsigned long long)none);
+}
+
 static void test_animation_moves_tlas(void)
 {
     const char *path = write_moving_triangle();
@@ -330,6 +370,7 @@ int main(void)
     RUN(test_shared_glass);
     RUN(test_bundled_scenes);
     RUN(test_animation_moves_tlas);
+    RUN(test_no_bounces);
     uint32_t errors = xrsc_context_validation_errors(g_ctx);
     xrsc_context_destroy(&g_ctx);
     CHECK_MSG(errors == 0, "%u validation errors", errors);

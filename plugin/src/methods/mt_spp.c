@@ -36,7 +36,7 @@ static xrsc_result spp_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *
     xs_frame xf;
     mt_trace_frame_constants(&s->trace, frame, &xf);
     xf.samples_per_pixel = s->opt.samples_per_pixel;
-    xf.max_bounces = s->opt.max_bounces;
+    xf.max_bounces = s->opt.max_bounces == XRSC_BOUNCES_NONE ? 0u : s->opt.max_bounces;
     xf.jitter = s->opt.no_jitter ? 0u : 1u;
     bool clear = false;
     if (s->opt.accumulate) {
