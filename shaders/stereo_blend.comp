@@ -16,8 +16,11 @@
  *    much the 1st and 2nd raw moments are blurred"; Dodgson's R = 0 kernel is a [1 2 1] / 4
  *    blur, which on X itself biased edges and highlights and lowered sharpness).
  *    Taps outside the image or failing xs_st_depth_ok(d_tap, d_exp) are dropped and the rest
- *    renormalised; below min_weight of either kernel left the pixel is disoccluded and kept
- *    (status XS_ST_STATUS_REJECTED, beta = 1).
+ *    renormalised; below min_weight of the colour's kernel left the pixel is disoccluded and
+ *    kept (status XS_ST_STATUS_REJECTED, beta = 1), the same test for every blend and R (the
+ *    moments kernel's accepted taps only need to carry samples, c_X > 0: where its wider
+ *    support reaches across a depth edge the estimate comes from the taps left, it does not
+ *    make the pixel disoccluded).
  * 3. beta per colour channel:
  *    - PFJ23 (seed 004 Eq. 10-11): sigma_Y^2 over the 3 x 3 colour neighbourhood of this eye,
  *      E[(X - Y)^2] from X against each neighbour (xs_st_beta_pfj23).
@@ -86,7 +89,7 @@ void main()
      *    the colour that enters Eq. 3 */
     bool moments = stp.mode == XS_ST_MODE_MOMENTS;
     vec3 x = vec3(0.0), m1x = vec3(0.0), m2x = vec3(0.0);
-    float wsum = 0.0, msum = 0.0, cwsum = 0.0, w2c = 0.0; /* w2c: sum w^2 / c_X of the colour taps */
+    float wsum = 0.0, cwsum = 0.0, w2c = 0.0; /* w2c: sum w^2 / c_X of the colour taps */
     if (ok) {
         ivec2 base = ivec2(floor(q));
         for (int j = 0; j < 2; j++) {
@@ -121,13 +124,11 @@ void main()
                     m1x += cw * a.rgb;
                     m2x += cw * b.rgb;
                     cwsum += cw;
-                    msum += w;
                 }
             }
         }
     }
-    if (!(wsum >= stp.min_weight) ||
-        (moments && (!(msum >= stp.min_weight) || !(cwsum > 0.0)))) {
+    if (!(wsum >= stp.min_weight) || (moments && !(cwsum > 0.0))) {
         imageStore(st_out, coord, y4);
         imageStore(st_aux, coord, vec4(vec3(1.0), XS_ST_STATUS_REJECTED));
         return;

@@ -29,9 +29,13 @@ typedef struct xrsc_renderer xrsc_renderer;
 /**
  * Context options.
  * - device: which Vulkan device to use. NULL/"": the environment variable XRSC_DEVICE if set,
- *   else the first non-CPU device with ray-tracing pipelines, else lavapipe (llvmpipe).
- *   "cpu" picks lavapipe, "gpu" the first non-CPU device, a number picks that
- *   physical-device index, any other text picks the first device whose name contains it.
+ *   else the first non-CPU device with what xrsc needs (Vulkan 1.3, ray-tracing pipelines),
+ *   else the first such CPU device (lavapipe, llvmpipe). "cpu" picks lavapipe, "gpu" the
+ *   first non-CPU device, a number picks that physical-device index, any other text the first
+ *   device whose name contains it, ignoring case; of several matches the first with what xrsc
+ *   needs (plugin/src/util/u_device.h). A selector that matches no device is
+ *   XRSC_ERROR_DEVICE_NOT_FOUND, one whose matches all lack ray tracing
+ *   XRSC_ERROR_NO_RAY_TRACING_DEVICE.
  * - validation: enable VK_LAYER_KHRONOS_validation and count its errors (also enabled when
  *   the environment variable XRSC_VALIDATION=1).
  */
@@ -102,7 +106,10 @@ xrsc_result xrsc_method_from_name(const char *name, xrsc_method *out_method);
  * - accumulate: progressive accumulation over frames while the views stay the same (for
  *   references); any change of view or scene time restarts it.
  * - no_jitter: every sample through the pixel centre (for exact primary-hit tests).
- * - max_bounces: 0 means the default 3; XRSC_BOUNCES_NONE asks for direct lighting only.
+ * - max_bounces: bounce rays after the camera ray; 0 means the default 3; XRSC_BOUNCES_NONE
+ *   asks for none: only emission seen by the camera rays (emitters, the environment on
+ *   misses), no light sampling (that happens at vertices that can still bounce, so direct
+ *   lighting is max_bounces 1: light sampling at the first hit plus one BSDF ray).
  */
 #define XRSC_BOUNCES_NONE UINT32_MAX
 typedef struct xrsc_spp_options {
@@ -180,8 +187,8 @@ typedef struct xrsc_samplecache_options {
  * - XRSC_BLEND_MOMENTS: beta from seed 000 Eq. 8 with the raw moments mu_1, mu_2 of the pixels'
  *   own samples (XRSC_OUTPUT_MU1/MU2, Eq. 5-7), this eye's blurred in 3 x 3 (weight 1 - R off
  *   centre, 1 at the centre), the other eye's resampled with Dodgson's quadratic kernel with R
- *   as its spline parameter (seed 000 §5.2). Needs a method with moments (`spp`,
- *   `samplecache`).
+ *   as its spline parameter (seed 000 §5.2); R smooths only these estimates, the colour X is
+ *   resampled bilinearly as for PFJ23. Needs a method with moments (`spp`, `samplecache`).
  */
 typedef enum xrsc_blend {
     XRSC_BLEND_NONE = 0,
