@@ -2,9 +2,12 @@
 /**
  * @file hs_args.h
  * @brief Command-line helpers shared by `xrsc`, `xrsc metrics` and `xrsc bench`: whole-string
- *        number parsing, option-list lookup and the one format of a bad-argument error.
+ *        number parsing, option-list lookup, the one format of a bad-argument error, and the
+ *        creation of output folders.
  */
 #pragma once
+
+#include "xrsc/result.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -32,6 +35,13 @@ bool hs_parse_f(const char *s, double *out);
 
 /** Whether flag is one of the count options in list. */
 bool hs_arg_in(const char *flag, const char *const *list, size_t count);
+
+/**
+ * mkdir -p path (folders that exist already are fine). Errors name `field` (the option that gave
+ * the path, e.g. "--out") in diag: XRSC_ERROR_INVALID_ARGUMENT for an empty path or one of 1024
+ * bytes or more, XRSC_ERROR_IO (diag.file: the folder) for a folder that cannot be created.
+ */
+xrsc_result hs_make_dirs(const char *path, const char *field, xrsc_diag *diag);
 
 #ifdef __cplusplus
 }

@@ -6,6 +6,7 @@
  */
 #include "hs_bench.h"
 
+#include "hs_args.h"
 #include "hs_bench_internal.h"
 #include "hs_image.h"
 #include "u_diag.h"
@@ -17,7 +18,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -39,27 +39,6 @@ static double now_s(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-xrsc_result hs_bench_make_dirs(const char *path, xrsc_diag *diag)
-{
-    char buf[HS_BENCH_PATH_MAX];
-    if (path[0] == '\0' || (size_t)snprintf(buf, sizeof(buf), "%s", path) >= sizeof(buf))
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path, 0, "--out",
-                          "output folder name is empty or too long");
-    for (char *p = buf + 1; *p; p++) {
-        if (*p != '/')
-            continue;
-        *p = '\0';
-        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-            return u_diag_set(diag, XRSC_ERROR_IO, buf, 0, "--out", "cannot create folder: %s",
-                              strerror(errno));
-        *p = '/';
-    }
-    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-        return u_diag_set(diag, XRSC_ERROR_IO, buf, 0, "--out", "cannot create folder: %s",
-                          strerror(errno));
-    return XRSC_OK;
 }
 
 /* ---- progress ---- */
@@ -730,8 +709,8 @@ xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *
     char dir[HS_BENCH_PATH_MAX];
     snprintf(b.ref_dir, sizeof(b.ref_dir), "%s/ref", opt->out_dir);
     snprintf(dir, sizeof(dir), "%s/frames", opt->out_dir);
-    if ((res = hs_bench_make_dirs(b.ref_dir, diag)) != XRSC_OK ||
-        (res = hs_bench_make_dirs(dir, diag)) != XRSC_OK)
+    if ((res = hs_make_dirs(b.ref_dir, "--out", diag)) != XRSC_OK ||
+        (res = hs_make_dirs(dir, "--out", diag)) != XRSC_OK)
         goto done;
     if (opt->progress)
         fprintf(stderr,

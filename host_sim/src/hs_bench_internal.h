@@ -22,8 +22,6 @@ extern const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT];
 void hs_bench_setting_csv_path(const char *out_dir, const char *name, char *out, size_t cap);
 /** Frame k is scored: k >= warmup and (k - warmup) % score_every == 0. */
 bool hs_bench_is_scored(uint32_t k, uint32_t warmup, uint32_t score_every);
-/** mkdir -p */
-xrsc_result hs_bench_make_dirs(const char *path, xrsc_diag *diag);
 
 /** What the report needs to know of the run (defaults resolved). */
 typedef struct hs_bench_report_info {

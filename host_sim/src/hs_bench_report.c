@@ -5,6 +5,7 @@
  *        writes bench.csv and summary.csv, prints the summary with ratios to a baseline, and
  *        writes and runs the gnuplot charts.
  */
+#include "hs_args.h"
 #include "hs_bench_internal.h"
 
 #include "u_diag.h"
@@ -451,7 +452,7 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
 
     /* Plot data. */
     snprintf(plotdir, sizeof(plotdir), "%s/plot", opt->out_dir);
-    if ((res = hs_bench_make_dirs(plotdir, diag)) != XRSC_OK)
+    if ((res = hs_make_dirs(plotdir, "--out", diag)) != XRSC_OK)
         goto done;
     bool any_r = false;
     {

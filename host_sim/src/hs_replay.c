@@ -5,6 +5,7 @@
  */
 #include "hs_replay.h"
 
+#include "hs_args.h"
 #include "hs_image.h"
 #include "u_diag.h"
 
@@ -12,7 +13,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -32,27 +32,6 @@ static double now_s(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-static xrsc_result make_dirs(const char *path, xrsc_diag *diag)
-{
-    char buf[1024];
-    if (path[0] == '\0' || (size_t)snprintf(buf, sizeof(buf), "%s", path) >= sizeof(buf))
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path, 0, "--out",
-                          "output folder name is empty or too long");
-    for (char *p = buf + 1; *p; p++) {
-        if (*p != '/')
-            continue;
-        *p = '\0';
-        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-            return u_diag_set(diag, XRSC_ERROR_IO, buf, 0, "--out", "cannot create folder: %s",
-                              strerror(errno));
-        *p = '/';
-    }
-    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-        return u_diag_set(diag, XRSC_ERROR_IO, buf, 0, "--out", "cannot create folder: %s",
-                          strerror(errno));
-    return XRSC_OK;
 }
 
 typedef struct replay_buffers {
@@ -212,7 +191,7 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
         frames = span_ns > 0 ? (uint32_t)(span_ns / period_ns) + 1 : 1;
 
     if (opt->out_dir) {
-        if ((res = make_dirs(opt->out_dir, diag)) != XRSC_OK)
+        if ((res = hs_make_dirs(opt->out_dir, "--out", diag)) != XRSC_OK)
             goto done;
         char path[1100];
         snprintf(path, sizeof(path), "%s/frames.csv", opt->out_dir);

@@ -6,6 +6,7 @@
  */
 #include "hs_xr_replay.h"
 
+#include "hs_args.h"
 #include "u_diag.h"
 #include "xrsc/xrsc_xr.h"
 
@@ -46,25 +47,6 @@ static xrsc_result set_env(const char *name, const char *value, xrsc_diag *diag)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, name, "setenv failed: %s",
                           strerror(errno));
     return XRSC_OK;
-}
-
-static xrsc_result make_dirs(const char *path, xrsc_diag *diag)
-{
-    char buf[1024];
-    if ((size_t)snprintf(buf, sizeof(buf), "%s", path) >= sizeof(buf))
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path, 0, "--out", "too long");
-    for (char *p = buf + 1;; p++) {
-        bool end = *p == '\0';
-        if (*p != '/' && !end)
-            continue;
-        *p = '\0';
-        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-            return u_diag_set(diag, XRSC_ERROR_IO, buf, 0, "--out", "cannot create folder: %s",
-                              strerror(errno));
-        if (end)
-            return XRSC_OK;
-        *p = '/';
-    }
 }
 
 /** Picks the runtime: XR_RUNTIME_JSON as given, else this build's manifest. */
@@ -204,7 +186,7 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
         goto done;
     if ((res = configure_runtime(opt, stream, w, h, refresh, session_frames, diag)) != XRSC_OK)
         goto done;
-    if (opt->out_dir && (res = make_dirs(opt->out_dir, diag)) != XRSC_OK)
+    if (opt->out_dir && (res = hs_make_dirs(opt->out_dir, "--out", diag)) != XRSC_OK)
         goto done;
 
     xrsc_xr_options xo = {.application_name = "xrsc replay", .context = opt->context};

@@ -217,8 +217,6 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     mt_trace_frame_constants(t, frame, &xf);
     xf.max_bounces = s->opt.max_bounces == XRSC_BOUNCES_NONE ? 0u : s->opt.max_bounces;
     xf.jitter = 1;
-    memcpy(t->frame_ubo.mapped, &xf, sizeof(xf));
-    gpu_buffer_flush(ctx, &t->frame_ubo);
 
     s->p.cur = s->frames & 1u;
     s->p.phi_left = pixel_phi(&frame->views[0].fov, w, h);
@@ -227,12 +225,9 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     gpu_buffer_flush(ctx, &s->params);
 
     VkCommandBuffer cmd;
-    xrsc_result res = gpu_cmd_begin(ctx, &cmd, diag);
+    xrsc_result res = mt_trace_cmd_frame_begin(t, &xf, &cmd, diag);
     if (res != XRSC_OK)
         return res;
-    gpu_cmd_barrier_all(cmd);
-    gpu_timer_cmd_reset(cmd, &t->timer);
-    mt_trace_cmd_scene_update(t, cmd);
 
     VkDeviceSize plane = s->plane;
     VkDeviceSize cur = s->p.cur;

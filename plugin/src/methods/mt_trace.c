@@ -132,14 +132,16 @@ static void cmd_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkA
     vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &mb, 0, NULL, 0, NULL);
 }
 
-void mt_trace_cmd_scene_update(mt_trace *t, VkCommandBuffer cmd)
+/** Records pass MT_PASS_TLAS: the scene's pending instance update (gpu_scene_cmd_update). */
+static void cmd_scene_update(mt_trace *t, VkCommandBuffer cmd)
 {
     uint32_t pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_PASS_TLAS);
     gpu_scene_cmd_update(t->env.gpu, t->env.scene, cmd);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
 }
 
-xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc_diag *diag)
+xrsc_result mt_trace_cmd_frame_begin(mt_trace *t, const xs_frame *xf, VkCommandBuffer *out_cmd,
+                                     xrsc_diag *diag)
 {
     gpu_context *ctx = t->env.gpu;
     memcpy(t->frame_ubo.mapped, xf, sizeof(*xf));
@@ -151,7 +153,18 @@ xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc
     /* Earlier submissions (scene upload, read-backs) before anything here. */
     gpu_cmd_barrier_all(cmd);
     gpu_timer_cmd_reset(cmd, &t->timer);
-    mt_trace_cmd_scene_update(t, cmd);
+    cmd_scene_update(t, cmd);
+    *out_cmd = cmd;
+    return XRSC_OK;
+}
+
+xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc_diag *diag)
+{
+    gpu_context *ctx = t->env.gpu;
+    VkCommandBuffer cmd;
+    xrsc_result res = mt_trace_cmd_frame_begin(t, xf, &cmd, diag);
+    if (res != XRSC_OK)
+        return res;
     if (clear_accum)
         gpu_image_cmd_clear(cmd, &t->accum);
     vkCmdFillBuffer(cmd, t->ray_counter.buffer, 0, sizeof(uint64_t), 0);

@@ -62,9 +62,13 @@ void mt_trace_fini(mt_trace *t);
  *  method fills samples, bounces, accumulate, jitter and frame_index. */
 void mt_trace_frame_constants(const mt_trace *t, const xrsc_frame *frame, xs_frame *xf);
 
-/** Records pass MT_PASS_TLAS: the scene's pending instance update (gpu_scene_cmd_update).
- *  Methods with their own frame record it first, after gpu_timer_cmd_reset. */
-void mt_trace_cmd_scene_update(mt_trace *t, VkCommandBuffer cmd);
+/** The start of a frame's command buffer, for mt_trace_run and methods with their own frame:
+ *  uploads xf to frame_ubo (memcpy + flush), begins a command buffer (gpu_cmd_begin), records a
+ *  full barrier (after earlier submissions), the timer reset and pass MT_PASS_TLAS (the scene's
+ *  pending instance update, gpu_scene_cmd_update). *out_cmd is set only on XRSC_OK; the caller
+ *  records the rest and submits it. */
+xrsc_result mt_trace_cmd_frame_begin(mt_trace *t, const xs_frame *xf, VkCommandBuffer *out_cmd,
+                                     xrsc_diag *diag);
 
 /** Records the copies of the outputs read during the last frame into their read-back
  *  buffers (after the passes that write them; the command buffer's last work). */
