@@ -77,3 +77,28 @@ void *t_read_file(const char *path, size_t *out_size)
         *out_size = (size_t)n;
     return buf;
 }
+
+char *t_data_uri(const void *data, size_t n)
+{
+    static const char tab[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    static const char prefix[] = "data:application/octet-stream;base64,";
+    const unsigned char *p = data;
+    char *out = malloc(sizeof prefix + (n + 2) / 3 * 4);
+    if (!out)
+        return NULL;
+    memcpy(out, prefix, sizeof prefix - 1);
+    char *o = out + sizeof prefix - 1;
+    for (size_t i = 0; i < n; i += 3) {
+        unsigned long v = (unsigned long)p[i] << 16;
+        if (i + 1 < n)
+            v |= (unsigned long)p[i + 1] << 8;
+        if (i + 2 < n)
+            v |= p[i + 2];
+        *o++ = tab[v >> 18 & 63];
+        *o++ = tab[v >> 12 & 63];
+        *o++ = i + 1 < n ? tab[v >> 6 & 63] : '=';
+        *o++ = i + 2 < n ? tab[v & 63] : '=';
+    }
+    *o = '\0';
+    return out;
+}

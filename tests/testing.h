@@ -9,6 +9,7 @@
 #pragma once
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 
 typedef struct t_state {
@@ -56,6 +57,9 @@ int t_finish(void);
 /** Joins XRSC_SOURCE_DIR or XRSC_SHARED_DIR with a relative path into a static buffer. */
 const char *t_source_path(const char *rel);
 const char *t_shared_path(const char *rel);
+/** "data:application/octet-stream;base64,..." (RFC 4648 base64) of n bytes, for glTF buffers
+ *  written by tests; malloc'ed, caller frees; NULL when out of memory. */
+char *t_data_uri(const void *data, size_t n);
 /** Writes text to a fresh temporary file and returns its path (static buffer, per call). */
 const char *t_temp_file(const char *name, const char *contents);
 /** Reads a whole file into a malloc'd buffer (free it); NULL and *out_size 0 unless all of it

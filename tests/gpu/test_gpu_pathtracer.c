@@ -58,29 +58,6 @@ typedef struct sphere_spec {
     float radius;
 } sphere_spec;
 
-static const char k_b64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-
-static char *base64(const unsigned char *src, size_t n)
-{
-    char *out = malloc(4 * ((n + 2) / 3) + 1);
-    if (!out)
-        return NULL;
-    size_t o = 0;
-    for (size_t i = 0; i < n; i += 3) {
-        uint32_t v = (uint32_t)src[i] << 16;
-        if (i + 1 < n)
-            v |= (uint32_t)src[i + 1] << 8;
-        if (i + 2 < n)
-            v |= src[i + 2];
-        out[o++] = k_b64[(v >> 18) & 63];
-        out[o++] = k_b64[(v >> 12) & 63];
-        out[o++] = i + 1 < n ? k_b64[(v >> 6) & 63] : '=';
-        out[o++] = i + 2 < n ? k_b64[v & 63] : '=';
-    }
-    out[o] = 0;
-    return out;
-}
-
 static void sphere_point(float r, double theta, double phi, float out[3])
 {
     out[0] = (float)(r * sin(theta) * cos(phi));
@@ -140,7 +117,7 @@ static const char *write_sphere_gltf(const sphere_spec *s)
     memcpy(buf + pos_bytes, nrm, pos_bytes);
     for (uint32_t i = 0; i < vcount; i++)
         memcpy(buf + 2 * pos_bytes + 4 * (size_t)i, &i, 4);
-    char *b64 = base64(buf, total);
+    char *b64 = t_data_uri(buf, total);
 
     size_t json_cap = strlen(b64) + 4096;
     char *json = malloc(json_cap);
@@ -155,7 +132,7 @@ static const char *write_sphere_gltf(const sphere_spec *s)
              "\"metallicFactor\":%g,\"roughnessFactor\":%g},\"emissiveFactor\":[%g,%g,%g],"
              "\"extensions\":{\"KHR_materials_ior\":{\"ior\":%g},"
              "\"KHR_materials_transmission\":{\"transmissionFactor\":%g}}}],"
-             "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,%s\"}],"
+             "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"%s\"}],"
              "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu,\"target\":34962},"
              "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},"
              "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34963}],"

@@ -325,21 +325,6 @@ static void test_spp_no_jitter_same_first_hits(void)
 
 /* ---- facing ---- */
 
-static void base64(const uint8_t *in, size_t n, char *out)
-{
-    static const char k[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    size_t o = 0;
-    for (size_t i = 0; i < n; i += 3) {
-        uint32_t v = (uint32_t)in[i] << 16 | (i + 1 < n ? (uint32_t)in[i + 1] << 8 : 0) |
-                     (i + 2 < n ? in[i + 2] : 0);
-        out[o++] = k[(v >> 18) & 63];
-        out[o++] = k[(v >> 12) & 63];
-        out[o++] = i + 1 < n ? k[(v >> 6) & 63] : '=';
-        out[o++] = i + 2 < n ? k[v & 63] : '=';
-    }
-    out[o] = '\0';
-}
-
 /** Front side of instance i of the facing scene as seen from the origin: 1 = glTF front. */
 static const uint32_t t_facing_expected[4] = {1, 0, 1, 0};
 
@@ -357,8 +342,9 @@ static const char *write_facing_scene(void)
 {
     float data[18] = {-0.5f, -0.5f, 0.0f, 0.5f, -0.5f, 0.0f, 0.0f, 0.5f, 0.0f, /* POSITION */
                       0.0f,  0.0f,  1.0f, 0.0f, 0.0f,  1.0f, 0.0f, 0.0f, 1.0f}; /* NORMAL */
-    char b64[128];
-    base64((const uint8_t *)data, sizeof(data), b64);
+    char *uri = t_data_uri(data, sizeof(data));
+    if (!uri)
+        return NULL;
     static char json[4096];
     snprintf(json, sizeof(json),
              "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1,2,3]}],"
@@ -374,14 +360,18 @@ static const char *write_facing_scene(void)
              "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},"
              "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":36}],"
              "\"buffers\":[{\"byteLength\":72,"
-             "\"uri\":\"data:application/octet-stream;base64,%s\"}]}",
-             b64);
+             "\"uri\":\"%s\"}]}",
+             uri);
+    free(uri);
     return t_temp_file("facing.gltf", json);
 }
 
 static void test_front_face(void)
 {
     const char *path = write_facing_scene();
+    CHECK(path != NULL);
+    if (!path)
+        return;
     gpu_context_options go = {.validation = true};
     gpu_context *gpu = NULL;
     sc_scene *cpu = NULL;

@@ -196,21 +196,6 @@ static void test_bad_scene_path(void)
 
 /* ---- animation: TLAS update ---- */
 
-static void base64(const uint8_t *in, size_t n, char *out)
-{
-    static const char k[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    size_t o = 0;
-    for (size_t i = 0; i < n; i += 3) {
-        uint32_t v = (uint32_t)in[i] << 16 | (i + 1 < n ? (uint32_t)in[i + 1] << 8 : 0) |
-                     (i + 2 < n ? in[i + 2] : 0);
-        out[o++] = k[(v >> 18) & 63];
-        out[o++] = k[(v >> 12) & 63];
-        out[o++] = i + 1 < n ? k[(v >> 6) & 63] : '=';
-        out[o++] = i + 2 < n ? k[v & 63] : '=';
-    }
-    out[o] = '\0';
-}
-
 /** A triangle (x in [-0.3, 0.3]) at z = -3 whose node moves from x = -1 (t = 0 s) to x = +1
  *  (t = 1 s); camera at the origin. */
 static const char *write_moving_triangle(void)
@@ -218,8 +203,9 @@ static const char *write_moving_triangle(void)
     float data[17] = {-0.3f, -0.3f, -3.0f, 0.3f, -0.3f, -3.0f, 0.0f, 0.3f, -3.0f, /* POSITION */
                       0.0f,  1.0f,                                            /* times */
                       -1.0f, 0.0f,  0.0f,  1.0f, 0.0f, 0.0f};                 /* translations */
-    char b64[128];
-    base64((const uint8_t *)data, sizeof(data), b64);
+    char *uri = t_data_uri(data, sizeof(data));
+    if (!uri)
+        return NULL;
     static char json[4096];
     snprintf(json, sizeof(json),
              "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],"
@@ -236,11 +222,12 @@ static const char *write_moving_triangle(void)
              "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":8},"
              "{\"buffer\":0,\"byteOffset\":44,\"byteLength\":24}],"
              "\"buffers\":[{\"byteLength\":68,"
-             "\"uri\":\"data:application/octet-stream;base64,%s\"}],"
+             "\"uri\":\"%s\"}],"
              "\"animations\":[{\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,"
              "\"path\":\"translation\"}}],\"samplers\":[{\"input\":1,\"output\":2,"
              "\"interpolation\":\"LINEAR\"}]}]}",
-             b64);
+             uri);
+    free(uri);
     return t_temp_file("moving_triangle.gltf", json);
 }
 
@@ -304,6 +291,9 @@ static void test_no_bounces(void)
 static void test_animation_moves_tlas(void)
 {
     const char *path = write_moving_triangle();
+    CHECK(path != NULL);
+    if (!path)
+        return;
     xrsc_scene *scene = NULL;
     xrsc_diag diag;
     char buf[1024];

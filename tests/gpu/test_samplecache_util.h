@@ -262,32 +262,6 @@ static inline uint32_t tsc_popcount(uint32_t v)
 
 /* ---- glTF scenes of quads ---- */
 
-/** "data:application/octet-stream;base64,..." of n bytes; caller frees. */
-static inline char *tsc_data_uri(const void *data, size_t n)
-{
-    static const char tab[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    static const char prefix[] = "data:application/octet-stream;base64,";
-    const uint8_t *p = data;
-    char *out = malloc(sizeof prefix + (n + 2) / 3 * 4 + 1);
-    if (!out)
-        return NULL;
-    strcpy(out, prefix);
-    char *o = out + strlen(prefix);
-    for (size_t i = 0; i < n; i += 3) {
-        uint32_t v = (uint32_t)p[i] << 16;
-        if (i + 1 < n)
-            v |= (uint32_t)p[i + 1] << 8;
-        if (i + 2 < n)
-            v |= p[i + 2];
-        *o++ = tab[v >> 18 & 63];
-        *o++ = tab[v >> 12 & 63];
-        *o++ = i + 1 < n ? tab[v >> 6 & 63] : '=';
-        *o++ = i + 2 < n ? tab[v & 63] : '=';
-    }
-    *o = '\0';
-    return out;
-}
-
 /** One quad of a test scene: the square [-half, half]^2 of the node's z = 0 plane (normal
  *  +z), translated to `pos`, with a diffuse base colour; `move` != 0 adds a LINEAR
  *  translation animation from pos (time 0) to pos + move (time anim_s). */
@@ -413,7 +387,7 @@ static inline const char *tsc_quads_gltf(const char *name, const tsc_quad *q, ui
                  acc_time, acc_tr + k);
         strcat(samplers, tmp);
     }
-    char *uri = tsc_data_uri(buf, size);
+    char *uri = t_data_uri(buf, size);
     char *scene_nodes = malloc(count * 12 + 4);
     scene_nodes[0] = '\0';
     for (uint32_t i = 0; i < count; i++) {

@@ -1,37 +1,16 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file sc_test_util.h
- * @brief Helpers for the scene tests: base64 data URIs and a minimal one-triangle glTF.
+ * @brief Helpers for the scene tests: a minimal one-triangle glTF (data URIs: t_data_uri).
  */
 #pragma once
+
+#include "testing.h"
 
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-/** "data:application/octet-stream;base64,..." of n bytes; caller frees. */
-static inline char *sct_data_uri(const void *data, size_t n)
-{
-    static const char tab[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    static const char prefix[] = "data:application/octet-stream;base64,";
-    const uint8_t *p = data;
-    char *out = malloc(sizeof prefix + (n + 2) / 3 * 4 + 1);
-    if (!out) return NULL;
-    strcpy(out, prefix);
-    char *o = out + strlen(prefix);
-    for (size_t i = 0; i < n; i += 3) {
-        uint32_t v = (uint32_t)p[i] << 16;
-        if (i + 1 < n) v |= (uint32_t)p[i + 1] << 8;
-        if (i + 2 < n) v |= p[i + 2];
-        *o++ = tab[v >> 18 & 63];
-        *o++ = tab[v >> 12 & 63];
-        *o++ = i + 1 < n ? tab[v >> 6 & 63] : '=';
-        *o++ = i + 2 < n ? tab[v & 63] : '=';
-    }
-    *o = '\0';
-    return out;
-}
 
 /** 44 bytes: 3 float3 positions of a triangle in the z = 0 plane, then u16 indices
  *  (first, second, third) and 2 bytes of padding. */
@@ -53,7 +32,7 @@ static inline char *sct_triangle_gltf(const char *uri, int mode, const char *ext
 {
     uint8_t bytes[44];
     sct_triangle_bytes(bytes, i0, i1, i2);
-    char *data = sct_data_uri(bytes, sizeof bytes);
+    char *data = t_data_uri(bytes, sizeof bytes);
     const char *u = uri ? uri : data;
     size_t cap = strlen(u) + strlen(extra_top) + 2048;
     char *s = malloc(cap);

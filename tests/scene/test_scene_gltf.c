@@ -380,7 +380,7 @@ static void test_node_transforms(void)
 {
     uint8_t bytes[44];
     sct_triangle_bytes(bytes, 0, 1, 2);
-    char *uri = sct_data_uri(bytes, sizeof bytes);
+    char *uri = t_data_uri(bytes, sizeof bytes);
     char json[2048];
     /* parent: T (1,2,3), R 90 deg about +Y, S (2,1,1); child: T (1,0,0) with the triangle;
      * second child: the same as a matrix (translation (0,0,-1)). */
@@ -453,7 +453,7 @@ static void test_animation(void)
     uint8_t all[sizeof data + 44];
     memcpy(all, tri, 44);
     memcpy(all + 44, data, sizeof data);
-    char *uri = sct_data_uri(all, sizeof all);
+    char *uri = t_data_uri(all, sizeof all);
     static char json[8192];
     snprintf(json, sizeof json,
              "{\"asset\": {\"version\": \"2.0\"}, \"scenes\": [{\"nodes\": [0, 2]}],"
@@ -548,7 +548,7 @@ static void test_sparse_no_scene_no_normals(void)
     memcpy(bytes, pos, 36);
     memcpy(bytes + 36, si, 4);
     memcpy(bytes + 40, val, 12);
-    char *uri = sct_data_uri(bytes, sizeof bytes);
+    char *uri = t_data_uri(bytes, sizeof bytes);
     char json[1024];
     snprintf(json, sizeof json,
              "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [{\"mesh\": 0}],"
