@@ -20,6 +20,11 @@
 #define M_SPP (1u << XRSC_METHOD_SPP)
 #define M_PRIMARY (1u << XRSC_METHOD_PRIMARY)
 #define M_SC (1u << XRSC_METHOD_SAMPLECACHE)
+#define M_TAA (1u << XRSC_METHOD_TAA)
+#define M_HC (1u << XRSC_METHOD_HASHCACHE)
+#define M_HY (1u << XRSC_METHOD_HYBRID)
+#define M_ISRT (1u << XRSC_METHOD_ISRT)
+#define M_ALL ((1u << XRSC_METHOD_COUNT) - 1u)
 
 static bool parse_u32(const char *s, uint32_t lo, uint32_t hi, uint32_t *out)
 {
@@ -163,6 +168,14 @@ static const char *set_blend(xrsc_renderer_options *o, const char *v)
     return xrsc_blend_from_name(v, &o->blend) == XRSC_OK ? NULL : "none, pfj23, moments";
 }
 
+static const char *set_taa(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "default") ||
+        xrsc_taa_mode_from_name(v, &o->taa.mode) != XRSC_OK)
+        return "off, on, pfj23";
+    return NULL;
+}
+
 static const char *set_r(xrsc_renderer_options *o, const char *v)
 {
     char *end;
@@ -187,6 +200,8 @@ static const bench_key keys[] = {
     {"blend", M_SPP | M_PRIMARY | M_SC, set_blend, "",
      "stereo blend none | pfj23 | moments (moments: spp, samplecache) [none]"},
     {"r", M_SPP | M_PRIMARY | M_SC, set_r, "r", "sharpness R of the moments blend, [0, 1] [0]"},
+    {"taa", M_ALL, set_taa, "taa",
+     "TAA post-pass off | on | pfj23 [on for taa, pfj23 for hashcache/hybrid, else off]"},
     {"spp", M_SPP, set_spp, "", "samples per pixel per frame, 1..4096 [1]"},
     {"bounces", M_SPP | M_SC, set_bounces, "b", "bounces after the first hit, 0..16 [3]"},
     {"trace", M_SC, set_trace, "", "single | multi | adaptive [adaptive]"},
@@ -210,7 +225,7 @@ void hs_bench_print_keys(FILE *f)
     fprintf(f, "  name=LABEL          label (file name; default derived from the keys)\n");
     for (size_t k = 0; k < KEY_COUNT; k++) {
         char methods[64] = "";
-        for (int m = 0; m <= XRSC_METHOD_SAMPLECACHE; m++)
+        for (int m = 0; m < XRSC_METHOD_COUNT; m++)
             if (keys[k].methods & (1u << m))
                 snprintf(methods + strlen(methods), sizeof(methods) - strlen(methods), "%s%s",
                          methods[0] ? "," : "", xrsc_method_name((xrsc_method)m));
@@ -260,7 +275,7 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
     trim(&method);
     if (xrsc_method_from_name(method, &s->renderer.method) != XRSC_OK)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
-                          "unknown method '%s' (spp, primary, samplecache)", method);
+                          "unknown method '%s' (xrsc --help lists them)", method);
     snprintf(s->spec, sizeof(s->spec), "%s", method);
     snprintf(s->group, sizeof(s->group), "%s", method);
     char label[HS_BENCH_SPEC_MAX];

@@ -55,7 +55,7 @@ static void usage(FILE *f)
 "  --frames N          render N frames (0 = until the stream ends) [0]\n"
 "\n"
 "Rendering:\n"
-"  --method M          spp | primary | samplecache    [spp]\n"
+"  --method M          spp | primary | samplecache | taa | hashcache | hybrid | isrt [spp]\n"
 "  --spp N             samples per pixel per frame    [%d]\n"
 "  --bounces N         bounces after the first hit    [3]\n"
 "  --resolution WxH    render size per eye            [%dx%d]\n"
@@ -82,6 +82,10 @@ static void usage(FILE *f)
 "Stereo blend (after reconstruction, before submission; seed 000 section 3.6):\n"
 "  --blend B           none | pfj23 | moments         [none]\n"
 "  --blend-r R         sharpness R in [0, 1] of moments (0: lowest error, Fig. 15) [0]\n"
+"\n"
+"Temporal antialiasing (after reconstruction, before the stereo blend; seed 000 section 5.1):\n"
+"  --taa T             off | on | pfj23  [on for taa, pfj23 for hashcache and hybrid, else off]\n"
+"  --taa-alpha X       weight of the current frame with --taa on [0.1]\n"
 "\n"
 "OpenXR (the default path):\n"
 "  The plugin runs as an OpenXR application (XR_KHR_vulkan_enable2) on the runtime that\n"
@@ -117,7 +121,7 @@ static const char *const value_options[] = {
     "--ipd",   "--refresh", "--out",         "--write", "--exposure",
     "--sc-slots", "--sc-target", "--sc-delta", "--sc-eps0", "--sc-eps1", "--sc-block",
     "--sc-trace", "--sc-reproject", "--sc-shading-cache", "--sc-shade", "--sc-shade-rate",
-    "--sc-alpha", "--sc-alpha-fixed", "--blend", "--blend-r",
+    "--sc-alpha", "--sc-alpha-fixed", "--blend", "--blend-r", "--taa", "--taa-alpha",
 };
 
 /* Positive float option; returns 0 or the exit code of bad_arg. */
@@ -283,7 +287,15 @@ int main(int argc, char **argv)
                 return bad_arg(a, v, "expected a count");
         } else if (!strcmp(a, "--method")) {
             if (xrsc_method_from_name(v, &opt.renderer.method) != XRSC_OK)
-                return bad_arg(a, v, "unknown method (spp, primary, samplecache)");
+                return bad_arg(a, v, "unknown method (xrsc --help lists them)");
+        } else if (!strcmp(a, "--taa")) {
+            if (!strcmp(v, "default") ||
+                xrsc_taa_mode_from_name(v, &opt.renderer.taa.mode) != XRSC_OK)
+                return bad_arg(a, v, "expected off, on or pfj23");
+        } else if (!strcmp(a, "--taa-alpha")) {
+            int r = parse_positive(a, v, 1.0f, &opt.renderer.taa.alpha);
+            if (r)
+                return r;
         } else if (!strcmp(a, "--blend")) {
             if (xrsc_blend_from_name(v, &opt.renderer.blend) != XRSC_OK)
                 return bad_arg(a, v, "unknown blend (none, pfj23, moments)");

@@ -94,8 +94,26 @@ typedef enum xrsc_method {
     XRSC_METHOD_SPP = 0,
     XRSC_METHOD_PRIMARY = 1,
     XRSC_METHOD_SAMPLECACHE = 2,
+    /** 1 spp path traced with Halton(2,3) sub-pixel jitter + TAA ([YLS20] as seed 000 §5 uses
+     *  it; TAA on by default, ::xrsc_taa_options). */
+    XRSC_METHOD_TAA = 3,
+    /** World-space hashed voxel radiance cache (seed 000 §4, seed 001), ::xrsc_hashcache_options;
+     *  TAA with PFJ23 weights on by default. */
+    XRSC_METHOD_HASHCACHE = 4,
+    /** The sample cache's visibility (adaptive first-hit tracing, no shading storage) with
+     *  radiance from the hash cache at the hit voxel and its parent LoD (seed 000 §4);
+     *  ::xrsc_samplecache_options for visibility, ::xrsc_hashcache_options for radiance; TAA
+     *  with PFJ23 weights on by default. */
+    XRSC_METHOD_HYBRID = 5,
+    /** Interactive stable ray tracing's superresolution layout [DSK*17] (seed 000 Fig. 10):
+     *  M x M fixed sub-pixel slots per pixel with the sample cache's shading cache,
+     *  ::xrsc_isrt_options and the shading fields of ::xrsc_samplecache_options. */
+    XRSC_METHOD_ISRT = 6,
 } xrsc_method;
-/** "spp" / "primary" / "samplecache"; NULL for unknown values. */
+/** Number of xrsc_method values (they are 0 .. XRSC_METHOD_COUNT - 1). */
+#define XRSC_METHOD_COUNT 7
+/** "spp" / "primary" / "samplecache" / "taa" / "hashcache" / "hybrid" / "isrt"; NULL for
+ *  unknown values. */
 const char *xrsc_method_name(xrsc_method method);
 /** Parses a method name; XRSC_ERROR_UNKNOWN_METHOD when unknown. */
 xrsc_result xrsc_method_from_name(const char *name, xrsc_method *out_method);
@@ -176,6 +194,64 @@ typedef struct xrsc_samplecache_options {
 } xrsc_samplecache_options;
 
 /**
+ * Temporal antialiasing as a post-pass after any method ([YLS20] as seed 000 §5.1 puts it on
+ * top of every method): the history is reprojected by depth with camera and instance motion,
+ * clipped to the neighbourhood's variance box in YCoCg, and blended with the current frame;
+ * disocclusions reject the history. It runs after the method's reconstruction and before the
+ * stereo blend (pass "taa").
+ * - XRSC_TAA_DEFAULT (0): the method's default: on for `taa`, pfj23 for `hashcache` and
+ *   `hybrid`, off for the others.
+ * - XRSC_TAA_OFF: no temporal filter.
+ * - XRSC_TAA_ON: fixed blend weight alpha (default 0.1) for the current frame.
+ * - XRSC_TAA_PFJ23: per-pixel variance-based temporal blend weights of seed 004 instead of
+ *   the fixed alpha.
+ */
+typedef enum xrsc_taa_mode {
+    XRSC_TAA_DEFAULT = 0,
+    XRSC_TAA_OFF = 1,
+    XRSC_TAA_ON = 2,
+    XRSC_TAA_PFJ23 = 3,
+} xrsc_taa_mode;
+/** "default" / "off" / "on" / "pfj23"; NULL for unknown values. */
+const char *xrsc_taa_mode_name(xrsc_taa_mode mode);
+/** Parses a TAA mode name; XRSC_ERROR_INVALID_ARGUMENT when unknown. */
+xrsc_result xrsc_taa_mode_from_name(const char *name, xrsc_taa_mode *out_mode);
+
+/** TAA options. Zero fields mean the defaults: mode per method (above), alpha 0.1. */
+typedef struct xrsc_taa_options {
+    xrsc_taa_mode mode;
+    float alpha; /**< weight of the current frame with XRSC_TAA_ON, (0, 1] */
+} xrsc_taa_options;
+
+/** How the hash cache picks a voxel's level of detail (seed 000 §4, Fig. 9). */
+typedef enum xrsc_hc_lod {
+    XRSC_HC_LOD_DEFAULT = 0,     /**< distance */
+    XRSC_HC_LOD_DISTANCE,        /**< voxel smaller than the pixel footprint at the hit distance */
+    XRSC_HC_LOD_DISTANCE_NORMAL, /**< also coarser at grazing incidence (Fig. 9, right) */
+} xrsc_hc_lod;
+
+/**
+ * Options of the `hashcache` method and of `hybrid`'s radiance (seed 000 §4). Zero fields mean
+ * the defaults: table_entries 2^22 (24 B each), lod distance, voxel_scale 0.5 (voxel edge =
+ * half the pixel footprint at the hit distance, so a voxel is smaller than a pixel), max_age
+ * 64 frames (an entry not accessed for that long may be overwritten), voxel jitter on,
+ * max_bounces as ::xrsc_spp_options for the secondary path.
+ */
+typedef struct xrsc_hashcache_options {
+    uint32_t table_entries;
+    xrsc_hc_lod lod;
+    float voxel_scale;
+    uint32_t max_age;
+    bool no_voxel_jitter;
+    uint32_t max_bounces;
+} xrsc_hashcache_options;
+
+/** Options of `isrt`. m: M x M fixed sub-pixel slots per pixel, 1..4 (0: 2). */
+typedef struct xrsc_isrt_options {
+    uint32_t m;
+} xrsc_isrt_options;
+
+/**
  * Stereo blends, run after the method's reconstruction inside the frame (pass "blend"), before
  * any read-back or submission; each eye is improved from the other (symmetrically) with
  * lerp(X, Y, beta) = (1 - beta) X + beta Y (seed 000 Eq. 3), Y this eye's pixel, X the other
@@ -215,6 +291,9 @@ typedef struct xrsc_renderer_options {
     xrsc_samplecache_options samplecache;
     xrsc_blend blend;
     float blend_r;
+    xrsc_taa_options taa;
+    xrsc_hashcache_options hashcache;
+    xrsc_isrt_options isrt;
 } xrsc_renderer_options;
 
 /** One eye's view. */
@@ -277,6 +356,20 @@ uint32_t xrsc_renderer_timings(const xrsc_renderer *renderer, xrsc_pass_timing *
                                uint32_t max_count);
 /** Rays traced in the last frame (primary + secondary + shadow), for Mrays/s. */
 uint64_t xrsc_renderer_rays_last_frame(const xrsc_renderer *renderer);
+
+#define XRSC_MAX_COUNTERS 16
+/** A method's own statistic of the last frame, e.g. the hash cache's "hc_occupancy". */
+typedef struct xrsc_counter {
+    const char *name; /**< static string: lower case, digits and '_' (a CSV column) */
+    double value;
+} xrsc_counter;
+/**
+ * Method statistics of the last frame (e.g. hash-cache bytes, occupancy, probe lengths and
+ * evictions; cache bytes per pixel); returns the number written. A renderer reports the same
+ * counters in the same order every frame; 0 when the method has none.
+ */
+uint32_t xrsc_renderer_counters(const xrsc_renderer *renderer, xrsc_counter *out,
+                                uint32_t max_count);
 
 #ifdef __cplusplus
 }

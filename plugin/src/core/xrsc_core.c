@@ -189,22 +189,57 @@ const char *xrsc_method_name(xrsc_method method)
         return "primary";
     case XRSC_METHOD_SAMPLECACHE:
         return "samplecache";
+    case XRSC_METHOD_TAA:
+        return "taa";
+    case XRSC_METHOD_HASHCACHE:
+        return "hashcache";
+    case XRSC_METHOD_HYBRID:
+        return "hybrid";
+    case XRSC_METHOD_ISRT:
+        return "isrt";
     }
     return NULL;
 }
 
 xrsc_result xrsc_method_from_name(const char *name, xrsc_method *out_method)
 {
-    static const xrsc_method all[] = {XRSC_METHOD_SPP, XRSC_METHOD_PRIMARY,
-                                      XRSC_METHOD_SAMPLECACHE};
-    for (size_t i = 0; name && i < sizeof(all) / sizeof(all[0]); i++) {
-        if (!strcmp(name, xrsc_method_name(all[i]))) {
+    for (int i = 0; name && i < XRSC_METHOD_COUNT; i++) {
+        if (!strcmp(name, xrsc_method_name((xrsc_method)i))) {
             if (out_method)
-                *out_method = all[i];
+                *out_method = (xrsc_method)i;
             return XRSC_OK;
         }
     }
     return XRSC_ERROR_UNKNOWN_METHOD;
+}
+
+/* ---- temporal antialiasing ---- */
+
+const char *xrsc_taa_mode_name(xrsc_taa_mode mode)
+{
+    switch (mode) {
+    case XRSC_TAA_DEFAULT:
+        return "default";
+    case XRSC_TAA_OFF:
+        return "off";
+    case XRSC_TAA_ON:
+        return "on";
+    case XRSC_TAA_PFJ23:
+        return "pfj23";
+    }
+    return NULL;
+}
+
+xrsc_result xrsc_taa_mode_from_name(const char *name, xrsc_taa_mode *out_mode)
+{
+    for (int i = XRSC_TAA_DEFAULT; name && i <= XRSC_TAA_PFJ23; i++) {
+        if (!strcmp(name, xrsc_taa_mode_name((xrsc_taa_mode)i))) {
+            if (out_mode)
+                *out_mode = (xrsc_taa_mode)i;
+            return XRSC_OK;
+        }
+    }
+    return XRSC_ERROR_INVALID_ARGUMENT;
 }
 
 /* ---- stereo blends ---- */
@@ -366,6 +401,14 @@ uint32_t xrsc_renderer_timings(const xrsc_renderer *renderer, xrsc_pass_timing *
 uint64_t xrsc_renderer_rays_last_frame(const xrsc_renderer *renderer)
 {
     return renderer ? mt_method_rays_last_frame(renderer->method) : 0;
+}
+
+uint32_t xrsc_renderer_counters(const xrsc_renderer *renderer, xrsc_counter *out,
+                                uint32_t max_count)
+{
+    if (!renderer || !out)
+        return 0;
+    return mt_method_counters(renderer->method, out, max_count);
 }
 
 /* ---- internal (xrsc_core_internal.h): the OpenXR front end's access ---- */

@@ -40,6 +40,9 @@ struct mt_method {
      *  eye, layout GENERAL, valid after render returned), for copies on the GPU (the XR
      *  front end's swapchain copies); NULL if the output is not produced. */
     const gpu_image *(*output_image)(const mt_method *m, xrsc_output output);
+    /** Optional (NULL: none): the method's statistics of the last frame
+     *  (xrsc_renderer_counters); returns the number written. */
+    uint32_t (*counters)(const mt_method *m, xrsc_counter *out, uint32_t max_count);
 };
 
 /**
@@ -96,6 +99,12 @@ static inline uint64_t mt_method_rays_last_frame(const mt_method *m)
 static inline const gpu_image *mt_method_output_image(const mt_method *m, xrsc_output output)
 {
     return m->output_image ? m->output_image(m, output) : NULL;
+}
+/** The method's counters of the last frame; 0 when it has none. */
+static inline uint32_t mt_method_counters(const mt_method *m, xrsc_counter *out,
+                                          uint32_t max_count)
+{
+    return m->counters ? m->counters(m, out, max_count) : 0;
 }
 /** Destroys the method; accepts NULL and sets *m to NULL. */
 static inline void mt_method_destroy(mt_method **m)

@@ -392,7 +392,19 @@ static xrsc_result create_storage(gpu_context *ctx, VkDeviceSize size, gpu_buffe
 xrsc_result mt_samplecache_create(const mt_env *env, const xrsc_samplecache_options *options,
                                   mt_method **out, xrsc_diag *diag)
 {
+    return mt_samplecache_create_variant(env, options, NULL, out, diag);
+}
+
+xrsc_result mt_samplecache_create_variant(const mt_env *env,
+                                          const xrsc_samplecache_options *options,
+                                          const mt_sc_variant *variant, mt_method **out,
+                                          xrsc_diag *diag)
+{
     *out = NULL;
+    mt_sc_variant var = {0};
+    if (variant)
+        var = *variant;
+    (void)var; /* filled in by the variants' code (isrt layout, hybrid radiance) */
     xrsc_samplecache_options o = {0};
     if (options)
         o = *options;

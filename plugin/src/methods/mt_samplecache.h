@@ -40,6 +40,27 @@ extern "C" {
 xrsc_result mt_samplecache_create(const mt_env *env, const xrsc_samplecache_options *options,
                                   mt_method **out, xrsc_diag *diag);
 
+/**
+ * What other methods change in the sample cache (each such method is a file of its own that
+ * creates the cache through ::mt_samplecache_create_variant; zero fields = the plain cache):
+ * - name: the method name reported (NULL: "samplecache");
+ * - isrt_m: `isrt` (mt_isrt.c): M x M fixed sub-pixel slots per pixel [DSK*17] instead of
+ *   free sample positions (0: the sample cache's own layout);
+ * - hybrid: `hybrid` (mt_hybrid.c): radiance from the world-space hash cache instead of the
+ *   per-sample shading storage (seed 000 §4).
+ */
+typedef struct mt_sc_variant {
+    const char *name;
+    uint32_t isrt_m;
+    const struct mt_sc_hybrid *hybrid;
+} mt_sc_variant;
+
+/** The sample cache changed as variant says (NULL: the plain cache, = mt_samplecache_create). */
+xrsc_result mt_samplecache_create_variant(const mt_env *env,
+                                          const xrsc_samplecache_options *options,
+                                          const mt_sc_variant *variant, mt_method **out,
+                                          xrsc_diag *diag);
+
 /** The options in use, defaults filled in (m must be a `samplecache` method). */
 const xrsc_samplecache_options *mt_samplecache_options(const mt_method *m);
 
