@@ -448,6 +448,8 @@ static xrsc_result run_setting(bench_run *b, const hs_bench_setting *s, uint32_t
         xrsc_pass_timing pass[XRSC_MAX_PASSES];
         uint32_t np = xrsc_renderer_timings(r, pass, XRSC_MAX_PASSES);
         uint64_t rays = xrsc_renderer_rays_last_frame(r);
+        xrsc_counter counter[XRSC_MAX_COUNTERS];
+        uint32_t nc = xrsc_renderer_counters(r, counter, XRSC_MAX_COUNTERS);
         for (int e = 0; e < 2; e++)
             if ((res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, cur->color[e],
                                           color_bytes)) != XRSC_OK) {
@@ -467,6 +469,8 @@ static xrsc_result run_setting(bench_run *b, const hs_bench_setting *s, uint32_t
                 fprintf(csv, "%s%s", c ? "," : "", hs_bench_columns[c]);
             for (uint32_t p = 0; p < np; p++)
                 fprintf(csv, ",gpu_%s_ms", pass[p].name);
+            for (uint32_t c = 0; c < nc; c++)
+                fprintf(csv, "," HS_BENCH_COUNTER_PREFIX "%s", counter[c].name);
             fputc('\n', csv);
         }
         double gpu_ms = 0.0;
@@ -581,6 +585,8 @@ static xrsc_result run_setting(bench_run *b, const hs_bench_setting *s, uint32_t
         }
         for (uint32_t p = 0; p < np; p++)
             fprintf(csv, ",%.4f", pass[p].gpu_ms);
+        for (uint32_t c = 0; c < nc; c++)
+            fprintf(csv, ",%.6g", counter[c].value);
         fputc('\n', csv);
 
         double per = (now_s() - t0) / (k + 1);

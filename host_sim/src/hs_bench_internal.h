@@ -17,6 +17,10 @@
 /** The fixed leading columns of a setting's CSV (then "gpu_<pass>_ms" per pass). */
 #define HS_BENCH_COLUMN_COUNT 20
 extern const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT];
+/** Prefix of the columns that hold a method's counters (xrsc_renderer_counters), after the
+ *  per-pass columns "gpu_<pass>_ms". */
+#define HS_BENCH_COUNTER_PREFIX "c_"
+
 
 /** out_dir/frames/NAME.csv */
 void hs_bench_setting_csv_path(const char *out_dir, const char *name, char *out, size_t cap);

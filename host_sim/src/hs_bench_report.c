@@ -136,8 +136,31 @@ typedef struct setting_summary {
     double ref_stereo; /**< the reference's own stereo discrepancy (scored frames) */
     double blend_ms;   /**< the stereo blend pass (gpu_blend_ms); NaN without a blend */
     double blend_pct;  /**< blend_ms as a percentage of gpu_ms (ratio of the means) */
-    double pass_ms[MAX_COLS]; /**< by union pass index */
+    double pass_ms[MAX_COLS];    /**< by union pass index */
+    double counter[MAX_COLS];    /**< by union counter index: means of the "c_*" columns */
 } setting_summary;
+
+/* The methods' counters (means after the warm-up), one line per setting that has any. */
+static void print_counters(FILE *out, const hs_bench_options *opt, const setting_summary *sum,
+                           char *const *names, uint32_t count)
+{
+    if (count == 0)
+        return;
+    fprintf(out, "method counters (mean):\n");
+    for (uint32_t i = 0; i < opt->setting_count; i++) {
+        bool any = false;
+        for (uint32_t p = 0; p < count; p++) {
+            if (!isfinite(sum[i].counter[p]))
+                continue;
+            if (!any)
+                fprintf(out, "%-24s", opt->settings[i].name);
+            any = true;
+            fprintf(out, " %s=%.6g", names[p] + strlen(HS_BENCH_COUNTER_PREFIX), sum[i].counter[p]);
+        }
+        if (any)
+            fputc('\n', out);
+    }
+}
 
 /* Mean of column `name` over rows selected by `scored_only` / not warm-up; NaN when none. */
 static double mean_of(const table *t, const char *name, bool scored_only, uint32_t *out_n)
@@ -257,6 +280,8 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
     setting_summary *sum = calloc(ns, sizeof(setting_summary));
     char *pass_names[MAX_COLS] = {0};
     uint32_t npass = 0;
+    char *counter_names[MAX_COLS] = {0}; /* the methods' counters, "c_<name>" columns */
+    uint32_t ncounter = 0;
     FILE *f = NULL;
     xrsc_result res = XRSC_OK;
     char path[HS_BENCH_PATH_MAX + 64], plotdir[HS_BENCH_PATH_MAX + 16];
@@ -269,11 +294,15 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
         if ((res = table_read(path, &tab[i], diag)) != XRSC_OK)
             goto done;
         for (uint32_t c = HS_BENCH_COLUMN_COUNT; c < tab[i].ncols; c++) {
+            bool is_counter = !strncmp(tab[i].names[c], HS_BENCH_COUNTER_PREFIX,
+                                       strlen(HS_BENCH_COUNTER_PREFIX));
+            char **names = is_counter ? counter_names : pass_names;
+            uint32_t *n = is_counter ? &ncounter : &npass;
             bool seen = false;
-            for (uint32_t p = 0; p < npass; p++)
-                seen |= !strcmp(pass_names[p], tab[i].names[c]);
-            if (!seen && npass < MAX_COLS)
-                pass_names[npass++] = tab[i].names[c];
+            for (uint32_t p = 0; p < *n; p++)
+                seen |= !strcmp(names[p], tab[i].names[c]);
+            if (!seen && *n < MAX_COLS)
+                names[(*n)++] = tab[i].names[c];
         }
     }
 
@@ -287,6 +316,8 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
         fprintf(f, "%s%s", c ? "," : "", hs_bench_columns[c]);
     for (uint32_t p = 0; p < npass; p++)
         fprintf(f, ",%s", pass_names[p]);
+    for (uint32_t p = 0; p < ncounter; p++)
+        fprintf(f, ",%s", counter_names[p]);
     fputc('\n', f);
     for (uint32_t i = 0; i < ns; i++) {
         const table *t = &tab[i];
@@ -300,6 +331,10 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             for (uint32_t p = 0; p < npass; p++) {
                 fputc(',', f);
                 fmt_value(f, cell(t, r, pass_names[p]));
+            }
+            for (uint32_t p = 0; p < ncounter; p++) {
+                fputc(',', f);
+                fmt_value(f, cell(t, r, counter_names[p]));
             }
             fputc('\n', f);
         }
@@ -328,9 +363,10 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
         s->ref_stereo = mean_of(t, "ref_stereo_msd", true, NULL);
         s->blend_ms = mean_of(t, "gpu_blend_ms", false, NULL);
         s->blend_pct = 100.0 * ratio(s->blend_ms, s->gpu_ms);
-        for (uint32_t p = 0; p < npass; p++) {
+        for (uint32_t p = 0; p < npass; p++)
             s->pass_ms[p] = mean_of(t, pass_names[p], false, NULL);
-        }
+        for (uint32_t p = 0; p < ncounter; p++)
+            s->counter[p] = mean_of(t, counter_names[p], false, NULL);
     }
     uint32_t base = 0;
     bool base_found = false;
@@ -361,6 +397,8 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
                "baseline");
     for (uint32_t p = 0; p < npass; p++)
         fprintf(f, ",%s", pass_names[p]);
+    for (uint32_t p = 0; p < ncounter; p++)
+        fprintf(f, ",%s", counter_names[p]);
     fputc('\n', f);
     for (uint32_t i = 0; i < ns; i++) {
         const setting_summary *s = &sum[i];
@@ -380,6 +418,10 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
         for (uint32_t p = 0; p < npass; p++) {
             fputc(',', f);
             fmt_value(f, s->pass_ms[p]);
+        }
+        for (uint32_t p = 0; p < ncounter; p++) {
+            fputc(',', f);
+            fmt_value(f, s->counter[p]);
         }
         fputc('\n', f);
     }
@@ -447,6 +489,7 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             }
             fputc('\n', out);
         }
+        print_counters(out, opt, sum, counter_names, ncounter);
         fprintf(out, "files: %s/{bench.csv,summary.csv,*.png}\n", opt->out_dir);
     }
 
