@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file mt_hashcache.c
+ * @brief Method `hashcache`: jittered 1 spp first hits, then per pixel a lookup/reservation in
+ *        the world-space hash cache, one secondary path per reserved voxel and the final
+ *        colour, in two passes (seed 000 §4; mt_hashcache.h).
+ */
+#include "mt_hashcache.h"
+
+#include "mt_hctable.h"
+#include "mt_trace.h"
+#include "u_diag.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* The first-hit buffer of pass 1 (set 1 of both programs, next to the table in pass 2). */
+static const gpu_binding hits_binding = {XS_HC_BIND_HITS, GPU_BINDING_STORAGE_BUFFER, 1};
+
+typedef struct mt_hashcache {
+    mt_method base;
+    mt_trace trace;       /**< hc_trace.rgen + outputs, frame UBO, ray counter, timer */
+    gpu_rt_program shade; /**< hc_shade.rgen */
+    gpu_buffer hits;      /**< uvec4 per pixel of both eyes */
+    mt_hctable table;
+} mt_hashcache;
+
+_Static_assert(offsetof(mt_hashcache, base) == 0, "base first");
+
+static xrsc_result hc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *diag)
+{
+    mt_hashcache *s = (mt_hashcache *)m;
+    mt_trace *t = &s->trace;
+    gpu_context *ctx = t->env.gpu;
+    uint32_t w = t->env.width, h = t->env.height;
+    xs_frame xf;
+    mt_trace_frame_constants(t, frame, &xf);
+    uint32_t bounces = s->table.opt.max_bounces;
+    xf.max_bounces = bounces == XRSC_BOUNCES_NONE ? 0u : bounces;
+    xf.jitter = 1; /* jittered first hits (seed 000 §4) */
+    mt_hctable_frame_begin(&s->table, frame, w, h);
+
+    VkCommandBuffer cmd;
+    xrsc_result res = mt_trace_cmd_frame_begin(t, &xf, &cmd, diag);
+    if (res != XRSC_OK)
+        return res;
+    mt_hctable_cmd_begin(&s->table, cmd);
+    vkCmdFillBuffer(cmd, t->ray_counter.buffer, 0, sizeof(uint64_t), 0);
+    gpu_cmd_barrier_all(cmd);
+    uint32_t pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_HC_PASS_TRACE);
+    gpu_rt_program_cmd_trace(ctx, cmd, &t->program, NULL, w, h, 2);
+    gpu_timer_cmd_end(cmd, &t->timer, pass);
+    gpu_cmd_barrier_all(cmd);
+    pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_HC_PASS_SHADE);
+    gpu_rt_program_cmd_trace(ctx, cmd, &s->shade, NULL, w, h, 2);
+    gpu_timer_cmd_end(cmd, &t->timer, pass);
+    gpu_cmd_barrier_all(cmd);
+    mt_hctable_cmd_end(&s->table, cmd);
+    mt_post_record(t->env.post, cmd, &t->timer, &xf); /* TAA, stereo blend, if any */
+    gpu_cmd_barrier_all(cmd);
+    VkBufferCopy region = {0, 0, sizeof(uint64_t)};
+    vkCmdCopyBuffer(cmd, t->ray_counter.buffer, t->ray_readback.buffer, 1, &region);
+    mt_trace_cmd_stage_outputs(t, cmd);
+    gpu_cmd_barrier_all(cmd);
+    res = gpu_cmd_submit_wait(ctx, cmd, diag);
+    mt_trace_frame_done(t, res == XRSC_OK);
+    mt_hctable_frame_done(&s->table, res == XRSC_OK);
+    if (res != XRSC_OK)
+        return res;
+    if ((res = gpu_timer_resolve(ctx, &t->timer, diag)) != XRSC_OK)
+        return res;
+    gpu_buffer_invalidate(ctx, &t->ray_readback);
+    memcpy(&t->rays, t->ray_readback.mapped, sizeof(uint64_t));
+    return XRSC_OK;
+}
+
+static size_t hc_output_size(const mt_method *m, xrsc_output output)
+{
+    return mt_trace_output_size(&((const mt_hashcache *)m)->trace, output);
+}
+
+static xrsc_result hc_read(mt_method *m, uint32_t eye, xrsc_output output, void *dst,
+                           size_t dst_size, xrsc_diag *diag)
+{
+    return mt_trace_read(&((mt_hashcache *)m)->trace, eye, output, dst, dst_size, diag);
+}
+
+static uint32_t hc_timings(const mt_method *m, xrsc_pass_timing *out, uint32_t max_count)
+{
+    return mt_trace_timings(&((const mt_hashcache *)m)->trace, out, max_count);
+}
+
+static uint64_t hc_rays(const mt_method *m)
+{
+    return ((const mt_hashcache *)m)->trace.rays;
+}
+
+static const gpu_image *hc_output_image(const mt_method *m, xrsc_output output)
+{
+    return mt_trace_output_image(&((const mt_hashcache *)m)->trace, output);
+}
+
+static uint32_t hc_counters(const mt_method *m, xrsc_counter *out, uint32_t max_count)
+{
+    /* the occupancy is counted on the first request after a frame (cached in the table) */
+    return mt_hctable_counters(&((mt_hashcache *)m)->table, out, max_count);
+}
+
+static void hc_destroy(mt_method *m)
+{
+    mt_hashcache *s = (mt_hashcache *)m;
+    gpu_context *ctx = s->trace.env.gpu;
+    if (ctx) {
+        vkDeviceWaitIdle(ctx->device);
+        gpu_rt_program_destroy(ctx, &s->shade);
+        gpu_buffer_destroy(ctx, &s->hits);
+    }
+    mt_hctable_fini(&s->table);
+    mt_trace_fini(&s->trace);
+    free(s);
+}
+
+xrsc_result mt_hashcache_create(const mt_env *env, const xrsc_hashcache_options *options,
+                                mt_method **out, xrsc_diag *diag)
+{
+    *out = NULL;
+    mt_hashcache *s = calloc(1, sizeof(*s));
+    if (!s)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+    gpu_context *ctx = env->gpu;
+    xrsc_result res = mt_hctable_init(&s->table, ctx, options, diag);
+    if (res != XRSC_OK) {
+        free(s);
+        return res;
+    }
+    gpu_rt_program_desc trace_desc = {
+        .raygen = "hc_trace.rgen", .set1 = &hits_binding, .set1_count = 1};
+    if ((res = mt_trace_init_program(&s->trace, env, &trace_desc, diag)) != XRSC_OK) {
+        mt_hctable_fini(&s->table);
+        free(s);
+        return res;
+    }
+    s->base = (mt_method){
+        .name = "hashcache",
+        .render = hc_render,
+        .output_size = hc_output_size,
+        .read = hc_read,
+        .timings = hc_timings,
+        .rays_last_frame = hc_rays,
+        .destroy = hc_destroy,
+        .output_image = hc_output_image,
+        .counters = hc_counters,
+    };
+    /* from here on hc_destroy frees whatever was created */
+    gpu_binding shade_set1[MT_HCTABLE_BINDING_COUNT + 1];
+    uint32_t n = mt_hctable_bindings(shade_set1);
+    shade_set1[n++] = hits_binding;
+    gpu_rt_program_desc shade_desc = {
+        .raygen = "hc_shade.rgen", .set1 = shade_set1, .set1_count = n};
+    VkDeviceSize hits_size = 2ull * env->width * env->height * 4 * sizeof(uint32_t);
+    if ((res = gpu_buffer_create(
+             ctx, hits_size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+             GPU_MEMORY_DEVICE, &s->hits, diag)) != XRSC_OK ||
+        (res = gpu_rt_program_create(ctx, &shade_desc, &s->shade, diag)) != XRSC_OK) {
+        hc_destroy(&s->base);
+        return res;
+    }
+    gpu_descriptors_write_buffer(ctx, &s->trace.program.set1, XS_HC_BIND_HITS, &s->hits);
+    /* pass 2: the same set 0 as pass 1 (scene, frame, outputs, ray counter) */
+    mt_trace *t = &s->trace;
+    gpu_descriptors *d = &s->shade.set0;
+    gpu_scene_write_descriptors(ctx, env->scene, d);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_FRAME, &t->frame_ubo);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_COLOR, &t->color);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_ALBEDO, &t->albedo);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_DEPTH, &t->depth);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_HITID, &t->hitid);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_ACCUM, &t->accum);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_RAY_COUNTER, &t->ray_counter);
+    mt_hctable_write(&s->table, &s->shade.set1);
+    gpu_descriptors_write_buffer(ctx, &s->shade.set1, XS_HC_BIND_HITS, &s->hits);
+    *out = &s->base;
+    return XRSC_OK;
+}

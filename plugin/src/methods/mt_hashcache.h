@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file mt_hashcache.h
+ * @brief Methods `hashcache` (world-space hashed voxel radiance cache, seed 000 §4, seed 001)
+ *        and `hybrid` (the sample cache's visibility with the hash cache's radiance).
+ *
+ * `hashcache`, two passes per frame after "tlas" (seed 000 §4: "only two passes"):
+ * - "trace" (hc_trace.rgen): jittered 1 spp first hits; albedo, depth and hit id outputs;
+ * - "shade" (hc_shade.rgen): per pixel the hit's voxel is looked up or reserved, the one
+ *   pixel that reserves it this frame traces one secondary path and updates its running mean
+ *   of demodulated radiance; colour = emission + albedo x voxel mean.
+ * `hybrid`: the sample cache's passes (mt_samplecache.h) with "shade" replaced by
+ * hc_hybrid_shade.rgen (selected samples update the hit voxel or its parent, chosen at
+ * random) and "reconstruct" by hc_hybrid_reconstruct.comp (count-weighted mean of the hit voxel
+ * and its parent per visible sample).
+ * Both report the table's counters (mt_hctable.h) through mt_method.counters.
+ */
+#pragma once
+
+#include "mt_method.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Pass names of `hashcache` (xrsc_renderer_timings), after MT_PASS_TLAS. */
+#define MT_HC_PASS_TRACE "trace"
+#define MT_HC_PASS_SHADE "shade"
+
+/**
+ * `hashcache` with options (zero fields = defaults, ::xrsc_hashcache_options).
+ * XRSC_ERROR_INVALID_ARGUMENT for options out of range (mt_hctable_init).
+ */
+xrsc_result mt_hashcache_create(const mt_env *env, const xrsc_hashcache_options *options,
+                                mt_method **out, xrsc_diag *diag);
+
+/**
+ * `hybrid`: visibility from the sample cache with sc (its trace, reprojection, density and
+ * shading-selection options; shade must be uniform: adaptive shading's importance needs the
+ * per-sample counts hybrid does not store), radiance from the hash cache with hc. The path
+ * length is hc->max_bounces when set, else sc->max_bounces. XRSC_ERROR_INVALID_ARGUMENT as
+ * ::mt_samplecache_create and ::mt_hashcache_create, and for adaptive shading.
+ */
+xrsc_result mt_hybrid_create(const mt_env *env, const xrsc_samplecache_options *sc,
+                             const xrsc_hashcache_options *hc, mt_method **out, xrsc_diag *diag);
+
+/** `hybrid`'s inner `samplecache` method (for mt_samplecache_snapshot in tests). */
+mt_method *mt_hybrid_samplecache(mt_method *hybrid);
+
+#ifdef __cplusplus
+}
+#endif
