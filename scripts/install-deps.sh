@@ -13,7 +13,10 @@ PKGS=(
   libglfw3-dev libx11-dev libcglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libpng-dev
   libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation
   xvfb xauth gnuplot-nox mesa-vulkan-drivers
+  libdraco-dev assimp-testmodels
 )
+# libdraco-dev: KHR_draco_mesh_compression (optional at build time: CMake XRSC_DRACO);
+# assimp-testmodels: third-party glTF 2.0 files for test_gltf_assimp (which skips without it).
 MESA_MIN=24.1
 
 sudo_() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }

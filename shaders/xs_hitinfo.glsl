@@ -35,7 +35,41 @@ struct xs_mat {
     float ior;
     vec3 emission;   /* linear emitted radiance */
     bool double_sided;
+    bool unlit;      /* KHR_materials_unlit: emission = base colour, nothing scattered */
 };
+
+/** KHR_texture_transform: the uv of texture slot XS_TEX_* of material m. */
+vec2 xs_uv_slot(xs_material m, uint slot, vec2 uv)
+{
+    vec3 h = vec3(uv, 1.0);
+    return vec2(dot(m.uv_rows[2u * slot].xyz, h), dot(m.uv_rows[2u * slot + 1u].xyz, h));
+}
+
+/**
+ * Tangent-space normal mapping (glTF 2.0 §3.9.3): n = normalize(T x + B y + N z) with
+ * (x, y, z) = (2 texel - 1) x (scale, scale, 1), T the vertex tangent made orthogonal to the
+ * shading normal N, B = w cross(N, T) taken through the instance transform (so mirrored
+ * instances keep the map's handedness). Returns ns unchanged without a normal map.
+ */
+vec3 xs_normal_map(xs_instance inst, xs_material m, vec3 ns, vec3 n_obj, vec4 t_obj, vec2 uv)
+{
+    if (m.normal_tex == XS_NO_TEXTURE)
+        return ns;
+    vec3 tex = textureLod(textures[nonuniformEXT(m.normal_tex)], xs_uv_slot(m, XS_TEX_NORMAL, uv),
+                          0.0).xyz;
+    vec3 c = tex * 2.0 - 1.0;
+    c.xy *= m.normal_scale;
+    vec3 t = mat3(inst.object_to_world) * t_obj.xyz;
+    vec3 b = mat3(inst.object_to_world) * (cross(n_obj, t_obj.xyz) * (t_obj.w < 0.0 ? -1.0 : 1.0));
+    t -= ns * dot(ns, t);
+    b -= ns * dot(ns, b) + t * (dot(t, b) / max(dot(t, t), 1e-30));
+    float tl = length(t), bl = length(b);
+    if (!(tl > 1e-20) || !(bl > 1e-20))
+        return ns;
+    vec3 n = (t / tl) * c.x + (b / bl) * c.y + ns * c.z;
+    float nl = length(n);
+    return nl > 1e-20 && !isnan(nl) ? n / nl : ns;
+}
 
 xs_surface xs_surface_at(uint instance, uint primitive, vec2 bary)
 {
@@ -61,13 +95,16 @@ xs_surface xs_surface_at(uint instance, uint primitive, vec2 bary)
     vec3 ns = (inst.normal_to_world * vec4(n_obj, 0.0)).xyz;
     float ns_len = length(ns);
     ns = ns_len > 1e-20 && !isnan(ns_len) ? ns / ns_len : ng;
-    /* Outside = where the vertex normals point. */
+    /* Outside = where the vertex normals point (before normal mapping). */
     if (dot(ng, ns) < 0.0)
         ng = -ng;
-    s.ng = ng;
-    s.ns = ns;
     s.uv = w.x * vec2(v0.position_u.w, v0.normal_v.w) + w.y * vec2(v1.position_u.w, v1.normal_v.w) +
            w.z * vec2(v2.position_u.w, v2.normal_v.w);
+    vec4 t_obj = w.x * v0.tangent + w.y * v1.tangent + w.z * v2.tangent;
+    t_obj.w = v0.tangent.w;
+    ns = xs_normal_map(inst, materials[inst.material], ns, n_obj, t_obj, s.uv);
+    s.ng = ng;
+    s.ns = ns;
     s.outside = true;
     s.material = inst.material;
     return s;
@@ -92,12 +129,14 @@ xs_mat xs_material_at(uint material, vec2 uv)
     xs_mat r;
     r.base = m.base_color.rgb;
     if (m.base_color_tex != XS_NO_TEXTURE)
-        r.base *= textureLod(textures[nonuniformEXT(m.base_color_tex)], uv, 0.0).rgb;
+        r.base *= textureLod(textures[nonuniformEXT(m.base_color_tex)],
+                             xs_uv_slot(m, XS_TEX_BASE, uv), 0.0).rgb;
     r.metallic = m.metallic;
     r.roughness = m.roughness;
     if (m.metal_rough_tex != XS_NO_TEXTURE) {
         /* glTF 2.0 §3.9.2: G = roughness, B = metallic. */
-        vec4 mr = textureLod(textures[nonuniformEXT(m.metal_rough_tex)], uv, 0.0);
+        vec4 mr = textureLod(textures[nonuniformEXT(m.metal_rough_tex)],
+                             xs_uv_slot(m, XS_TEX_METAL_ROUGH, uv), 0.0);
         r.roughness *= mr.g;
         r.metallic *= mr.b;
     }
@@ -107,8 +146,20 @@ xs_mat xs_material_at(uint material, vec2 uv)
     r.ior = max(m.ior, 1.0);
     r.emission = m.emission.rgb;
     if (m.emission_tex != XS_NO_TEXTURE)
-        r.emission *= textureLod(textures[nonuniformEXT(m.emission_tex)], uv, 0.0).rgb;
+        r.emission *= textureLod(textures[nonuniformEXT(m.emission_tex)],
+                                 xs_uv_slot(m, XS_TEX_EMISSION, uv), 0.0).rgb;
     r.double_sided = (m.flags & XS_MAT_DOUBLE_SIDED) != 0u;
+    r.unlit = (m.flags & XS_MAT_UNLIT) != 0u;
+    if (r.unlit) {
+        /* KHR_materials_unlit: the base colour is the radiance seen, on both sides; a black,
+         * index-matched (IOR 1) opaque dielectric scatters nothing (xs_bsdf.glsl). */
+        r.emission = r.base;
+        r.base = vec3(0.0);
+        r.metallic = 0.0;
+        r.transmission = 0.0;
+        r.ior = 1.0;
+        r.double_sided = true;
+    }
     return r;
 }
 
@@ -125,7 +176,20 @@ vec3 xs_emitted(xs_mat m, bool outside)
  */
 vec3 xs_demod_albedo(xs_mat m)
 {
+    if (m.unlit)
+        return m.emission; /* the unlit colour (what `primary` shows) */
     return mix(m.base, vec3(1.0), m.transmission * (1.0 - m.metallic));
+}
+
+/* Albedo channels below this are not divided out (nor multiplied back): black base colours
+ * can still reflect specularly. */
+#define XS_DEMOD_MIN 1e-3
+/** The factor radiance is demodulated by / remodulated with (seed 000 §3.3): the albedo of
+ *  xs_demod_albedo, 1 in channels below XS_DEMOD_MIN. The sample and hash caches store
+ *  radiance divided by it. */
+vec3 xs_demod(vec3 albedo)
+{
+    return mix(vec3(1.0), albedo, greaterThanEqual(albedo, vec3(XS_DEMOD_MIN)));
 }
 
 /** Ray origin offset off a surface to the side of n, against self-intersection: a fixed

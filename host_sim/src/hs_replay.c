@@ -10,6 +10,7 @@
 #include "u_diag.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -114,6 +115,90 @@ static bool headset_is_zero(const xrsc_headset *hs)
     return memcmp(hs, &zero, sizeof(zero)) == 0;
 }
 
+/* A pixel counts as black when its linear value x exposure rounds to 0 in the 8-bit sRGB
+ * PNG: 12.92 x 255 x v < 0.5 (sRGB's linear segment). */
+#define BLACK_LINEAR_MAX (0.5 / (12.92 * 255.0))
+/* A frame with at least this fraction of black pixels gets the warning. */
+#define BLACK_FRACTION_WARN 0.99
+#define HS_PI 3.14159265358979323846
+
+XrPosef hs_frame_viewpoint(const xrsc_scene_info *info, const XrFovf fov[2])
+{
+    double c[3], r2 = 0.0;
+    for (int a = 0; a < 3; a++) {
+        c[a] = 0.5 * ((double)info->bounds_min[a] + info->bounds_max[a]);
+        double h = 0.5 * ((double)info->bounds_max[a] - info->bounds_min[a]);
+        r2 += h * h;
+    }
+    /* The narrowest half-angle over both eyes and all four sides (asymmetric FOVs). */
+    double half = 0.5 * HS_PI;
+    for (int e = 0; e < 2; e++) {
+        const float ang[4] = {-fov[e].angleLeft, fov[e].angleRight, fov[e].angleUp,
+                              -fov[e].angleDown};
+        for (int k = 0; k < 4; k++)
+            if (ang[k] > 0.0f && ang[k] < half)
+                half = ang[k];
+    }
+    double radius = sqrt(r2);
+    double dist = radius > 0.0 ? radius / sin(half) : 1.0;
+    XrPosef p = xrsc_pose_identity();
+    p.position.x = (float)c[0];
+    p.position.y = (float)c[1];
+    p.position.z = (float)(c[2] + dist);
+    return p;
+}
+
+bool hs_scene_fov(const xrsc_scene_info *info, uint32_t width, uint32_t height, XrFovf *out)
+{
+    if (!info->has_camera || !(info->camera_yfov_rad > 0.0f) ||
+        !(info->camera_yfov_rad < (float)HS_PI))
+        return false;
+    double aspect = info->camera_aspect_ratio > 0.0f ? info->camera_aspect_ratio
+                                                     : (double)width / (height ? height : 1);
+    double ty = tan(0.5 * info->camera_yfov_rad), tx = aspect * ty;
+    out->angleUp = (float)atan(ty);
+    out->angleDown = -out->angleUp;
+    out->angleRight = (float)atan(tx);
+    out->angleLeft = -out->angleRight;
+    return true;
+}
+
+xrsc_result hs_check_start(const char *poses_path, double start_s, int64_t duration_ns,
+                           xrsc_diag *diag)
+{
+    if (start_s * NS_PER_S <= (double)duration_ns)
+        return XRSC_OK;
+    return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, poses_path, 0, "--start",
+                      "%.9g s is past the end of the stream, which lasts %.9g s", start_s,
+                      (double)duration_ns / NS_PER_S);
+}
+
+void hs_warn_if_black(const hs_replay_options *opt, xrsc_renderer *r, uint32_t w, uint32_t h)
+{
+    size_t n = (size_t)w * h, black = 0;
+    float *color = malloc(n * 4 * sizeof(float));
+    if (!color)
+        return;
+    double exposure = opt->exposure > 0.0f ? opt->exposure : 1.0;
+    for (uint32_t e = 0; e < 2; e++) {
+        if (xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, color, n * 4 * sizeof(float)) != XRSC_OK) {
+            free(color);
+            return;
+        }
+        for (size_t i = 0; i < n; i++) {
+            float m = fmaxf(color[4 * i], fmaxf(color[4 * i + 1], color[4 * i + 2]));
+            black += !(m * exposure >= BLACK_LINEAR_MAX);
+        }
+    }
+    free(color);
+    double frac = (double)black / (double)(2 * n);
+    if (frac >= BLACK_FRACTION_WARN)
+        U_LOG_W("frame 0 is %.1f %% black: the scene may have no light reaching the view "
+                "(try --env 0.8,0.8,0.8), the view may miss the scene (try --frame), or the "
+                "exposure is too low (--exposure)",
+                100.0 * frac);
+}
+
 void hs_replay_stats_average(hs_replay_stats *st)
 {
     if (st->frames) {
@@ -155,7 +240,13 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
     if (ropt.height == 0)
         ropt.height = DEFAULT_EYE_SIZE_PX;
 
-    if ((res = hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag)) != XRSC_OK)
+    res = opt->pose_columns.count > 0
+              ? hs_pose_stream_load_columns(opt->poses_path, &opt->pose_columns, &stream, diag)
+              : hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag);
+    if (res != XRSC_OK)
+        goto done;
+    if ((res = hs_check_start(opt->poses_path, opt->start_s, hs_pose_stream_duration_ns(stream),
+                              diag)) != XRSC_OK)
         goto done;
     if ((res = xrsc_context_create(&opt->context, &ctx, diag)) != XRSC_OK)
         goto done;
@@ -164,6 +255,18 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
         goto done;
     xrsc_scene_info info;
     xrsc_scene_get_info(scene, &info);
+    XrFovf scene_fov = {0};
+    if (opt->fov_scene && !hs_scene_fov(&info, ropt.width, ropt.height, &scene_fov)) {
+        res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->scene_path, 0, "--fov",
+                         "--fov scene: the scene has no perspective camera with a yfov");
+        goto done;
+    }
+    if (opt->frame_bounds) {
+        XrFovf f[2] = {headset.fov[0], headset.fov[1]};
+        if (opt->fov_scene)
+            f[0] = f[1] = scene_fov;
+        info.viewpoint = hs_frame_viewpoint(&info, f);
+    }
     if (!opt->no_anchor)
         hs_pose_stream_anchor(stream, info.viewpoint);
     if ((res = xrsc_renderer_create(ctx, scene, &ropt, &r, diag)) != XRSC_OK)
@@ -214,7 +317,7 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
         xrsc_frame frame = {.display_time_ns = t_ns - start_ns, .frame_index = k};
         for (int e = 0; e < 2; e++) {
             frame.views[e].pose = eyes.pose[e];
-            frame.views[e].fov = eyes.fov[e];
+            frame.views[e].fov = opt->fov_scene ? scene_fov : eyes.fov[e];
         }
         if (opt->on_frame)
             opt->on_frame(opt->on_frame_user, &frame);
@@ -252,6 +355,8 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
                 fprintf(csv, ",%.4f", passes[p].gpu_ms);
             fputc('\n', csv);
         }
+        if (k == 0)
+            hs_warn_if_black(opt, r, w, h);
         if (opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear)) {
             if ((res = write_frame(opt, r, k, w, h, &buf, diag)) != XRSC_OK)
                 goto done;

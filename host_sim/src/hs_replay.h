@@ -25,6 +25,9 @@ typedef struct hs_replay_options {
     const char *scene_path;
     const char *poses_path;
     hs_pose_format pose_format;
+    /** --pose-columns: when count > 0 the stream is read with these columns (pose_format is
+     *  then ignored; through OpenXR the runtime is given a canonical copy). */
+    hs_pose_columns pose_columns;
     const char *out_dir;          /**< created if missing; NULL writes nothing */
     xrsc_context_options context;
     xrsc_renderer_options renderer;
@@ -33,6 +36,12 @@ typedef struct hs_replay_options {
     double start_s;               /**< offset into the stream */
     uint32_t frames;              /**< 0: until the stream ends */
     bool no_anchor;               /**< keep the stream's own coordinates */
+    /** --fov scene: both eyes get the glTF camera's FOV (yfov, and aspectRatio or else the
+     *  eye's width/height) instead of the headset's or the stream's; a scene without a
+     *  perspective camera is an error. Direct path only (the OpenXR path refuses it). */
+    bool fov_scene;
+    /** --frame: anchor at ::hs_frame_viewpoint instead of the scene's viewpoint. */
+    bool frame_bounds;
     bool write_eyes;              /**< frame_NNNNN_left.png / _right.png */
     bool write_sbs;               /**< frame_NNNNN_sbs.png */
     bool write_linear;            /**< frame_NNNNN_left.pfm / _right.pfm (linear HDR) */
@@ -65,6 +74,34 @@ typedef struct hs_replay_stats {
  */
 xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_stats,
                           xrsc_diag *diag);
+
+/**
+ * --frame: a viewpoint looking down -Z at the centre of the scene's bounds, at the distance
+ * where the bounds' enclosing sphere fits in the narrowest half-angle of both eyes' FOVs.
+ */
+XrPosef hs_frame_viewpoint(const xrsc_scene_info *info, const XrFovf fov[2]);
+
+/**
+ * --fov scene: the symmetric FOV of the scene's camera (tan of half yfov up and down, times
+ * the aspect ratio left and right; aspect = the file's aspectRatio, else width/height).
+ * Returns false when the scene has no perspective camera with a usable yfov.
+ */
+bool hs_scene_fov(const xrsc_scene_info *info, uint32_t width, uint32_t height, XrFovf *out);
+
+/**
+ * --start past the stream's end: XRSC_ERROR_INVALID_ARGUMENT naming the stream's duration
+ * (field "--start"); XRSC_OK otherwise. Both replay paths check it before rendering.
+ */
+xrsc_result hs_check_start(const char *poses_path, double start_s, int64_t duration_ns,
+                           xrsc_diag *diag);
+
+/**
+ * Warns once on stderr when the renderer's last frame is >= 99 % black in both eyes (linear
+ * value x exposure that the 8-bit PNG rounds to 0), saying what to try (--env, --frame,
+ * --exposure). Both replay paths call it after their first rendered frame.
+ */
+void hs_warn_if_black(const hs_replay_options *opt, xrsc_renderer *r, uint32_t width,
+                      uint32_t height);
 
 /**
  * Turns the per-frame sums a run gathered in st (render_ms_mean, rays_per_frame, pass_mean)

@@ -16,6 +16,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #ifndef HS_XR_DEFAULT_MANIFEST
 #define HS_XR_DEFAULT_MANIFEST ""
@@ -144,11 +145,44 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     xrsc_scene *scene = NULL;
     xrsc_renderer *r = NULL;
     xrsc_xr_session *session = NULL;
+    char imported[1100] = ""; /* --pose-columns: the canonical copy given to the runtime */
 
     /* The stream is read here too: a bad one is reported with file, line and field before any
      * runtime starts, and its duration gives the frame count. The runtime reads it by format
      * detection, so a forced format must be the one detected. */
-    if ((res = hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag)) != XRSC_OK)
+    if (opt->fov_scene) {
+        res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--fov",
+                         "--fov scene needs --direct (the OpenXR runtime reports the "
+                         "headset's FOV)");
+        goto done;
+    }
+    /* --pose-columns: the runtime reads the canonical format, so it gets a converted copy. */
+    hs_replay_options conv = *opt;
+    if (opt->pose_columns.count > 0) {
+        if ((res = hs_pose_stream_load_columns(opt->poses_path, &opt->pose_columns, &stream,
+                                               diag)) != XRSC_OK)
+            goto done;
+        const char *tmp = getenv("TMPDIR");
+        snprintf(imported, sizeof(imported), "%s/xrsc-poses-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+        int fd = mkstemp(imported);
+        if (fd < 0) {
+            imported[0] = '\0';
+            res = u_diag_set(diag, XRSC_ERROR_IO, "", 0, "--pose-columns",
+                             "cannot create a temporary file: %s", strerror(errno));
+            goto done;
+        }
+        close(fd);
+        if ((res = hs_pose_stream_save(stream, imported, diag)) != XRSC_OK)
+            goto done;
+        conv.poses_path = imported;
+        conv.pose_format = HS_POSE_FORMAT_AUTO;
+        opt = &conv;
+    } else if ((res = hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag)) !=
+               XRSC_OK) {
+        goto done;
+    }
+    if ((res = hs_check_start(opt->poses_path, opt->start_s, hs_pose_stream_duration_ns(stream),
+                              diag)) != XRSC_OK)
         goto done;
     if (opt->pose_format != HS_POSE_FORMAT_AUTO) {
         hs_pose_stream *probe = NULL;
@@ -198,6 +232,13 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
         goto done;
     xrsc_scene_info info;
     xrsc_scene_get_info(scene, &info);
+    if (opt->frame_bounds) {
+        xrsc_headset hs = opt->headset;
+        static const xrsc_headset zero_hs;
+        if (memcmp(&hs, &zero_hs, sizeof(hs)) == 0)
+            xrsc_headset_default(&hs);
+        info.viewpoint = hs_frame_viewpoint(&info, hs.fov);
+    }
     xrsc_renderer_options ropt = opt->renderer;
     ropt.width = w;
     ropt.height = h;
@@ -225,6 +266,8 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
             st->frames = frames + 1; /* past the end: not counted, only ends the session */
         } else if (fi.status == XRSC_XR_RENDERED) {
             last_progress = now_s();
+            if (st->frames == 0)
+                hs_warn_if_black(opt, r, w, h);
             if (opt->on_frame) {
                 xrsc_frame frame = {.display_time_ns = fi.scene_time_ns,
                                     .frame_index = fi.frame_index};
@@ -280,6 +323,8 @@ done:
         U_LOG_W("OpenXR reported %u error messages", xr_errors);
     xrsc_xr_destroy(&xr);
     hs_pose_stream_destroy(&stream);
+    if (imported[0])
+        unlink(imported);
     st->total_s = now_s() - t_start;
     return res;
 }

@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 /** |(|q| - 1)| above this is XRSC_ERROR_QUAT_NOT_UNIT (poses/README.md, "Quaternions"). */
@@ -907,6 +908,209 @@ static hs_pose_format detect_format(const char *data, size_t size)
     return HS_POSE_FORMAT_AUTO;
 }
 
+
+/* ---- import by columns (poses/README.md, "Import by columns") --------------------------- */
+
+static const struct {
+    const char *name;
+    hs_pose_col_role role;
+} hs_role_names[] = {
+    {"_", HS_POSE_COL_SKIP},  {"skip", HS_POSE_COL_SKIP}, {"t", HS_POSE_COL_T},
+    {"time", HS_POSE_COL_T},  {"x", HS_POSE_COL_X},       {"px", HS_POSE_COL_X},
+    {"y", HS_POSE_COL_Y},     {"py", HS_POSE_COL_Y},      {"z", HS_POSE_COL_Z},
+    {"pz", HS_POSE_COL_Z},    {"qx", HS_POSE_COL_QX},     {"qy", HS_POSE_COL_QY},
+    {"qz", HS_POSE_COL_QZ},   {"qw", HS_POSE_COL_QW},
+};
+static const char *const hs_role_label[HS_POSE_COL_ROLE_COUNT] = {"skip", "t",  "x",  "y", "z",
+                                                                  "qx",   "qy", "qz", "qw"};
+/** Nanoseconds per unit of hs_pose_time_unit. */
+static const double hs_ns_per_unit[] = {1e9, 1e6, 1e3, 1.0, HS_NS_PER_DOTNET_TICK};
+
+xrsc_result hs_pose_columns_parse(const char *spec, const char *time_unit,
+                                  const char *handedness, hs_pose_columns *out, xrsc_diag *diag)
+{
+    memset(out, 0, sizeof(*out));
+    if (!spec || !*spec)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--pose-columns",
+                          "empty column list (e.g. t,x,y,z,qx,qy,qz,qw)");
+    int seen[HS_POSE_COL_ROLE_COUNT] = {0};
+    const char *p = spec;
+    for (;;) {
+        const char *end = strchr(p, ',');
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        trim(&p, &len);
+        if (out->count >= HS_POSE_MAX_COLUMNS)
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--pose-columns",
+                              "more than %d columns", HS_POSE_MAX_COLUMNS);
+        int role = -1;
+        for (size_t i = 0; i < sizeof(hs_role_names) / sizeof(hs_role_names[0]); i++)
+            if (strlen(hs_role_names[i].name) == len &&
+                strncasecmp(p, hs_role_names[i].name, len) == 0)
+                role = (int)hs_role_names[i].role;
+        if (role < 0)
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--pose-columns",
+                              "column %u '%.*s' is not one of t, x, y, z, qx, qy, qz, qw, _",
+                              out->count + 1, (int)(len > 32 ? 32 : len), p);
+        if (role != HS_POSE_COL_SKIP && seen[role]++)
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--pose-columns",
+                              "'%s' is named twice", hs_role_label[role]);
+        out->role[out->count++] = (uint8_t)role;
+        if (!end)
+            break;
+        p = end + 1;
+    }
+    int pos = seen[HS_POSE_COL_X] + seen[HS_POSE_COL_Y] + seen[HS_POSE_COL_Z];
+    if (!seen[HS_POSE_COL_T] || !seen[HS_POSE_COL_QX] || !seen[HS_POSE_COL_QY] ||
+        !seen[HS_POSE_COL_QZ] || !seen[HS_POSE_COL_QW] || (pos != 0 && pos != 3))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--pose-columns",
+                          "needs t, qx, qy, qz, qw and either all or none of x, y, z");
+    static const char *const units[] = {"s", "ms", "us", "ns", "ticks"};
+    if (time_unit && *time_unit) {
+        int u = -1;
+        for (int i = 0; i < 5; i++)
+            if (!strcmp(time_unit, units[i]))
+                u = i;
+        if (u < 0)
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--pose-time-unit",
+                              "'%s' is not s, ms, us, ns or ticks", time_unit);
+        out->time_unit = (hs_pose_time_unit)u;
+    }
+    if (handedness && *handedness) {
+        if (!strcmp(handedness, "right"))
+            out->handedness = HS_POSE_RIGHT;
+        else if (!strcmp(handedness, "left-unity"))
+            out->handedness = HS_POSE_LEFT_UNITY;
+        else
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--pose-handedness",
+                              "'%s' is not right or left-unity", handedness);
+    }
+    return XRSC_OK;
+}
+
+/** Delimiter of a delimited line: tab, ';', ',' in that order, else 0 (runs of spaces). */
+static char detect_delimiter(const char *line, size_t len)
+{
+    static const char seps[] = {'\t', ';', ','};
+    for (size_t i = 0; i < sizeof(seps); i++)
+        if (memchr(line, seps[i], len))
+            return seps[i];
+    return 0;
+}
+
+/** True when some field of the line is not a number (a header line). */
+static bool is_header_line(const hs_field *f, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        char buf[HS_MAX_FIELD_CHARS + 1];
+        if (!field_to_cstr(f[i], buf))
+            return true;
+        char *end = NULL;
+        strtod(buf, &end);
+        if (end == buf || *end != '\0')
+            return true;
+    }
+    return false;
+}
+
+/** Time of one sample in ns since the first: integer units exactly, decimal ones rounded. */
+static xrsc_result columns_time(hs_parser *p, const hs_pose_columns *c, hs_field f,
+                                const char *field, int64_t *out_ns)
+{
+    if (c->time_unit == HS_POSE_TIME_NS || c->time_unit == HS_POSE_TIME_TICKS) {
+        int64_t raw;
+        xrsc_result r = parse_int64(p, f, field, &raw);
+        return r != XRSC_OK ? r
+                            : time_from_raw(p, raw, (int64_t)hs_ns_per_unit[c->time_unit], field,
+                                            out_ns);
+    }
+    double t;
+    xrsc_result r = parse_number(p, f, field, false, &t);
+    if (r != XRSC_OK)
+        return r;
+    if (p->stream->count == 0)
+        p->first_seconds = p->last_seconds = t;
+    if (t < p->last_seconds)
+        return u_diag_set(p->diag, XRSC_ERROR_TIME_BACKWARDS, p->name, p->line, field,
+                          "time %.17g is earlier than the previous sample's %.17g", t,
+                          p->last_seconds);
+    double ns = (t - p->first_seconds) * hs_ns_per_unit[c->time_unit];
+    if (!(ns < HS_MAX_SPAN_NS_DOUBLE))
+        return u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, field,
+                          "time %.17g is too far from the first sample's", t);
+    p->last_seconds = t;
+    *out_ns = (int64_t)llround(ns);
+    return XRSC_OK;
+}
+
+static xrsc_result parse_by_columns(hs_parser *p, const hs_pose_columns *c)
+{
+    const char *line;
+    size_t len;
+    char sep = 0;
+    bool first = true;
+    size_t skip = 0; /* leading index column */
+    while (next_content_line(p, &line, &len)) {
+        if (is_blank_or_comment(line, len))
+            continue;
+        hs_field f[HS_POSE_MAX_COLUMNS + 2];
+        if (first)
+            sep = detect_delimiter(line, len);
+        size_t n = split_fields(line, len, sep, f, HS_POSE_MAX_COLUMNS + 2);
+        size_t stored = n < HS_POSE_MAX_COLUMNS + 2 ? n : HS_POSE_MAX_COLUMNS + 2;
+        if (first) {
+            first = false;
+            skip = n == c->count + 1 ? 1 : 0;
+            if (is_header_line(f, stored))
+                continue;
+        }
+        char field[48];
+        if (n < c->count + skip) {
+            uint32_t missing = (uint32_t)(n >= skip ? n - skip : 0);
+            snprintf(field, sizeof(field), "%s (column %zu)", hs_role_label[c->role[missing]],
+                     missing + skip + 1);
+            return u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line, field,
+                              "%zu fields, --pose-columns names %u%s", n, c->count,
+                              skip ? " after an index column" : "");
+        }
+        if (n > c->count + skip)
+            return extra_field(p, c->count + skip, n);
+        double v[HS_POSE_COL_ROLE_COUNT] = {0};
+        int64_t t_ns = 0;
+        int t_col = -1;
+        for (uint32_t i = 0; i < c->count; i++) {
+            int role = c->role[i];
+            snprintf(field, sizeof(field), "%s (column %zu)", hs_role_label[role], i + skip + 1);
+            if (role == HS_POSE_COL_SKIP)
+                continue;
+            if (role == HS_POSE_COL_T) {
+                t_col = (int)i;
+                continue;
+            }
+            xrsc_result r = parse_double(p, f[i + skip], field, &v[role]);
+            if (r != XRSC_OK)
+                return r;
+        }
+        snprintf(field, sizeof(field), "t (column %zu)", (size_t)t_col + skip + 1);
+        xrsc_result r = columns_time(p, c, f[t_col + (int)skip], field, &t_ns);
+        if (r != XRSC_OK)
+            return r;
+        double zs = c->handedness == HS_POSE_LEFT_UNITY ? -1.0 : 1.0; /* as pred6dof */
+        XrPosef pose;
+        pose.position.x = (float)v[HS_POSE_COL_X];
+        pose.position.y = (float)v[HS_POSE_COL_Y];
+        pose.position.z = (float)(zs * v[HS_POSE_COL_Z]);
+        pose.orientation.x = (float)(zs * v[HS_POSE_COL_QX]);
+        pose.orientation.y = (float)(zs * v[HS_POSE_COL_QY]);
+        pose.orientation.z = (float)v[HS_POSE_COL_QZ];
+        pose.orientation.w = (float)v[HS_POSE_COL_QW];
+        if ((r = check_quat(p, &pose.orientation, "qx qy qz qw")) != XRSC_OK)
+            return r;
+        if ((r = push_sample(p, t_ns, pose)) != XRSC_OK)
+            return r;
+    }
+    return XRSC_OK;
+}
+
 /* ---- public API ------------------------------------------------------------------------- */
 
 const char *hs_pose_format_name(hs_pose_format format)
@@ -922,12 +1126,41 @@ const char *hs_pose_format_name(hs_pose_format format)
         return "360video";
     case HS_POSE_FORMAT_LIBRNR:
         return "librnr";
+    case HS_POSE_FORMAT_COLUMNS:
+        return "columns";
     }
     return "unknown";
 }
 
+static xrsc_result parse_any(const char *name, const char *data, size_t size,
+                             hs_pose_format format, const hs_pose_columns *columns,
+                             hs_pose_stream **out, xrsc_diag *diag);
+
 xrsc_result hs_pose_stream_parse(const char *name, const char *data, size_t size,
                                  hs_pose_format format, hs_pose_stream **out, xrsc_diag *diag)
+{
+    if (format == HS_POSE_FORMAT_COLUMNS)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, name ? name : "(memory)", 0, "",
+                          "the columns format needs hs_pose_stream_parse_columns");
+    return parse_any(name, data, size, format, NULL, out, diag);
+}
+
+xrsc_result hs_pose_stream_parse_columns(const char *name, const char *data, size_t size,
+                                         const hs_pose_columns *columns, hs_pose_stream **out,
+                                         xrsc_diag *diag)
+{
+    if (!columns || columns->count == 0 || columns->count > HS_POSE_MAX_COLUMNS) {
+        if (out)
+            *out = NULL;
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, name ? name : "(memory)", 0,
+                          "--pose-columns", "no column list");
+    }
+    return parse_any(name, data, size, HS_POSE_FORMAT_COLUMNS, columns, out, diag);
+}
+
+static xrsc_result parse_any(const char *name, const char *data, size_t size,
+                             hs_pose_format format, const hs_pose_columns *columns,
+                             hs_pose_stream **out, xrsc_diag *diag)
 {
     if (!name)
         name = "(memory)";
@@ -963,7 +1196,9 @@ xrsc_result hs_pose_stream_parse(const char *name, const char *data, size_t size
                                   "only comments, no header and no samples");
             return u_diag_set(diag, XRSC_ERROR_BAD_HEADER, name, q.line, "header",
                               "unknown format: expected '%s %d', '%s', '%s' or librnr "
-                              "records ('<t_ns> <s|v|b|f> <path> ...')",
+                              "records ('<t_ns> <s|v|b|f> <path> ...'); for another CSV or "
+                              "TSV export name its columns with --pose-columns "
+                              "(poses/README.md)",
                               HS_CANONICAL_MAGIC, HS_CANONICAL_VERSION, HS_PRED6DOF_HEADER,
                               HS_360VIDEO_HEADER);
         }
@@ -988,6 +1223,12 @@ xrsc_result hs_pose_stream_parse(const char *name, const char *data, size_t size
     case HS_POSE_FORMAT_LIBRNR:
         r = parse_librnr(&p);
         break;
+    case HS_POSE_FORMAT_COLUMNS:
+        r = parse_by_columns(&p, columns);
+        s->orientation_only = true;
+        for (uint32_t i = 0; i < columns->count; i++)
+            s->orientation_only &= columns->role[i] != HS_POSE_COL_X;
+        break;
     default:
         r = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, name, 0, "", "unknown format %d",
                        (int)format);
@@ -1006,8 +1247,31 @@ xrsc_result hs_pose_stream_parse(const char *name, const char *data, size_t size
     return XRSC_OK;
 }
 
+static xrsc_result load_any(const char *path, hs_pose_format format,
+                            const hs_pose_columns *columns, hs_pose_stream **out,
+                            xrsc_diag *diag);
+
 xrsc_result hs_pose_stream_load(const char *path, hs_pose_format format, hs_pose_stream **out,
                                 xrsc_diag *diag)
+{
+    return load_any(path, format, NULL, out, diag);
+}
+
+xrsc_result hs_pose_stream_load_columns(const char *path, const hs_pose_columns *columns,
+                                        hs_pose_stream **out, xrsc_diag *diag)
+{
+    if (!columns || columns->count == 0) {
+        if (out)
+            *out = NULL;
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0,
+                          "--pose-columns", "no column list");
+    }
+    return load_any(path, HS_POSE_FORMAT_COLUMNS, columns, out, diag);
+}
+
+static xrsc_result load_any(const char *path, hs_pose_format format,
+                            const hs_pose_columns *columns, hs_pose_stream **out,
+                            xrsc_diag *diag)
 {
     if (out)
         *out = NULL;
@@ -1018,6 +1282,10 @@ xrsc_result hs_pose_stream_load(const char *path, hs_pose_format format, hs_pose
     if (!f)
         return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot open: %s", strerror(errno));
     struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "is a folder, not a pose file");
+    }
     if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
         fclose(f);
         return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "not a readable regular file");
@@ -1047,7 +1315,7 @@ xrsc_result hs_pose_stream_load(const char *path, hs_pose_format format, hs_pose
         free(data);
         return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "read %zu of %zu bytes", got, size);
     }
-    xrsc_result r = hs_pose_stream_parse(path, data, size, format, out, diag);
+    xrsc_result r = parse_any(path, data, size, format, columns, out, diag);
     free(data);
     return r;
 }

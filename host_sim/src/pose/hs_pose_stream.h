@@ -30,6 +30,7 @@ typedef enum hs_pose_format {
     HS_POSE_FORMAT_360VIDEO, /**< "timestamp viewpoint w x y z": seconds, orientation only */
     HS_POSE_FORMAT_LIBRNR,   /**< librnr's OpenXR trace: "t_ns type path ..." records; per-eye
                               *   views (`v`) with FOV, or head spaces (`s`) */
+    HS_POSE_FORMAT_COLUMNS,  /**< a delimited file read with ::hs_pose_columns (never detected) */
 } hs_pose_format;
 
 typedef struct hs_pose_sample {
@@ -57,6 +58,72 @@ typedef struct hs_pose_stream {
     hs_pose_format format; /**< the format it was read from */
     uint32_t dropped_duplicates; /**< samples dropped because their timestamp repeated */
 } hs_pose_stream;
+
+/**
+ * Column import for CSV/TSV exports of common tools (Unity, pandas, notebooks): which column
+ * holds what, the time unit and the handedness. See poses/README.md, "Import by columns".
+ * Zero-initialised means "not used".
+ */
+typedef enum hs_pose_time_unit {
+    HS_POSE_TIME_S = 0, /**< seconds (decimal) — the default */
+    HS_POSE_TIME_MS,
+    HS_POSE_TIME_US,
+    HS_POSE_TIME_NS,    /**< integer nanoseconds */
+    HS_POSE_TIME_TICKS, /**< integer .NET ticks (100 ns) */
+} hs_pose_time_unit;
+
+typedef enum hs_pose_handedness {
+    HS_POSE_RIGHT = 0,     /**< OpenXR/glTF axes: right-handed, +Y up, -Z forward */
+    HS_POSE_LEFT_UNITY,    /**< Unity: left-handed, +Y up, +Z forward (z and qx, qy negated) */
+} hs_pose_handedness;
+
+/** Column roles; HS_POSE_COL_SKIP ignores a column. */
+typedef enum hs_pose_col_role {
+    HS_POSE_COL_SKIP = 0,
+    HS_POSE_COL_T,
+    HS_POSE_COL_X,
+    HS_POSE_COL_Y,
+    HS_POSE_COL_Z,
+    HS_POSE_COL_QX,
+    HS_POSE_COL_QY,
+    HS_POSE_COL_QZ,
+    HS_POSE_COL_QW,
+    HS_POSE_COL_ROLE_COUNT
+} hs_pose_col_role;
+
+#define HS_POSE_MAX_COLUMNS 32
+
+typedef struct hs_pose_columns {
+    uint32_t count;                           /**< 0: column import not used */
+    uint8_t role[HS_POSE_MAX_COLUMNS];        /**< hs_pose_col_role of file column i */
+    hs_pose_time_unit time_unit;
+    hs_pose_handedness handedness;
+} hs_pose_columns;
+
+/**
+ * Parses a column list such as "t,x,y,z,qx,qy,qz,qw" (any order; names t|time, x|px, y|py,
+ * z|pz, qx, qy, qz, qw; "_" or "skip" for a column to ignore) and the unit ("s", "ms", "us",
+ * "ns", "ticks"; NULL = s) and handedness ("right", "left-unity"; NULL = right) flags.
+ * Every role must appear exactly once (qx..qw are required; x, y, z may all be left out for an
+ * orientation-only stream). Errors: XRSC_ERROR_INVALID_ARGUMENT with the flag as the field.
+ */
+xrsc_result hs_pose_columns_parse(const char *spec, const char *time_unit,
+                                  const char *handedness, hs_pose_columns *out,
+                                  xrsc_diag *diag);
+
+/**
+ * Parses a delimited text file with the given columns: the delimiter is detected from the
+ * first content line (tab, then ';', then ',', else runs of spaces); a first line with a
+ * field that is not a number is a header and skipped; a file with exactly one column more
+ * than `columns` names has its first column (a pandas/Unity row index) skipped. Lines starting
+ * with '#' are comments. Errors name the file, line and column (e.g. "qx (column 5)").
+ */
+xrsc_result hs_pose_stream_parse_columns(const char *name, const char *data, size_t size,
+                                         const hs_pose_columns *columns, hs_pose_stream **out,
+                                         xrsc_diag *diag);
+/** Reads a file (the checks of hs_pose_stream_load) and parses it with columns. */
+xrsc_result hs_pose_stream_load_columns(const char *path, const hs_pose_columns *columns,
+                                        hs_pose_stream **out, xrsc_diag *diag);
 
 /** A short lower-case name of the format ("auto", "xrsc", "pred6dof", "360video", "librnr"). */
 const char *hs_pose_format_name(hs_pose_format format);

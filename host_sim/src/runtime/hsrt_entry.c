@@ -548,6 +548,16 @@ static XrResult XRAPI_CALL hsrt_xrCreateInstance(const XrInstanceCreateInfo *cre
         return hsrt_fail(XR_ERROR_RUNTIME_FAILURE, fn,
                          "the pose stream (XRSC_RT_POSES) cannot be used: %s", msg);
     }
+    /* XRSC_RT_START_S past the stream's end would replay clamped, identical frames. */
+    int64_t duration_ns = hs_pose_stream_duration_ns(inst->poses);
+    if (inst->cfg.start_ns > duration_ns) {
+        double start_s = (double)inst->cfg.start_ns * 1e-9;
+        instance_free(inst);
+        return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, fn,
+                         "XRSC_RT_START_S=%.9g s is past the end of the pose stream "
+                         "(XRSC_RT_POSES), which lasts %.9g s",
+                         start_s, (double)duration_ns * 1e-9);
+    }
     inst->local_in_stream = local_origin_of(inst->poses);
     snprintf(inst->app_name, sizeof(inst->app_name), "%s",
              createInfo->applicationInfo.applicationName);

@@ -12,7 +12,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-_Static_assert(sizeof(sc_vertex) == 32 && sizeof(xs_vertex) == 32, "vertex sizes");
+_Static_assert(sizeof(sc_vertex) == 48 && sizeof(xs_vertex) == 48, "vertex sizes");
+_Static_assert(SC_TEX_SLOTS == XS_TEX_SLOTS && SC_TEX_NORMAL == XS_TEX_NORMAL &&
+                   SC_TEX_BASE == XS_TEX_BASE && SC_TEX_EMISSION == XS_TEX_EMISSION &&
+                   SC_TEX_METAL_ROUGH == XS_TEX_METAL_ROUGH,
+               "texture slots");
 _Static_assert(SC_NO_TEXTURE == XS_NO_TEXTURE, "no-texture markers agree");
 
 /** Buffers read by the AS builder and by shaders. */
@@ -117,6 +121,7 @@ static xrsc_result upload_geometry(gpu_context *ctx, gpu_scene *gs, const sc_sce
         const sc_vertex *s = &scene->vertices[i];
         v[i].position_u = (xs_vec4){s->position[0], s->position[1], s->position[2], s->uv[0]};
         v[i].normal_v = (xs_vec4){s->normal[0], s->normal[1], s->normal[2], s->uv[1]};
+        v[i].tangent = (xs_vec4){s->tangent[0], s->tangent[1], s->tangent[2], s->tangent[3]};
     }
     /* sc_scene indices are already absolute (sc_scene.h); check they stay in their mesh. */
     for (uint32_t m = 0; m < scene->mesh_count; m++) {
@@ -167,7 +172,14 @@ static xrsc_result upload_materials(gpu_context *ctx, gpu_scene *gs, const sc_sc
                                                                        : XS_NO_TEXTURE;
         d->emission_tex = s->emission_tex < scene->texture_count ? s->emission_tex
                                                                  : XS_NO_TEXTURE;
-        d->flags = s->double_sided ? XS_MAT_DOUBLE_SIDED : 0u;
+        d->flags = (s->double_sided ? XS_MAT_DOUBLE_SIDED : 0u) | (s->unlit ? XS_MAT_UNLIT : 0u);
+        d->normal_tex = s->normal_tex < scene->texture_count ? s->normal_tex : XS_NO_TEXTURE;
+        d->normal_scale = s->normal_scale;
+        for (int k = 0; k < XS_TEX_SLOTS; k++) {
+            const float *m = s->uv_transform[k];
+            d->uv_rows[2 * k] = (xs_vec4){m[0], m[1], m[2], 0.0f};
+            d->uv_rows[2 * k + 1] = (xs_vec4){m[3], m[4], m[5], 0.0f};
+        }
     }
     xrsc_result res = gpu_buffer_create_with_data(
         ctx, mats, (VkDeviceSize)n * sizeof(*mats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,

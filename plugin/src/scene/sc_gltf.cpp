@@ -44,7 +44,11 @@ const uint64_t kMaxFileBytes = 2ull << 30;
 /** Extensions xrsc renders; any other one in extensionsRequired is an error. */
 const char *const kSupportedExtensions[] = {
     "KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior",
-    "KHR_lights_punctual", "KHR_mesh_quantization",
+    "KHR_lights_punctual", "KHR_mesh_quantization", "KHR_materials_unlit",
+    "KHR_texture_transform",
+#ifdef XRSC_HAVE_DRACO
+    "KHR_draco_mesh_compression", // decoded by tinygltf with libdraco (CMake: XRSC_DRACO)
+#endif
 };
 
 bool is_supported_extension(const std::string &name)
@@ -208,12 +212,32 @@ void copy_name(char *dst, size_t cap, const std::string &src)
     snprintf(dst, cap, "%s", src.c_str());
 }
 
-sc_gltf_texref texref(sc_gltf_doc *doc, const tinygltf::TextureInfo &ti)
+/** A texture reference with its KHR_texture_transform (TextureInfo, NormalTextureInfo and
+ *  OcclusionTextureInfo are distinct types with the same fields). */
+template <typename Info> sc_gltf_texref texref(sc_gltf_doc *doc, const Info &ti)
 {
     sc_gltf_texref r;
     r.texture = ti.index;
     r.tex_coord = ti.texCoord;
-    if (ti.index >= 0 && ti.texCoord != 0) sc_gltf_note(doc, "texCoord sets other than 0");
+    r.offset[0] = r.offset[1] = 0.0f;
+    r.rotation_rad = 0.0f;
+    r.scale[0] = r.scale[1] = 1.0f;
+    auto x = ti.extensions.find("KHR_texture_transform");
+    if (x != ti.extensions.end() && x->second.IsObject()) {
+        const tinygltf::Value &v = x->second;
+        const char *keys[2] = {"offset", "scale"};
+        float *dst[2] = {r.offset, r.scale};
+        for (int k = 0; k < 2; k++) {
+            if (!v.Has(keys[k])) continue;
+            const tinygltf::Value &a = v.Get(keys[k]);
+            if (a.IsArray() && a.ArrayLen() == 2 && a.Get(0).IsNumber() && a.Get(1).IsNumber())
+                for (int c = 0; c < 2; c++) dst[k][c] = clamp_float(a.Get(c).GetNumberAsDouble());
+        }
+        r.rotation_rad = clamp_float(value_number(v, "rotation", 0.0));
+        if (v.Has("texCoord") && v.Get("texCoord").IsNumber())
+            r.tex_coord = value_index(v.Get("texCoord"));
+    }
+    if (ti.index >= 0 && r.tex_coord != 0) sc_gltf_note(doc, "texCoord sets other than 0");
     return r;
 }
 
@@ -248,6 +272,16 @@ xrsc_result precheck_json(const char *name, const char *text, size_t size, prech
     if (it != j.end() && it->is_array()) {
         for (const json &e : *it) {
             std::string ext = e.is_string() ? e.get<std::string>() : std::string("(not a string)");
+            if (ext == "KHR_draco_mesh_compression" && !is_supported_extension(ext))
+                // Built without libdraco (CMake found no draco package, or XRSC_DRACO=OFF):
+                // the file needs re-exporting without mesh compression.
+                return u_diag_set(diag, XRSC_ERROR_GLTF_UNSUPPORTED, name,
+                                  line_of(text, size, "\"extensionsRequired\""),
+                                  "extensionsRequired",
+                                  "required extension KHR_draco_mesh_compression (Draco-"
+                                  "compressed meshes) is not supported by this build of "
+                                  "xrsc (built without libdraco-dev); export the file "
+                                  "without mesh compression");
             if (!is_supported_extension(ext))
                 return u_diag_set(diag, XRSC_ERROR_GLTF_UNSUPPORTED, name,
                                   line_of(text, size, "\"extensionsRequired\""),
@@ -374,11 +408,13 @@ xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, 
             o->mode = pr.mode < 0 ? SC_GLTF_MODE_TRIANGLES : pr.mode;
             o->indices = pr.indices;
             o->material = pr.material;
-            o->position = o->normal = o->texcoord0 = -1;
+            o->position = o->normal = o->tangent = o->texcoord0 = -1;
             auto a = pr.attributes.find("POSITION");
             if (a != pr.attributes.end()) o->position = a->second;
             a = pr.attributes.find("NORMAL");
             if (a != pr.attributes.end()) o->normal = a->second;
+            a = pr.attributes.find("TANGENT");
+            if (a != pr.attributes.end()) o->tangent = a->second;
             a = pr.attributes.find("TEXCOORD_0");
             if (a != pr.attributes.end()) o->texcoord0 = a->second;
             if (!pr.targets.empty()) sc_gltf_note(doc, "morph targets");
@@ -408,8 +444,10 @@ xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, 
         o->emissive_strength = 1.0f;
         o->ior = 1.5f;
         o->double_sided = mt.doubleSided;
-        if (mt.normalTexture.index >= 0) sc_gltf_note(doc, "normal textures");
-        if (mt.occlusionTexture.index >= 0) sc_gltf_note(doc, "occlusion textures");
+        o->normal_tex = texref(doc, mt.normalTexture);
+        o->normal_scale = clamp_float(mt.normalTexture.scale);
+        // occlusionTexture is deliberately not used: it approximates the ambient occlusion
+        // that the path tracer computes itself (multiplying it in would darken twice).
         if (mt.alphaMode != "OPAQUE") sc_gltf_note(doc, "alphaMode MASK/BLEND");
         for (const auto &ext : mt.extensions) {
             const tinygltf::Value &v = ext.second;
@@ -419,6 +457,8 @@ xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, 
                 o->transmission = clamp_float(value_number(v, "transmissionFactor", 0.0));
                 if (v.IsObject() && v.Has("transmissionTexture"))
                     sc_gltf_note(doc, "transmissionTexture");
+            } else if (ext.first == "KHR_materials_unlit") {
+                o->unlit = true;
             } else if (ext.first == "KHR_materials_ior") {
                 o->ior = clamp_float(value_number(v, "ior", 1.5));
             } else {
@@ -463,8 +503,11 @@ xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, 
 
     doc->camera_count = (uint32_t)m.cameras.size();
     doc->cameras = alloc_array<sc_gltf_camera>(m.cameras.size());
-    for (size_t i = 0; i < m.cameras.size(); i++)
+    for (size_t i = 0; i < m.cameras.size(); i++) {
         doc->cameras[i].perspective = m.cameras[i].type == "perspective";
+        doc->cameras[i].yfov_rad = clamp_float(m.cameras[i].perspective.yfov);
+        doc->cameras[i].aspect_ratio = clamp_float(m.cameras[i].perspective.aspectRatio);
+    }
 
     size_t child_total = 0;
     for (const tinygltf::Node &n : m.nodes) child_total += n.children.size();

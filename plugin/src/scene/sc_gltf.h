@@ -29,8 +29,10 @@ enum {
     SC_GLTF_FLOAT = 5126,
 };
 
-/** glTF primitive mode 4 (the only one xrsc renders). */
+/** glTF primitive modes xrsc renders (strips and fans become triangle lists). */
 #define SC_GLTF_MODE_TRIANGLES 4
+#define SC_GLTF_MODE_TRIANGLE_STRIP 5
+#define SC_GLTF_MODE_TRIANGLE_FAN 6
 
 typedef struct sc_gltf_buffer {
     const uint8_t *data;
@@ -59,7 +61,7 @@ typedef struct sc_gltf_accessor {
 
 typedef struct sc_gltf_primitive {
     int32_t mode; /**< glTF mode (default 4 filled in) */
-    int32_t position, normal, texcoord0, indices, material; /**< accessor/material or -1 */
+    int32_t position, normal, tangent, texcoord0, indices, material; /**< accessor/material or -1 */
 } sc_gltf_primitive;
 
 typedef struct sc_gltf_mesh {
@@ -68,7 +70,9 @@ typedef struct sc_gltf_mesh {
 
 typedef struct sc_gltf_texref {
     int32_t texture;   /**< index in textures, -1 when none */
-    int32_t tex_coord; /**< TEXCOORD set */
+    int32_t tex_coord; /**< TEXCOORD set (KHR_texture_transform's texCoord when it gives one) */
+    /** KHR_texture_transform: uv' = T(offset) R(rotation) S(scale) uv; identity when absent. */
+    float offset[2], rotation_rad, scale[2];
 } sc_gltf_texref;
 
 typedef struct sc_gltf_material {
@@ -82,6 +86,9 @@ typedef struct sc_gltf_material {
     sc_gltf_texref emissive_tex;
     float transmission;      /**< KHR_materials_transmission factor, 0 when absent */
     float ior;               /**< KHR_materials_ior, 1.5 when absent */
+    sc_gltf_texref normal_tex;
+    float normal_scale;      /**< normalTexture.scale, 1 when absent */
+    bool unlit;              /**< KHR_materials_unlit */
     bool double_sided;
 } sc_gltf_material;
 
@@ -109,6 +116,8 @@ typedef struct sc_gltf_light {
 
 typedef struct sc_gltf_camera {
     bool perspective;
+    float yfov_rad;     /**< perspective.yfov */
+    float aspect_ratio; /**< perspective.aspectRatio, 0 when absent */
 } sc_gltf_camera;
 
 typedef struct sc_gltf_node {

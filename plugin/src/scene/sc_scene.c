@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /** Files larger than this are refused (tinygltf takes 32-bit lengths). */
 #define SC_MAX_FILE_BYTES (2ull << 30)
@@ -279,6 +280,118 @@ static void face_normal(const float a[3], const float b[3], const float c[3], fl
     normalize3(n, up);
 }
 
+static float dot3(const float a[3], const float b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void cross3(const float a[3], const float b[3], float out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/** Angle at corner a of triangle (a, b, c), radians. */
+static float corner_angle(const float a[3], const float b[3], const float c[3])
+{
+    float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    float v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    float uv = sqrtf(dot3(u, u) * dot3(v, v));
+    return uv > 0.0f ? acosf(fmaxf(-1.0f, fminf(1.0f, dot3(u, v) / uv))) : 0.0f;
+}
+
+/**
+ * Generates per-vertex tangents for glTF normal maps when the file has no TANGENT, following
+ * the conventions of MikkTSpace (which glTF 2.0 §3.7.2.1 names): per triangle, the tangent is
+ * dP/du and the bitangent -dP/dv (glTF's v grows downwards in the image, and its normal maps
+ * are +Y up), solved from the UV derivatives of the triangle's edges; both are normalised and
+ * summed at each corner weighted by the corner's angle; each vertex then gets its tangent made
+ * orthogonal to its normal (Gram-Schmidt) and handedness w = sign(dot(cross(n, t), b)).
+ * Unlike MikkTSpace, vertices are never split where the handedness or UV charts disagree:
+ * such a vertex keeps the average. Triangles with degenerate UVs add nothing; a vertex with
+ * no tangent gets one perpendicular to its normal (w = 1).
+ */
+static bool generate_tangents(sc_vertex *v, size_t vcount, const uint32_t *inds, size_t icount,
+                              uint32_t first_vertex)
+{
+    float *acc = calloc(vcount ? vcount * 6 : 1, sizeof(float)); /* t xyz, b xyz */
+    if (!acc) return false;
+    for (size_t t = 0; t + 2 < icount; t += 3) {
+        const sc_vertex *c[3];
+        size_t vi[3];
+        for (int k = 0; k < 3; k++) vi[k] = inds[t + k] - first_vertex, c[k] = &v[vi[k]];
+        float e1[3], e2[3], tt[3], bb[3];
+        for (int a = 0; a < 3; a++)
+            e1[a] = c[1]->position[a] - c[0]->position[a],
+            e2[a] = c[2]->position[a] - c[0]->position[a];
+        float du1 = c[1]->uv[0] - c[0]->uv[0], dv1 = c[1]->uv[1] - c[0]->uv[1];
+        float du2 = c[2]->uv[0] - c[0]->uv[0], dv2 = c[2]->uv[1] - c[0]->uv[1];
+        float det = du1 * dv2 - du2 * dv1;
+        if (!(fabsf(det) > 1e-20f)) continue;
+        for (int a = 0; a < 3; a++) {
+            tt[a] = (e1[a] * dv2 - e2[a] * dv1) / det;
+            bb[a] = -(e2[a] * du1 - e1[a] * du2) / det;
+        }
+        static const float zero[3] = {0.0f, 0.0f, 0.0f};
+        normalize3(tt, zero);
+        normalize3(bb, zero);
+        for (int k = 0; k < 3; k++) {
+            float w = corner_angle(c[k]->position, c[(k + 1) % 3]->position,
+                                   c[(k + 2) % 3]->position);
+            for (int a = 0; a < 3; a++)
+                acc[vi[k] * 6 + a] += w * tt[a], acc[vi[k] * 6 + 3 + a] += w * bb[a];
+        }
+    }
+    for (size_t i = 0; i < vcount; i++) {
+        const float *n = v[i].normal;
+        float t[3] = {0.0f, 0.0f, 0.0f}, b[3] = {0.0f, 0.0f, 0.0f};
+        memcpy(t, acc + i * 6, sizeof t), memcpy(b, acc + i * 6 + 3, sizeof b);
+        float d = dot3(n, t);
+        for (int a = 0; a < 3; a++) t[a] -= d * n[a];
+        /* fallback: an axis made perpendicular to n */
+        float perp[3] = {fabsf(n[0]) < 0.9f ? 1.0f : 0.0f, fabsf(n[0]) < 0.9f ? 0.0f : 1.0f,
+                         0.0f};
+        float dp = dot3(n, perp), nb[3];
+        for (int a = 0; a < 3; a++) perp[a] -= dp * n[a];
+        normalize3(perp, n);
+        normalize3(t, perp);
+        cross3(n, t, nb);
+        memcpy(v[i].tangent, t, sizeof t);
+        v[i].tangent[3] = dot3(nb, b) < 0.0f ? -1.0f : 1.0f;
+    }
+    free(acc);
+    return true;
+}
+
+/**
+ * TRIANGLE_STRIP / TRIANGLE_FAN → a triangle list, with glTF 2.0 §3.7.2.1's vertex order
+ * (strip triangle i: p_i, p_{i+1+i%2}, p_{i+2-i%2}; fan triangle i: p_{i+1}, p_{i+2}, p_0),
+ * which keeps every triangle's winding. *idx NULL means the vertices in order (0..n-1).
+ * Replaces *idx and *icount; false when out of memory.
+ */
+static bool strip_or_fan_to_list(int32_t mode, double **idx, size_t *icount)
+{
+    size_t n = *icount, tris = n >= 3 ? n - 2 : 0;
+    double *out = malloc((tris ? tris * 3 : 1) * sizeof(double));
+    if (!out) return false;
+    const double *in = *idx;
+    for (size_t i = 0; i < tris; i++) {
+        size_t a, b, c;
+        if (mode == SC_GLTF_MODE_TRIANGLE_STRIP)
+            a = i, b = i + 1 + i % 2, c = i + 2 - i % 2;
+        else
+            a = i + 1, b = i + 2, c = 0;
+        out[3 * i] = in ? in[a] : (double)a;
+        out[3 * i + 1] = in ? in[b] : (double)b;
+        out[3 * i + 2] = in ? in[c] : (double)c;
+    }
+    free(*idx);
+    *idx = out;
+    *icount = tris * 3;
+    return true;
+}
+
 /** Builds the sc_mesh of document primitive gp (mesh m, primitive p). */
 static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t gp)
 {
@@ -286,10 +399,13 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
     const sc_gltf_primitive *pr = &d->primitives[gp];
     char field[96];
     xrsc_result r;
-    if (pr->mode != SC_GLTF_MODE_TRIANGLES) {
+    if (pr->mode != SC_GLTF_MODE_TRIANGLES && pr->mode != SC_GLTF_MODE_TRIANGLE_STRIP &&
+        pr->mode != SC_GLTF_MODE_TRIANGLE_FAN) {
         FIELD(field, "meshes[%u].primitives[%u].mode", m, p);
         return u_diag_set(b->diag, XRSC_ERROR_GLTF_UNSUPPORTED, b->name, 0, field,
-                          "mode %d is not TRIANGLES (4); xrsc renders triangles only", pr->mode);
+                          "mode %d (points or lines) is not a triangle mode (4, 5, 6); xrsc "
+                          "renders triangles only",
+                          pr->mode);
     }
     if (pr->position < 0) {
         FIELD(field, "meshes[%u].primitives[%u].attributes.POSITION", m, p);
@@ -301,8 +417,8 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
         return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                           "material %d does not exist", pr->material);
     }
-    double *pos = NULL, *nrm = NULL, *uv = NULL, *idx = NULL;
-    size_t vcount = 0, ncount = 0, uvcount = 0, icount = 0;
+    double *pos = NULL, *nrm = NULL, *tan = NULL, *uv = NULL, *idx = NULL;
+    size_t vcount = 0, ncount = 0, tcount = 0, uvcount = 0, icount = 0;
     FIELD(field, "meshes[%u].primitives[%u].attributes.POSITION", m, p);
     r = read_accessor(b, pr->position, 3, field, &pos, &vcount);
     if (r == XRSC_OK && pr->normal >= 0) {
@@ -312,6 +428,14 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
     if (r == XRSC_OK && pr->texcoord0 >= 0) {
         FIELD(field, "meshes[%u].primitives[%u].attributes.TEXCOORD_0", m, p);
         r = read_accessor(b, pr->texcoord0, 2, field, &uv, &uvcount);
+    }
+    /* TANGENT is only used with NORMAL (glTF §3.7.2.1: without normals, tangents are ignored). */
+    if (r == XRSC_OK && nrm && pr->tangent >= 0) {
+        FIELD(field, "meshes[%u].primitives[%u].attributes.TANGENT", m, p);
+        r = read_accessor(b, pr->tangent, 4, field, &tan, &tcount);
+        if (r == XRSC_OK && tcount != vcount)
+            r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                           "TANGENT has %zu elements, POSITION %zu", tcount, vcount);
     }
     if (r == XRSC_OK && ((nrm && ncount != vcount) || (uv && uvcount != vcount))) {
         FIELD(field, "meshes[%u].primitives[%u].attributes", m, p);
@@ -333,6 +457,9 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
     } else if (r == XRSC_OK) {
         icount = vcount;
     }
+    if (r == XRSC_OK && pr->mode != SC_GLTF_MODE_TRIANGLES &&
+        !strip_or_fan_to_list(pr->mode, &idx, &icount))
+        r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
     if (r == XRSC_OK && icount % 3 != 0) {
         FIELD(field, "meshes[%u].primitives[%u].indices", m, p);
         r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
@@ -375,6 +502,10 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
                 }
                 normalize3(v->normal, up);
                 if (uv) v->uv[0] = (float)uv[i * 2], v->uv[1] = (float)uv[i * 2 + 1];
+                if (tan) {
+                    for (int c = 0; c < 3; c++) v->tangent[c] = (float)tan[i * 4 + c];
+                    v->tangent[3] = tan[i * 4 + 3] < 0.0 ? -1.0f : 1.0f;
+                }
             }
             for (size_t i = 0; i < icount; i++)
                 inds[i] = first_vertex + (uint32_t)(idx ? idx[i] : (double)i);
@@ -393,7 +524,22 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
             }
             for (size_t i = 0; i < icount; i++) inds[i] = first_vertex + (uint32_t)i;
         }
-        if (!b->opt->keep_triangle_order &&
+        if (tan) {
+            /* Made orthonormal to the normal; a degenerate tangent gets a generated one. */
+            bool degenerate = false;
+            for (size_t i = 0; i < out_vcount; i++) {
+                float *t = verts[i].tangent, d = dot3(verts[i].normal, t);
+                for (int c = 0; c < 3; c++) t[c] -= d * verts[i].normal[c];
+                float len = sqrtf(dot3(t, t));
+                if (!(len > 1e-12f)) degenerate = true;
+                else for (int c = 0; c < 3; c++) t[c] /= len;
+            }
+            if (degenerate && !generate_tangents(verts, out_vcount, inds, icount, first_vertex))
+                r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+        } else if (!generate_tangents(verts, out_vcount, inds, icount, first_vertex)) {
+            r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+        }
+        if (r == XRSC_OK && !b->opt->keep_triangle_order &&
             !sc_morton_sort_triangles((const sc_vertex *)b->vertices.data, inds,
                                       (uint32_t)icount))
             r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
@@ -413,6 +559,7 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
     }
     free(pos);
     free(nrm);
+    free(tan);
     free(uv);
     free(idx);
     return r;
@@ -459,6 +606,21 @@ static xrsc_result map_texture(sc_build *b, sc_gltf_texref ref, bool srgb, const
     return XRSC_OK;
 }
 
+/** KHR_texture_transform as the rows of a 2x3 matrix: T(offset) R(rotation) S(scale), with
+ *  R = [cos sin; -sin cos] (the extension's definition, rotation counter-clockwise in UV). */
+static void uv_transform(const sc_gltf_texref *ref, float m[6])
+{
+    float c = cosf(ref->rotation_rad), s = sinf(ref->rotation_rad);
+    m[0] = c * ref->scale[0], m[1] = s * ref->scale[1], m[2] = ref->offset[0];
+    m[3] = -s * ref->scale[0], m[4] = c * ref->scale[1], m[5] = ref->offset[1];
+}
+
+static void uv_identity(sc_material *mt)
+{
+    static const float id[6] = {1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+    for (int k = 0; k < SC_TEX_SLOTS; k++) memcpy(mt->uv_transform[k], id, sizeof id);
+}
+
 static xrsc_result build_materials(sc_build *b)
 {
     sc_gltf_doc *d = b->doc;
@@ -480,6 +642,12 @@ static xrsc_result build_materials(sc_build *b)
         mt->transmission = g->transmission;
         mt->ior = g->ior;
         mt->double_sided = g->double_sided;
+        mt->unlit = g->unlit;
+        mt->normal_scale = g->normal_scale;
+        uv_transform(&g->base_color_tex, mt->uv_transform[SC_TEX_BASE]);
+        uv_transform(&g->metal_rough_tex, mt->uv_transform[SC_TEX_METAL_ROUGH]);
+        uv_transform(&g->emissive_tex, mt->uv_transform[SC_TEX_EMISSION]);
+        uv_transform(&g->normal_tex, mt->uv_transform[SC_TEX_NORMAL]);
         snprintf(mt->name, sizeof mt->name, "%s", g->name);
         xrsc_result r;
         FIELD(field, "materials[%u].pbrMetallicRoughness.baseColorTexture.index", i);
@@ -492,6 +660,9 @@ static xrsc_result build_materials(sc_build *b)
         FIELD(field, "materials[%u].emissiveTexture.index", i);
         if ((r = map_texture(b, g->emissive_tex, true, field, &mt->emission_tex)) != XRSC_OK)
             return r;
+        FIELD(field, "materials[%u].normalTexture.index", i);
+        if ((r = map_texture(b, g->normal_tex, false, field, &mt->normal_tex)) != XRSC_OK)
+            return r;
     }
     /* The glTF default material (§3.9.6): white, metallic 1, roughness 1. */
     sc_material *def = &s->materials[d->material_count];
@@ -499,6 +670,9 @@ static xrsc_result build_materials(sc_build *b)
     def->metallic = 1.0f;
     def->roughness = 1.0f;
     def->base_color_tex = def->metal_rough_tex = def->emission_tex = SC_NO_TEXTURE;
+    def->normal_tex = SC_NO_TEXTURE;
+    def->normal_scale = 1.0f;
+    uv_identity(def);
     def->ior = 1.5f;
     snprintf(def->name, sizeof def->name, "xrsc-default");
     return XRSC_OK;
@@ -711,6 +885,8 @@ static xrsc_result build_instances(sc_build *b, int32_t scene_index, const bool 
                         (s->nodes[i].parent >= 0 && anim_below[s->nodes[i].parent]);
     }
     bool cameras_extra = false;
+    char nonroot_field[96] = "";
+    int32_t nonroot_node = -1;
     for (uint32_t ri = 0; r == XRSC_OK && ri < nroots; ri++) {
         int32_t root = roots[ri];
         FIELD(field, "scenes[%d].nodes[%u]", scene_index, ri);
@@ -719,10 +895,17 @@ static xrsc_result build_instances(sc_build *b, int32_t scene_index, const bool 
                            "node %d does not exist", root);
             break;
         }
-        if (s->nodes[root].parent >= 0 || seen[root]) {
-            r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
-                           "node %d is not a root or is listed twice", root);
-            break;
+        /* Viewers (Blender, three.js, cgltf) accept scene lists that also name non-root
+         * nodes (glTF 2.0 §3.5.2 says they must be roots): draw the root each one belongs
+         * to, each root once, and say so in one warning. build_nodes rejected cycles. */
+        int32_t listed = root;
+        while (s->nodes[root].parent >= 0) root = s->nodes[root].parent;
+        if (root != listed || seen[root]) {
+            if (!nonroot_field[0]) {
+                snprintf(nonroot_field, sizeof nonroot_field, "%s", field);
+                nonroot_node = listed;
+            }
+            if (seen[root]) continue;
         }
         uint32_t top = 0;
         stack[top++] = root;
@@ -787,6 +970,12 @@ static xrsc_result build_instances(sc_build *b, int32_t scene_index, const bool 
         }
     }
     if (cameras_extra) sc_gltf_note(d, "cameras beyond the first");
+    if (r == XRSC_OK && nonroot_field[0]) {
+        U_LOG_W("%s: %s: node %d is not a root or is listed twice (glTF 2.0 §3.5.2); drawing "
+                "the root nodes the scene's list reaches, each once",
+                b->name, nonroot_field, nonroot_node);
+        s->warning_count++;
+    }
     free(stack);
     free(seen);
     free(anim_below);
@@ -909,6 +1098,26 @@ static void set_sun(sc_scene *s, const sc_gltf_doc *d, int32_t node, int32_t lig
     for (int c = 0; c < 3; c++) s->sun.radiance[c] = l->color[c] * l->intensity;
 }
 
+/** Warns once when nothing in the scene gives light: no emissive triangle with power, no
+ *  sun, a black environment, and no KHR_materials_unlit material drawn; every frame would
+ *  then be black. */
+static void warn_if_no_light(sc_build *b)
+{
+    sc_scene *s = b->s;
+    bool lit = s->sun.present && luminance(s->sun.radiance) > 0.0f;
+    for (uint32_t i = 0; !lit && i < s->emitter_count; i++) lit = s->emitters[i].power > 0.0f;
+    lit = lit || s->environment[0] > 0.0f || s->environment[1] > 0.0f ||
+          s->environment[2] > 0.0f;
+    for (uint32_t i = 0; !lit && i < s->instance_count; i++)
+        lit = s->materials[s->meshes[s->instances[i].mesh].material].unlit;
+    if (lit) return;
+    U_LOG_W("%s: the scene has no light (no emissive material with power, no directional "
+            "light, environment 0): frames will be black; give it an environment, e.g. "
+            "--env 0.8,0.8,0.8",
+            b->name);
+    s->warning_count++;
+}
+
 static xrsc_result build_scene(sc_build *b)
 {
     sc_gltf_doc *d = b->doc;
@@ -972,6 +1181,11 @@ static xrsc_result build_scene(sc_build *b)
     if ((r = build_emitters(b)) != XRSC_OK) return r;
     set_sun(s, d, sun_node, sun_light);
     set_viewpoint(s, camera_node);
+    if (camera_node >= 0) {
+        const sc_gltf_camera *cam = &d->cameras[d->nodes[camera_node].camera];
+        s->camera_yfov_rad = cam->yfov_rad;
+        s->camera_aspect_ratio = cam->aspect_ratio > 0.0f ? cam->aspect_ratio : 0.0f;
+    }
 
     if (b->opt->env_set) {
         memcpy(s->environment, b->opt->environment, sizeof s->environment);
@@ -983,6 +1197,7 @@ static xrsc_result build_scene(sc_build *b)
         float grey = (!s->sun.present && !any_emissive) ? 1.0f : 0.0f;
         s->environment[0] = s->environment[1] = s->environment[2] = grey;
     }
+    warn_if_no_light(b);
     return XRSC_OK;
 }
 
@@ -1027,8 +1242,10 @@ xrsc_result sc_scene_load_memory(const char *name, const void *data, size_t size
         snprintf(b.s->path, sizeof b.s->path, "%s", name);
         r = build_scene(&b);
     }
-    if (r == XRSC_OK && b.doc->unsupported[0])
+    if (r == XRSC_OK && b.doc->unsupported[0]) {
         U_LOG_W("%s: ignored (not supported by xrsc): %s", name, b.doc->unsupported);
+        b.s->warning_count++;
+    }
 
     /* Whatever was not handed to the scene. */
     for (size_t i = 0; i < b.textures.count; i++) free(((sc_texture *)b.textures.data)[i].rgba8);
@@ -1059,6 +1276,12 @@ xrsc_result sc_scene_load(const char *path, const sc_load_options *opt, sc_scene
     FILE *f = fopen(path, "rb");
     if (!f)
         return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "",
+                          "is a folder, not a .gltf or .glb file");
+    }
     long size = -1;
     if (fseek(f, 0, SEEK_END) == 0) size = ftell(f);
     if (size < 0 || fseek(f, 0, SEEK_SET) != 0) {

@@ -27,6 +27,10 @@ typedef struct sc_vertex {
     float position[3];
     float normal[3]; /**< unit; generated (flat) when the file has none */
     float uv[2];     /**< TEXCOORD_0, (0,0) when absent */
+    /** Unit tangent (xyz, along +u) and handedness w = +-1 (bitangent = w * cross(normal,
+     *  tangent)), as glTF's TANGENT. From the file when it has TANGENT, else generated from
+     *  the UV derivatives (see sc_scene.c, sc_tangents). */
+    float tangent[4];
 } sc_vertex;
 
 typedef struct sc_mesh {
@@ -39,6 +43,9 @@ typedef struct sc_mesh {
     uint32_t material;                   /**< index in sc_scene.materials (a default is added) */
 } sc_mesh;
 
+/** Texture slots of a material, in the order of sc_material.uv_transform. */
+enum { SC_TEX_BASE, SC_TEX_METAL_ROUGH, SC_TEX_EMISSION, SC_TEX_NORMAL, SC_TEX_SLOTS };
+
 typedef struct sc_material {
     float base_color[4];        /**< linear RGBA factor */
     uint32_t base_color_tex;    /**< texture index (sRGB) or SC_NO_TEXTURE */
@@ -48,7 +55,13 @@ typedef struct sc_material {
     uint32_t emission_tex;      /**< texture index (sRGB) or SC_NO_TEXTURE */
     float transmission;         /**< KHR_materials_transmission factor, 0 = opaque */
     float ior;                  /**< KHR_materials_ior, default 1.5 */
+    uint32_t normal_tex;        /**< tangent-space normal map (linear) or SC_NO_TEXTURE */
+    float normal_scale;         /**< normalTexture.scale (scales the map's x and y) */
+    bool unlit;                 /**< KHR_materials_unlit: shows base colour x texture, unlit */
     bool double_sided;
+    /** KHR_texture_transform per slot (SC_TEX_*): uv' = (m[0] u + m[1] v + m[2],
+     *  m[3] u + m[4] v + m[5]); identity when the file has none. */
+    float uv_transform[SC_TEX_SLOTS][6];
     char name[64];
 } sc_material;
 
@@ -120,10 +133,13 @@ typedef struct sc_scene {
     /** Viewpoint: the first perspective camera's node when has_camera; otherwise, looking
      *  down -Z from (cx, cy, max_z + 1.2 * max(half_x, half_y)) of the world bounds. */
     bool has_camera;
+    float camera_yfov_rad;     /**< the camera's perspective.yfov when has_camera */
+    float camera_aspect_ratio; /**< its aspectRatio, 0 when the file gives none */
     float viewpoint_position[3];
     float viewpoint_orientation[4]; /**< x, y, z, w */
     float bounds_min[3], bounds_max[3]; /**< world AABB at time 0 */
     uint64_t triangle_count; /**< over all instances */
+    uint32_t warning_count;  /**< warnings the load printed (each at most once), for tests */
     uint32_t *node_order; /**< internal: node indices, parents before children */
 } sc_scene;
 
@@ -144,11 +160,17 @@ typedef struct sc_load_options {
  * file, line (best effort for JSON) and field, and leaves *out NULL. Features that are
  * ignored are named in ONE warning (logged once per load). A required extension that is not
  * supported, a missing buffer or image file, or indices out of range are errors.
- * Supported: meshes (TRIANGLES; other modes error), node hierarchy, materials (baseColor factor
- * and texture, metallicRoughness factor and texture, emissive factor and texture,
- * KHR_materials_emissive_strength, KHR_materials_transmission, KHR_materials_ior), cameras
- * (first perspective camera's node = viewpoint), KHR_lights_punctual directional (first one
- * = sun), node animation (T/R/S; LINEAR, STEP, CUBICSPLINE).
+ * Supported: meshes (TRIANGLES; TRIANGLE_STRIP and TRIANGLE_FAN become triangle lists; points
+ * and lines are XRSC_ERROR_GLTF_UNSUPPORTED), KHR_draco_mesh_compression when built with
+ * libdraco (CMake XRSC_DRACO; else a required one is refused naming it), node hierarchy, materials (baseColor factor
+ * and texture, metallicRoughness factor and texture, emissive factor and texture, normal
+ * texture (tangent space, TANGENT or generated tangents), KHR_materials_emissive_strength,
+ * KHR_materials_transmission, KHR_materials_ior, KHR_materials_unlit, KHR_texture_transform),
+ * cameras (first perspective camera's node = viewpoint, its yfov and aspectRatio kept),
+ * KHR_lights_punctual directional (first one = sun), node animation (T/R/S; LINEAR, STEP,
+ * CUBICSPLINE). A scene whose `nodes` also lists non-root nodes draws the roots they reach
+ * (each node once), with one warning. occlusionTexture is ignored without a warning: a path
+ * tracer computes the occlusion it approximates.
  */
 xrsc_result sc_scene_load(const char *path, const sc_load_options *opt, sc_scene **out,
                           xrsc_diag *diag);
