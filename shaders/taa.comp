@@ -1,0 +1,251 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file taa.comp
+ * @brief Pass "taa": temporal antialiasing after any method ([YLS20] as seed 000 §5.1 uses it;
+ *        seed 004 §4.2 for mode PFJ23), both eyes per dispatch (z = eye).
+ *
+ * Per pixel of eye e:
+ * 1. Reprojection ([YLS20], with camera and instance motion): a hit pixel's point is the
+ *    pixel centre's camera ray at the pixel's depth (as xs_camera.glsl shoots rays), taken to
+ *    object space with the inverse of its instance's current object_to_world (instance from the
+ *    hit id; the inverse from normal_to_world, instance transforms being affine) and back to
+ *    world space with that instance's transform of the LAST frame (kept by the pass in
+ *    XS_TF_BIND_PREV_XFORM), then projected with the last frame's eye. The pixel
+ *    centre rather than the hit's barycentrics is reprojected so any sub-pixel jitter (random,
+ *    Halton, none) reprojects a still view onto pixel centres exactly. A background pixel's
+ *    direction is rotated into the last frame's eye (camera rotation only).
+ * 2. Validation: the history is read at the 2 x 2 bilinear taps around the reprojected
+ *    position; a tap counts when it is inside the image and the last frame showed the same
+ *    surface at it or at one of its 8 neighbours: the same instance (background: background)
+ *    at the point's expected depth in the last frame, give or take depth_tolerance (relative)
+ *    plus XS_TF_SLOPE_PX times the surface's depth step per pixel here (grazing surfaces). The
+ *    neighbours make the test blind to sub-pixel flips at edges (a jittered sample lands on
+ *    either side of an edge from frame to frame; the clipping of step 3 handles those), while a
+ *    surface that was nowhere near (disocclusion) rejects the tap. Fewer than min_weight of
+ *    the bilinear weight accepted (disocclusion, off-screen, no history): the output is the
+ *    current frame (status REJECTED / NO_HISTORY). Else the history is the accepted taps'
+ *    renormalised bilinear mean.
+ * 3. ON: the history is clipped towards the mean of the current 3 x 3 neighbourhood to the box
+ *    mean +- gamma sigma in YCoCg (variance clipping, [Sal16], [YLS20]) and blended with the
+ *    fixed alpha. PFJ23 (seed 004 §4.2): no rectification (seed 004 §5.1 leaves history
+ *    rectification out); alpha per channel = Eq. 4 with sigma_Y^2 from the current 3 x 3
+ *    neighbourhood (Eq. 10) and E[(X - Y)^2] from the history X against each neighbour (Eq. 11),
+ *    xs_st_beta_pfj23 of the stereo blend with the history in place of the other eye.
+ * 4. out = lerp(history, current, alpha) into the method's colour image; aux = alpha, status.
+ * Invocation i < instance_count (flattened over both eyes) also stores instance i's current
+ * object_to_world for the next frame (copied to PREV_XFORM after the dispatch).
+ */
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#define XS_NO_TLAS
+#include "xs_bindings.glsl"
+#include "xs_stereo.h"
+#include "xs_taa.h"
+
+layout(local_size_x = XS_TF_GROUP, local_size_y = XS_TF_GROUP, local_size_z = 1) in;
+
+layout(set = 0, binding = XS_TF_BIND_PARAMS, std140) uniform XsTfParamsBlock
+{
+    xs_tf_params tfp;
+};
+layout(set = 0, binding = XS_TF_BIND_SRC, rgba32f) uniform readonly image2DArray tf_src;
+layout(set = 0, binding = XS_TF_BIND_DEPTH, r32f) uniform readonly image2DArray tf_depth;
+layout(set = 0, binding = XS_TF_BIND_HITID, rgba32ui) uniform readonly uimage2DArray tf_hitid;
+layout(set = 0, binding = XS_TF_BIND_HISTORY, rgba32f) uniform readonly image2DArray tf_history;
+/* depth and instance of a frame in one texel: one load per pixel compared */
+layout(set = 0, binding = XS_TF_BIND_PREV_GEO, rg32ui) uniform readonly uimage2DArray tf_prev_geo;
+layout(set = 0, binding = XS_TF_BIND_NEXT_GEO, rg32ui) uniform writeonly uimage2DArray tf_next_geo;
+layout(set = 0, binding = XS_TF_BIND_OUT, rgba32f) uniform writeonly image2DArray tf_out;
+layout(set = 0, binding = XS_TF_BIND_AUX, rgba32f) uniform writeonly image2DArray tf_aux;
+layout(set = 0, binding = XS_TF_BIND_REPROJ, rgba32f) uniform writeonly image2DArray tf_reproj;
+layout(set = 0, binding = XS_TF_BIND_PREV_XFORM, std430) readonly buffer XsTfPrevXform
+{
+    mat4 tf_prev_xform[];
+};
+layout(set = 0, binding = XS_TF_BIND_NEXT_XFORM, std430) writeonly buffer XsTfNextXform
+{
+    mat4 tf_next_xform[];
+};
+
+vec3 rgb_to_ycocg(vec3 c)
+{
+    return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b,
+                -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
+}
+
+vec3 ycocg_to_rgb(vec3 c) { return vec3(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z); }
+
+/** Clips c towards the box centre onto the box centre +- extent ([Sal16]). */
+vec3 clip_to_box(vec3 c, vec3 centre, vec3 extent)
+{
+    vec3 v = c - centre;
+    vec3 a = abs(v) / max(extent, vec3(1e-7));
+    float m = max(a.x, max(a.y, a.z));
+    return m > 1.0 ? centre + v / m : c;
+}
+
+bool inside(ivec2 p)
+{
+    return p.x >= 0 && p.y >= 0 && p.x < int(tfp.width) && p.y < int(tfp.height);
+}
+
+bool finite3(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
+
+
+/** Whether a last-frame texel of tf_prev_geo shows instance inst (XS_MISS_INSTANCE:
+ *  background) at the expected depth d_exp give or take tol (metres). */
+bool same_geo(uvec2 geo, uint inst, float d_exp, float tol)
+{
+    return geo.y == inst && (inst == XS_MISS_INSTANCE || abs(uintBitsToFloat(geo.x) - d_exp) <= tol);
+}
+
+bool same_surface(ivec2 p, uint eye, uint inst, float d_exp, float tol)
+{
+    return inside(p) && same_geo(imageLoad(tf_prev_geo, ivec3(p, eye)).xy, inst, d_exp, tol);
+}
+
+/** The depth tolerance of pixel px (a hit of inst at depth): depth_tolerance relative, plus
+ *  XS_TF_SLOPE_PX times the largest depth step to a 4-neighbour on the same instance, as the
+ *  taps compared lie up to 2 pixels from the reprojected point (grazing surfaces). */
+float depth_tolerance(ivec2 px, uint eye, uint inst, float depth, float d_exp)
+{
+    float slope = 0.0;
+    for (int k = 0; k < 4; k++) {
+        ivec2 q = px + ivec2(k == 0 ? -1 : k == 1 ? 1 : 0, k == 2 ? -1 : k == 3 ? 1 : 0);
+        if (!inside(q))
+            continue;
+        float dq = imageLoad(tf_depth, ivec3(q, eye)).r;
+        if (dq > 0.0 && imageLoad(tf_hitid, ivec3(q, eye)).x == inst)
+            slope = max(slope, abs(dq - depth));
+    }
+    return tfp.depth_tolerance * d_exp + XS_TF_SLOPE_PX * slope;
+}
+
+/** The point (w = 1) or direction (w = 0) of the pixel in the last frame's eye space. */
+vec4 reproject_eye_space(uvec2 px, uint eye, float depth, uint inst)
+{
+    xs_eye ce = frame.eyes[eye];
+    vec2 uv = (vec2(px) + 0.5) / vec2(tfp.width, tfp.height);
+    vec3 d_eye = vec3(mix(ce.tan_fov.x, ce.tan_fov.y, uv.x), mix(ce.tan_fov.z, ce.tan_fov.w, uv.y),
+                      -1.0);
+    mat4 prev_view = tfp.prev_eyes[eye].view;
+    if (inst == XS_MISS_INSTANCE)
+        return vec4(mat3(prev_view) * (mat3(ce.view_inv) * d_eye), 0.0);
+    vec3 p_world = (ce.view_inv * vec4(d_eye * depth, 1.0)).xyz;
+    /* object space: instance transforms are affine, and normal_to_world's 3 x 3 is the inverse
+     * transpose of object_to_world's, so its transpose inverts the linear part */
+    xs_instance in_ = instances[inst];
+    vec3 p_obj = transpose(mat3(in_.normal_to_world)) * (p_world - in_.object_to_world[3].xyz);
+    vec4 p_prev = tf_prev_xform[inst] * vec4(p_obj, 1.0);
+    return vec4((prev_view * p_prev).xyz, 1.0);
+}
+
+void main()
+{
+    uvec3 g = gl_GlobalInvocationID;
+    if (g.x >= tfp.width || g.y >= tfp.height)
+        return;
+    uint total = 2u * tfp.width * tfp.height;
+    for (uint i = (g.z * tfp.height + g.y) * tfp.width + g.x; i < tfp.instance_count; i += total)
+        tf_next_xform[i] = instances[i].object_to_world;
+
+    uint eye = g.z;
+    ivec3 coord = ivec3(g);
+    ivec2 size = ivec2(tfp.width, tfp.height);
+    vec4 y4 = imageLoad(tf_src, coord);
+    vec3 y = y4.rgb;
+
+    /* 1. reprojection */
+    float depth = imageLoad(tf_depth, coord).r;
+    uint inst = imageLoad(tf_hitid, coord).x;
+    if (depth <= 0.0 || inst >= tfp.instance_count)
+        inst = XS_MISS_INSTANCE;
+    imageStore(tf_next_geo, coord, uvec4(floatBitsToUint(depth), inst, 0u, 0u));
+    float status = XS_TF_STATUS_NO_HISTORY;
+    vec3 x = vec3(0.0);
+    float wsum = 0.0;
+    if (tfp.history_valid != 0u) {
+        status = XS_TF_STATUS_REJECTED;
+        vec4 q = reproject_eye_space(g.xy, eye, depth, inst);
+        if (q.z < 0.0) {
+            vec4 tf = tfp.prev_eyes[eye].tan_fov;
+            vec2 t = q.xy / -q.z;
+            vec2 pos = vec2((t.x - tf.x) / (tf.y - tf.x), (t.y - tf.z) / (tf.w - tf.z)) *
+                       vec2(size);
+            float d_exp = -q.z;
+            /* 2. bilinear taps near which the last frame showed the same surface; the full
+             * tolerance (slope term) and the neighbours are only looked at for a tap that
+             * fails the relative tolerance alone (which implies the full one) */
+            float tol_rel = tfp.depth_tolerance * d_exp, tol = -1.0;
+            vec2 b = pos - 0.5;
+            ivec2 base = ivec2(floor(b));
+            vec2 f = b - vec2(base);
+            for (int k = 0; k < 4; k++) {
+                ivec2 o = ivec2(k & 1, k >> 1);
+                ivec2 p = base + o;
+                float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
+                if (w <= 0.0 || !inside(p))
+                    continue;
+                uvec2 geo = imageLoad(tf_prev_geo, ivec3(p, eye)).xy;
+                bool near = same_geo(geo, inst, d_exp, tol_rel);
+                if (!near && inst != XS_MISS_INSTANCE) {
+                    if (tol < 0.0)
+                        tol = depth_tolerance(ivec2(g.xy), eye, inst, depth, d_exp);
+                    near = same_geo(geo, inst, d_exp, tol);
+                }
+                for (int n = 0; n < 9 && !near; n++)
+                    near = n != 4 && same_surface(p + ivec2(n % 3 - 1, n / 3 - 1), eye, inst,
+                                                  d_exp, max(tol, 0.0));
+                if (!near)
+                    continue;
+                x += w * imageLoad(tf_history, ivec3(p, eye)).rgb;
+                wsum += w;
+            }
+            if (wsum >= tfp.min_weight) {
+                x /= wsum;
+                if (finite3(x))
+                    status = XS_TF_STATUS_BLENDED;
+            }
+        }
+    }
+    if (tfp.debug != 0u)
+        imageStore(tf_reproj, coord, vec4(status == XS_TF_STATUS_BLENDED ? x : vec3(0.0), wsum));
+    if (status != XS_TF_STATUS_BLENDED) {
+        imageStore(tf_out, coord, y4);
+        imageStore(tf_aux, coord, vec4(1.0, 1.0, 1.0, status));
+        return;
+    }
+
+    /* 3. the current 3 x 3 neighbourhood (clamped at the image border) */
+    vec3 m1 = vec3(0.0), m2 = vec3(0.0);    /* YCoCg moments (ON) */
+    vec3 sy = vec3(0.0), sy2 = vec3(0.0), sd2 = vec3(0.0); /* RGB sums (PFJ23, Eq. 10-11) */
+    for (int dy = -1; dy <= 1; dy++) {
+        for (int dx = -1; dx <= 1; dx++) {
+            ivec2 p = clamp(ivec2(g.xy) + ivec2(dx, dy), ivec2(0), size - 1);
+            vec3 yi = imageLoad(tf_src, ivec3(p, eye)).rgb;
+            vec3 c = rgb_to_ycocg(yi);
+            m1 += c;
+            m2 += c * c;
+            sy += yi;
+            sy2 += yi * yi;
+            sd2 += (x - yi) * (x - yi);
+        }
+    }
+    vec3 alpha;
+    if (tfp.mode == XS_TF_MODE_PFJ23) {
+        for (int c = 0; c < 3; c++)
+            alpha[c] = xs_st_beta_pfj23(sy[c], sy2[c], sd2[c], 9.0);
+    } else {
+        vec3 mean = m1 / 9.0;
+        vec3 sigma = sqrt(max(m2 / 9.0 - mean * mean, vec3(0.0)));
+        x = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(x), mean, tfp.gamma * sigma));
+        alpha = vec3(tfp.alpha);
+    }
+
+    /* 4. out = lerp(history, current, alpha) */
+    vec3 outc;
+    for (int c = 0; c < 3; c++)
+        outc[c] = xs_st_lerp(x[c], y[c], alpha[c]);
+    imageStore(tf_out, coord, vec4(outc, y4.a));
+    imageStore(tf_aux, coord, vec4(alpha, status));
+}

@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file xs_taa.h
+ * @brief The TAA post-pass's layouts, bindings and constants (taa.comp and plugin/src/temporal/),
+ *        and the Halton(2,3) sub-pixel jitter of method `taa`, one source for C and GLSL.
+ *
+ * TAA as [YLS20] describes it and seed 000 §5/§5.1 puts it on top of every method: the
+ * history (last frame's TAA output) is reprojected into the current frame, validated
+ * (disocclusion), rectified (variance clipping in YCoCg, [Sal16]) and blended with the current
+ * frame with weight alpha: out = lerp(history, current, alpha). Mode PFJ23 replaces the fixed
+ * alpha by seed 004 Eq. 4 estimated per pixel and channel with Eq. 10-11 (seed 004 §4.2).
+ *
+ * Set 0 of taa.comp is the ray-tracing programs' set 0 (xrsc_shared.h, XS_BIND_*: the scene's
+ * vertices and instances, and XS_BIND_FRAME = the current frame's xs_frame) followed by the
+ * XS_TF_BIND_* bindings below.
+ */
+#ifndef XS_TAA_H
+#define XS_TAA_H
+
+#include "xrsc_shared.h"
+
+/* ---- taa.comp: set 0 after XS_BIND_RAY_COUNTER ---- */
+#define XS_TF_BIND_PARAMS 16     /* uniform xs_tf_params */
+#define XS_TF_BIND_SRC 17        /* rgba32f: the method's colour of this frame (copy, input) */
+#define XS_TF_BIND_DEPTH 18      /* r32f: this frame's view depth, 0 = background */
+#define XS_TF_BIND_HITID 19      /* rgba32ui: this frame's hit ids (instance in .x) */
+#define XS_TF_BIND_HISTORY 20    /* rgba32f: last frame's TAA output */
+#define XS_TF_BIND_PREV_GEO 21   /* rg32ui: last frame's depth bits (x), instance (y) */
+#define XS_TF_BIND_NEXT_GEO 22   /* rg32ui: this frame's, copied to PREV_GEO after the dispatch */
+#define XS_TF_BIND_OUT 23        /* rgba32f: the method's colour image (output) */
+#define XS_TF_BIND_AUX 24        /* rgba32f: alpha used per channel (rgb), XS_TF_STATUS_* (a) */
+#define XS_TF_BIND_REPROJ 25     /* rgba32f, debug only: reprojected history (rgb), tap weight (a) */
+#define XS_TF_BIND_PREV_XFORM 26 /* readonly buffer mat4[]: object_to_world of the last frame */
+#define XS_TF_BIND_NEXT_XFORM 27 /* buffer mat4[]: this frame's, copied to PREV_XFORM after */
+
+#define XS_TF_GROUP 8u /* local size x and y of taa.comp */
+
+/* Modes: the public xrsc_taa_mode values (XRSC_TAA_ON, XRSC_TAA_PFJ23). */
+#define XS_TF_MODE_ON 2u
+#define XS_TF_MODE_PFJ23 3u
+
+/* Per-pixel outcome in the aux image's alpha. */
+#define XS_TF_STATUS_NO_HISTORY 0.0f /* first frame (or after a reset): output = current */
+#define XS_TF_STATUS_BLENDED 1.0f    /* history reprojected, validated and blended */
+#define XS_TF_STATUS_REJECTED 2.0f   /* disoccluded or off-screen: output = current */
+
+/** The current frame's weight with mode ON ([YLS20]; seed 004 §1: usually 0.1). */
+#define XS_TF_DEFAULT_ALPHA 0.1f
+/** Variance clipping box: mean +- gamma sigma in YCoCg ([Sal16], as [YLS20] surveys it). */
+#define XS_TF_GAMMA 1.0f
+/** A previous-frame pixel stands for the reprojected point when it shows the same instance and
+ *  |d_tap - d_expected| <= tol * d_expected + XS_TF_SLOPE_PX * slope, tol the stereo blend's
+ *  (XS_ST_DEPTH_TOLERANCE), slope the surface's largest depth step to a neighbouring pixel:
+ *  the pixels compared lie up to 2 pixels from the point (tap + neighbour), and a relative
+ *  tolerance alone rejected the jittered history at grazing silhouettes of a still view. */
+#define XS_TF_DEPTH_TOLERANCE 0.05f
+#define XS_TF_SLOPE_PX 2.0f
+/** Below this share of the bilinear kernel's weight on accepted taps the history is rejected
+ *  (disocclusion), as the stereo blend does (XS_ST_MIN_WEIGHT). */
+#define XS_TF_MIN_WEIGHT 0.5f
+
+/** Method `taa`'s jitter: the Halton(2,3) points 1..XS_TF_HALTON_PERIOD, repeating ([YLS20]
+ *  §3.1: a short low-discrepancy sequence; index 0 = (0, 0) is skipped). */
+#define XS_TF_HALTON_PERIOD 16u
+
+XS_STRUCT(xs_tf_params)
+{
+    xs_eye prev_eyes[2];   /* the last frame's eyes (view, view_inv, proj, tan_fov) */
+    xs_uint width, height; /* per eye, pixels */
+    xs_uint mode;          /* XS_TF_MODE_* */
+    xs_uint history_valid; /* 0: no history (first frame, reset): output = current */
+    xs_float alpha;        /* mode ON: the current frame's weight */
+    xs_float gamma;        /* XS_TF_GAMMA */
+    xs_float depth_tolerance;
+    xs_float min_weight;
+    xs_uint instance_count; /* entries of the transform buffers */
+    xs_uint debug;          /* 1: write XS_TF_BIND_REPROJ */
+    xs_uint pad0, pad1;
+} XS_END(xs_tf_params);
+
+#ifndef XRSC_GLSL
+_Static_assert(sizeof(xs_tf_params) == 2 * 208 + 48, "xs_tf_params layout");
+
+/** The radical inverse of index in base b (Halton's sequence, one coordinate). */
+static inline float xs_tf_halton(uint32_t index, uint32_t b)
+{
+    float f = 1.0f, r = 0.0f;
+    while (index > 0u) {
+        f /= (float)b;
+        r += f * (float)(index % b);
+        index /= b;
+    }
+    return r;
+}
+#endif
+
+#endif /* XS_TAA_H */

@@ -1,0 +1,798 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file test_taa.c
+ * @brief The TAA post-pass ([YLS20] as seed 000 §5.1 uses it, seed 004 §4.2 weights) and
+ *        method `taa`, under the validation layer (zero errors asserted).
+ *
+ * 1. Still view, method `taa`, 2 x 64 x 64, T_FRAMES frames, against a T_REF_SPP x
+ *    T_REF_FRAMES `spp` reference (accumulated): relMSE (eps 1e-2, every pixel of both eyes)
+ *    with TAA off, on and pfj23.
+ *    - scenes/furnace.gltf: the sphere's radiance is exactly 0.5 and the background 1, so the
+ *      only error is the edge coverage each frame's jitter samples (antialiasing). With
+ *      alpha = 0.1 and a history that stays valid, the output is an exponential moving average
+ *      of the frames; for i.i.d. frames its variance settles at alpha / (2 - alpha) = 0.053 of
+ *      one frame's, and the 16 stratified Halton offsets do better than i.i.d. jitter.
+ *      Asserted: relMSE(on) < T_ON_RATIO x relMSE(off), T_ON_RATIO = 0.1 (0.053 with room for
+ *      the clipping bias at silhouettes and the reference's own error; measured 0.031).
+ *    - scenes/cornell.gltf (1-spp path-tracing noise, heavy-tailed): asserted only that on and
+ *      pfj23 lower the error; measured on 0.46 x off (YCoCg clipping with gamma = 1 keeps
+ *      clipping a converged history towards a noisy 3 x 3 box: TAA's weakness under Monte
+ *      Carlo noise, seed 004 §2) and pfj23 0.065 x off.
+ *    Both: relMSE(pfj23) < relMSE(off).
+ * 2. Reprojection exactness: `primary` (deterministic albedo), frame 0, then every eye turned
+ *    by T_TURN_PX pixels' worth about its own vertical axis (and, second case, also moved
+ *    T_SHIFT_M sideways): the reprojected history (debug image) equals a CPU reprojection of
+ *    frame 0 (double precision: pixel centre at its depth -> frame 0's view, bilinear taps with
+ *    the pass's surface test: same instance and depth near a tap) to T_EXACT_TOL, and equals
+ *    the current frame where the taps are flat; the accept/reject decisions agree with the
+ *    CPU's (those within 1e-3 of the threshold excepted, at most 0.5 % may differ).
+ * 3. Disocclusion with instance motion: a quad moves in front of a wall between two frames;
+ *    wall pixels the quad uncovered are rejected (output = current frame exactly), quad pixels
+ *    are reprojected with the quad's motion (accepted, history = current colour).
+ * 4. PFJ23: per-pixel weights finite and in [0, 1] on a still noisy view, history kept.
+ * Also: first frame and after reset: no history (output = current); pass order tlas, trace,
+ * taa, blend.
+ */
+#include "gpu_scene.h"
+#include "mt_method.h"
+#include "sc_scene.h"
+#include "testing.h"
+#include "tf_taa.h"
+#include "xrsc/xrsc.h"
+#include "xrsc/xrsc_math.h"
+#include "xrsc/xrsc_metrics.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define T_W 64u
+#define T_H 64u
+#define T_FRAMES 64u  /* still-view frames of the convergence case (0.9^64 < 1e-3) */
+#define T_REF_SPP 64u /* reference: T_REF_FRAMES x T_REF_SPP accumulated */
+#define T_REF_FRAMES 8u
+#define T_ON_RATIO 0.1
+#define T_TURN_PX 3.0   /* head turn between the two frames, pixels at the image centre */
+#define T_SHIFT_M 0.05f /* sideways move of the translation case */
+#define T_EXACT_TOL 1e-3
+#define T_FLAT_TOL 1e-5
+
+static void print_diag(const xrsc_diag *d)
+{
+    char msg[1400];
+    fprintf(stderr, "%s\n", xrsc_diag_format(d, msg, sizeof(msg)));
+}
+
+static XrQuaternionf quat_mul(XrQuaternionf a, XrQuaternionf b)
+{
+    return (XrQuaternionf){a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+                           a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
+                           a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w,
+                           a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z};
+}
+
+/** A still frame of the default headset at head pose `head`. */
+static xrsc_frame headset_frame(XrPosef head, uint32_t frame_index)
+{
+    xrsc_headset hs;
+    xrsc_headset_default(&hs);
+    XrPosef eyes[2];
+    xrsc_headset_eye_poses(&hs, head, eyes);
+    xrsc_frame f = {.frame_index = frame_index};
+    for (int e = 0; e < 2; e++) {
+        f.views[e].pose = eyes[e];
+        f.views[e].fov = hs.fov[e];
+    }
+    return f;
+}
+
+/* ---- 1. still view through the public API ---- */
+
+static double relmse(const float *x, const float *ref, size_t pixels)
+{
+    double s = 0.0;
+    for (size_t i = 0; i < pixels; i++)
+        for (int c = 0; c < 3; c++) {
+            double d = (double)x[4 * i + c] - ref[4 * i + c];
+            s += d * d / ((double)ref[4 * i + c] * ref[4 * i + c] + XRSC_METRICS_RELMSE_EPSILON);
+        }
+    return s / (3.0 * (double)pixels);
+}
+
+/** Renders `frames` frames of the still view f (frame_index 0, 1, ...) and reads both eyes'
+ *  colour into out (2 x T_W x T_H RGBA). */
+static bool render_still(xrsc_context *ctx, xrsc_scene *scene, const xrsc_renderer_options *ro,
+                         xrsc_frame f, uint32_t frames, float *out, xrsc_pass_timing *timings,
+                         uint32_t *timing_count)
+{
+    xrsc_renderer *r = NULL;
+    xrsc_diag diag = {0};
+    xrsc_result res = xrsc_renderer_create(ctx, scene, ro, &r, &diag);
+    CHECK_EQ_INT(res, XRSC_OK);
+    if (res != XRSC_OK) {
+        print_diag(&diag);
+        return false;
+    }
+    for (uint32_t i = 0; i < frames && res == XRSC_OK; i++) {
+        f.frame_index = i;
+        res = xrsc_renderer_render(r, &f);
+    }
+    size_t layer = (size_t)T_W * T_H * 4;
+    for (uint32_t e = 0; e < 2 && res == XRSC_OK; e++)
+        res = xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, out + e * layer, layer * sizeof(float));
+    CHECK_EQ_INT(res, XRSC_OK);
+    if (timings)
+        *timing_count = xrsc_renderer_timings(r, timings, XRSC_MAX_PASSES);
+    xrsc_renderer_destroy(&r);
+    return res == XRSC_OK;
+}
+
+/** Still view of scene_path: relMSE of method `taa` with TAA off, on and pfj23 against the
+ *  reference; on must stay below on_ratio x off (0: only below off), pfj23 below off. */
+static void still_view_case(const char *scene_path, double on_ratio)
+{
+    xrsc_context_options co = {.validation = true};
+    xrsc_context *ctx = NULL;
+    xrsc_diag diag = {0};
+    CHECK_EQ_INT(xrsc_context_create(&co, &ctx, &diag), XRSC_OK);
+    xrsc_scene *scene = NULL;
+    if (ctx)
+        CHECK_EQ_INT(xrsc_scene_load(ctx, t_source_path(scene_path), NULL, &scene, &diag), XRSC_OK);
+    if (!scene) {
+        print_diag(&diag);
+        xrsc_context_destroy(&ctx);
+        return;
+    }
+    xrsc_scene_info info;
+    xrsc_scene_get_info(scene, &info);
+    xrsc_frame f = headset_frame(info.viewpoint, 0);
+    size_t pixels = 2u * T_W * T_H;
+    float *ref = calloc(pixels * 4, sizeof(float)), *img = calloc(pixels * 4, sizeof(float));
+
+    xrsc_renderer_options ro = {.width = T_W, .height = T_H, .method = XRSC_METHOD_SPP};
+    ro.spp.samples_per_pixel = T_REF_SPP;
+    ro.spp.accumulate = true;
+    bool ok = render_still(ctx, scene, &ro, f, T_REF_FRAMES, ref, NULL, NULL);
+
+    static const xrsc_taa_mode modes[] = {XRSC_TAA_OFF, XRSC_TAA_DEFAULT, XRSC_TAA_PFJ23};
+    static const char *const names[] = {"off", "on (default)", "pfj23"};
+    double err[3] = {0};
+    for (int k = 0; k < 3 && ok; k++) {
+        xrsc_renderer_options to = {.width = T_W, .height = T_H, .method = XRSC_METHOD_TAA};
+        to.taa.mode = modes[k];
+        xrsc_pass_timing tm[XRSC_MAX_PASSES];
+        uint32_t n = 0;
+        ok = render_still(ctx, scene, &to, f, T_FRAMES, img, tm, &n);
+        err[k] = relmse(img, ref, pixels);
+        printf("  %s: taa %-12s relMSE %.5f after %u frames\n", scene_path, names[k], err[k],
+               T_FRAMES);
+        /* passes: tlas, trace, then taa unless off */
+        CHECK_EQ_INT(n, k == 0 ? 2 : 3);
+        if (n == 3)
+            CHECK(strcmp(tm[2].name, TF_PASS_TAA) == 0);
+    }
+    if (ok) {
+        printf("  relMSE on / off = %.3f (bound %.2f; EMA of i.i.d. frames %.3f), pfj23 / off "
+               "= %.3f\n",
+               err[1] / err[0], on_ratio > 0.0 ? on_ratio : 1.0, 0.1 / 1.9, err[2] / err[0]);
+        CHECK(err[1] < (on_ratio > 0.0 ? on_ratio : 1.0) * err[0]);
+        CHECK(err[2] < err[0]);
+    }
+
+    /* TAA after another method, then the stereo blend: pass order */
+    xrsc_renderer_options po = {
+        .width = T_W, .height = T_H, .method = XRSC_METHOD_PRIMARY, .blend = XRSC_BLEND_PFJ23};
+    po.taa.mode = XRSC_TAA_ON;
+    xrsc_pass_timing tm[XRSC_MAX_PASSES];
+    uint32_t n = 0;
+    if (render_still(ctx, scene, &po, f, 2, img, tm, &n)) {
+        CHECK_EQ_INT(n, 4);
+        if (n == 4)
+            CHECK(!strcmp(tm[1].name, "trace") && !strcmp(tm[2].name, TF_PASS_TAA) &&
+                  !strcmp(tm[3].name, "blend"));
+    }
+    /* options out of range */
+    xrsc_renderer *bad = NULL;
+    po.taa.alpha = 1.5f;
+    CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &po, &bad, &diag), XRSC_ERROR_INVALID_ARGUMENT);
+    po.taa.alpha = 0.0f;
+    po.taa.mode = (xrsc_taa_mode)7;
+    CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &po, &bad, &diag), XRSC_ERROR_INVALID_ARGUMENT);
+    CHECK(bad == NULL);
+
+    free(ref);
+    free(img);
+    xrsc_scene_destroy(&scene);
+    CHECK_EQ_INT(xrsc_context_validation_errors(ctx), 0);
+    xrsc_context_destroy(&ctx);
+}
+
+static void test_still_view_furnace(void)
+{
+    still_view_case("scenes/furnace.gltf", T_ON_RATIO);
+}
+static void test_still_view_cornell(void)
+{
+    still_view_case("scenes/cornell.gltf", 0.0);
+}
+
+/* ---- internal rig: a method + the TAA pass with its debug images ---- */
+
+typedef struct t_rig {
+    gpu_context *gpu;
+    sc_scene *cpu;
+    gpu_scene *gs;
+    mt_method *m;
+    tf_taa *taa;
+    mt_post post;
+} t_rig;
+
+static void rig_post(void *user, VkCommandBuffer cmd, gpu_timer *timer, const xs_frame *xf)
+{
+    tf_taa_cmd_record((tf_taa *)user, cmd, timer, xf);
+}
+
+static bool rig_open(t_rig *r, const char *scene_path, xrsc_method method, xrsc_taa_mode mode)
+{
+    memset(r, 0, sizeof(*r));
+    gpu_context_options go = {.validation = true};
+    xrsc_diag diag = {0};
+    xrsc_result res = gpu_context_create(&go, &r->gpu, &diag);
+    if (res == XRSC_OK)
+        res = sc_scene_load(scene_path, NULL, &r->cpu, &diag);
+    if (res == XRSC_OK)
+        res = gpu_scene_create(r->gpu, r->cpu, &r->gs, &diag);
+    mt_env env = {.gpu = r->gpu,
+                  .scene = r->gs,
+                  .cpu_scene = r->cpu,
+                  .width = T_W,
+                  .height = T_H,
+                  .post = &r->post};
+    if (res == XRSC_OK)
+        res = method == XRSC_METHOD_TAA ? mt_taa_create(&env, NULL, &r->m, &diag)
+                                        : mt_primary_create(&env, &r->m, &diag);
+    if (res == XRSC_OK) {
+        tf_settings set = {.mode = mode, .debug = true};
+        tf_images imgs = {mt_method_output_image(r->m, XRSC_OUTPUT_COLOR),
+                          mt_method_output_image(r->m, XRSC_OUTPUT_DEPTH),
+                          mt_method_output_image(r->m, XRSC_OUTPUT_HIT_ID)};
+        res = tf_taa_create(r->gpu, r->gs, r->cpu->instance_count, T_W, T_H, &set, &imgs, &r->taa,
+                            &diag);
+    }
+    CHECK_EQ_INT(res, XRSC_OK);
+    if (res != XRSC_OK) {
+        print_diag(&diag);
+        return false;
+    }
+    CHECK(r->gpu->validation);
+    r->post = (mt_post){.record = rig_post, .user = r->taa};
+    return true;
+}
+
+static void rig_close(t_rig *r)
+{
+    tf_taa_destroy(&r->taa);
+    mt_method_destroy(&r->m);
+    if (r->gs)
+        gpu_scene_destroy(r->gpu, &r->gs);
+    sc_scene_destroy(&r->cpu);
+    if (r->gpu) {
+        CHECK_EQ_INT(r->gpu->validation_errors, 0);
+        gpu_context_destroy(&r->gpu);
+    }
+}
+
+static bool rig_render(t_rig *r, const xrsc_frame *f)
+{
+    xrsc_diag diag = {0};
+    xrsc_result res = mt_method_render(r->m, f, &diag);
+    CHECK_EQ_INT(res, XRSC_OK);
+    if (res != XRSC_OK)
+        print_diag(&diag);
+    return res == XRSC_OK;
+}
+
+/** One eye of the last frame: the method's output (after TAA) or a TAA image. */
+typedef struct t_eye {
+    float out[T_W * T_H * 4], src[T_W * T_H * 4], aux[T_W * T_H * 4], reproj[T_W * T_H * 4];
+    float depth[T_W * T_H];
+    uint32_t hitid[T_W * T_H * 4];
+} t_eye;
+
+static bool rig_read(t_rig *r, uint32_t eye, t_eye *out)
+{
+    xrsc_diag diag = {0};
+    xrsc_result res =
+        mt_method_read(r->m, eye, XRSC_OUTPUT_COLOR, out->out, sizeof(out->out), &diag);
+    if (res == XRSC_OK)
+        res = mt_method_read(r->m, eye, XRSC_OUTPUT_DEPTH, out->depth, sizeof(out->depth), &diag);
+    if (res == XRSC_OK)
+        res = mt_method_read(r->m, eye, XRSC_OUTPUT_HIT_ID, out->hitid, sizeof(out->hitid), &diag);
+    if (res == XRSC_OK)
+        res = tf_taa_read(r->taa, eye, TF_IMAGE_SRC, out->src, sizeof(out->src), &diag);
+    if (res == XRSC_OK)
+        res = tf_taa_read(r->taa, eye, TF_IMAGE_AUX, out->aux, sizeof(out->aux), &diag);
+    if (res == XRSC_OK)
+        res = tf_taa_read(r->taa, eye, TF_IMAGE_REPROJ, out->reproj, sizeof(out->reproj), &diag);
+    CHECK_EQ_INT(res, XRSC_OK);
+    if (res != XRSC_OK)
+        print_diag(&diag);
+    return res == XRSC_OK;
+}
+
+/** The output equals the current frame wherever the status is not "blended". */
+static uint32_t count_status(const t_eye *e, float status, bool check_current)
+{
+    uint32_t n = 0;
+    for (uint32_t p = 0; p < T_W * T_H; p++) {
+        if (e->aux[4 * p + 3] != status)
+            continue;
+        n++;
+        if (check_current)
+            CHECK(memcmp(&e->out[4 * p], &e->src[4 * p], 4 * sizeof(float)) == 0);
+    }
+    return n;
+}
+
+/** Whether the current 3 x 3 neighbourhood of p (inside the image) has one colour. */
+static bool flat3(const t_eye *e, uint32_t p)
+{
+    int x = (int)(p % T_W), y = (int)(p / T_W);
+    for (int j = -1; j <= 1; j++)
+        for (int i = -1; i <= 1; i++) {
+            int qx = x + i, qy = y + j;
+            if (qx < 0 || qy < 0 || qx >= (int)T_W || qy >= (int)T_H ||
+                memcmp(&e->src[4 * ((uint32_t)qy * T_W + (uint32_t)qx)], &e->src[4 * p],
+                       3 * sizeof(float)) != 0)
+                return false;
+        }
+    return true;
+}
+
+/* ---- CPU reprojection (double) ---- */
+
+typedef struct t_cam {
+    double view[16], view_inv[16]; /* from the same float matrices as the GPU's */
+    double tan[4];                 /* left, right, up, down */
+} t_cam;
+
+static t_cam make_cam(const xrsc_view *v)
+{
+    t_cam c;
+    float m[16];
+    xrsc_pose_view_matrix(v->pose, m);
+    for (int i = 0; i < 16; i++)
+        c.view[i] = m[i];
+    xrsc_pose_to_matrix(v->pose, m);
+    for (int i = 0; i < 16; i++)
+        c.view_inv[i] = m[i];
+    c.tan[0] = tanf(v->fov.angleLeft);
+    c.tan[1] = tanf(v->fov.angleRight);
+    c.tan[2] = tanf(v->fov.angleUp);
+    c.tan[3] = tanf(v->fov.angleDown);
+    return c;
+}
+
+static void xform(const double m[16], const double p[3], double w, double out[3])
+{
+    for (int r = 0; r < 3; r++)
+        out[r] = m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r] * w;
+}
+
+/**
+ * Where the point (hit, w = 1) or direction (miss, w = 0) seen at pixel p's centre of cam1 at
+ * depth d lies in cam0's image (pixels), moved back by -shift (the instance's motion) first;
+ * *d_exp its depth there. False behind cam0.
+ */
+static bool cpu_reproject(const t_cam *c1, const t_cam *c0, uint32_t p, float d, bool hit,
+                          const double shift[3], double pos[2], double *d_exp)
+{
+    double u = ((p % T_W) + 0.5) / T_W, v = ((p / T_W) + 0.5) / T_H;
+    double de[3] = {c1->tan[0] + (c1->tan[1] - c1->tan[0]) * u,
+                    c1->tan[2] + (c1->tan[3] - c1->tan[2]) * v, -1.0};
+    double w[3], q[3];
+    if (hit) {
+        double pe[3] = {de[0] * d, de[1] * d, de[2] * d};
+        xform(c1->view_inv, pe, 1.0, w);
+        for (int i = 0; i < 3; i++)
+            w[i] -= shift[i];
+    } else {
+        xform(c1->view_inv, de, 0.0, w);
+    }
+    xform(c0->view, w, hit ? 1.0 : 0.0, q);
+    if (!(q[2] < 0.0))
+        return false;
+    pos[0] = (q[0] / -q[2] - c0->tan[0]) / (c0->tan[1] - c0->tan[0]) * T_W;
+    pos[1] = (q[1] / -q[2] - c0->tan[2]) / (c0->tan[3] - c0->tan[2]) * T_H;
+    *d_exp = -q[2];
+    return true;
+}
+
+static uint32_t inst_at(const t_eye *e, uint32_t p)
+{
+    return e->depth[p] > 0.0f ? e->hitid[4 * p] : XS_MISS_INSTANCE;
+}
+
+/** taa.comp's depth tolerance at pixel p of the current frame for an expected depth d_exp. */
+static double cpu_tolerance(const t_eye *cur, uint32_t p, double d_exp)
+{
+    uint32_t inst = inst_at(cur, p), x = p % T_W, y = p / T_W;
+    double slope = 0.0;
+    const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
+    for (int k = 0; k < 4; k++) {
+        int qx = (int)x + dx[k], qy = (int)y + dy[k];
+        if (qx < 0 || qy < 0 || qx >= (int)T_W || qy >= (int)T_H)
+            continue;
+        uint32_t q = (uint32_t)qy * T_W + (uint32_t)qx;
+        if (inst_at(cur, q) == inst)
+            slope = fmax(slope, fabs((double)cur->depth[q] - cur->depth[p]));
+    }
+    return XS_TF_DEPTH_TOLERANCE * d_exp + XS_TF_SLOPE_PX * slope;
+}
+
+/** Whether the last frame's pixel (x, y) showed instance inst at depth d_exp +- tol. */
+static bool cpu_same_surface(const t_eye *prev, int x, int y, uint32_t inst, double d_exp,
+                             double tol)
+{
+    if (x < 0 || y < 0 || x >= (int)T_W || y >= (int)T_H)
+        return false;
+    uint32_t q = (uint32_t)y * T_W + (uint32_t)x;
+    return inst_at(prev, q) == inst &&
+           (inst == XS_MISS_INSTANCE || fabs(prev->depth[q] - d_exp) <= tol);
+}
+
+/** The pass's validation and bilinear history on the CPU (taa.comp step 2: a tap counts when
+ *  the surface was at it or one of its 8 neighbours); returns the accepted weight and (when
+ *  > 0) the history in out[3]; *all4 when every tap was accepted, *flat when they all have
+ *  the same colour. */
+static double cpu_history(const t_eye *prev, const double pos[2], uint32_t inst, double d_exp,
+                          double tol, double out[3], bool *all4, bool *flat)
+{
+    double bx = pos[0] - 0.5, by = pos[1] - 0.5;
+    int x0 = (int)floor(bx), y0 = (int)floor(by);
+    double fx = bx - x0, fy = by - y0, wsum = 0.0;
+    out[0] = out[1] = out[2] = 0.0;
+    *all4 = true;
+    *flat = true;
+    const float *first = NULL;
+    for (int k = 0; k < 4; k++) {
+        int ox = k & 1, oy = k >> 1, x = x0 + ox, y = y0 + oy;
+        double w = (ox ? fx : 1.0 - fx) * (oy ? fy : 1.0 - fy);
+        bool ok = x >= 0 && y >= 0 && x < (int)T_W && y < (int)T_H;
+        bool near = false;
+        for (int j = -1; j <= 1 && ok; j++)
+            for (int i = -1; i <= 1; i++)
+                near = near || cpu_same_surface(prev, x + i, y + j, inst, d_exp, tol);
+        if (!ok || !near) {
+            *all4 = false;
+            continue;
+        }
+        const float *c = &prev->out[4 * ((uint32_t)y * T_W + (uint32_t)x)];
+        if (first && memcmp(first, c, 3 * sizeof(float)) != 0)
+            *flat = false;
+        first = first ? first : c;
+        for (int i = 0; i < 3; i++)
+            out[i] += w * c[i];
+        wsum += w;
+    }
+    if (wsum > 0.0)
+        for (int i = 0; i < 3; i++)
+            out[i] /= wsum;
+    return wsum;
+}
+
+/* ---- 2. reprojection exactness for a known camera motion ---- */
+
+static void check_first_frame(const t_eye *e)
+{
+    CHECK_EQ_INT(count_status(e, XS_TF_STATUS_NO_HISTORY, true), T_W * T_H);
+}
+
+static void camera_motion_case(bool translate)
+{
+    t_rig r;
+    if (!rig_open(&r, t_source_path("scenes/cornell.gltf"), XRSC_METHOD_PRIMARY, XRSC_TAA_ON)) {
+        rig_close(&r);
+        return;
+    }
+    XrPosef head = {
+        .orientation = {r.cpu->viewpoint_orientation[0], r.cpu->viewpoint_orientation[1],
+                        r.cpu->viewpoint_orientation[2], r.cpu->viewpoint_orientation[3]},
+        .position = {r.cpu->viewpoint_position[0], r.cpu->viewpoint_position[1],
+                     r.cpu->viewpoint_position[2]}};
+    xrsc_frame f0 = headset_frame(head, 0), f1 = f0;
+    f1.frame_index = 1;
+    for (int e = 0; e < 2; e++) {
+        const XrFovf *fov = &f0.views[e].fov;
+        double px_tan = (tan(fov->angleRight) - tan(fov->angleLeft)) / T_W;
+        float turn = (float)atan(T_TURN_PX * px_tan);
+        XrPosef *p = &f1.views[e].pose;
+        p->orientation = xrsc_quat_normalize(
+            quat_mul(p->orientation, xrsc_quat_from_axis_angle((XrVector3f){0, 1, 0}, turn)));
+        if (translate) {
+            XrVector3f side = xrsc_quat_rotate(p->orientation, (XrVector3f){T_SHIFT_M, 0, 0});
+            p->position.x += side.x;
+            p->position.y += side.y;
+            p->position.z += side.z;
+        }
+    }
+    t_eye *prev = calloc(2, sizeof(t_eye)), *cur = calloc(2, sizeof(t_eye));
+    bool ok = rig_render(&r, &f0) && rig_read(&r, 0, &prev[0]) && rig_read(&r, 1, &prev[1]);
+    if (ok) {
+        check_first_frame(&prev[0]);
+        check_first_frame(&prev[1]);
+    }
+    ok = ok && rig_render(&r, &f1) && rig_read(&r, 0, &cur[0]) && rig_read(&r, 1, &cur[1]);
+    uint32_t compared = 0, flat = 0, decided = 0, disagree = 0, rejected = 0;
+    double max_err = 0.0, max_flat_err = 0.0;
+    static const double no_shift[3] = {0, 0, 0};
+    for (int e = 0; e < 2 && ok; e++) {
+        t_cam c0 = make_cam(&f0.views[e]), c1 = make_cam(&f1.views[e]);
+        const t_eye *a = &prev[e], *b = &cur[e];
+        for (uint32_t p = 0; p < T_W * T_H; p++) {
+            uint32_t inst = inst_at(b, p);
+            double pos[2], d_exp = 0.0, h[3] = {0};
+            bool all4 = false, is_flat = false;
+            double w = 0.0;
+            if (cpu_reproject(&c1, &c0, p, b->depth[p], inst != XS_MISS_INSTANCE, no_shift, pos,
+                              &d_exp))
+                w = cpu_history(a, pos, inst, d_exp, cpu_tolerance(b, p, d_exp), h, &all4,
+                                &is_flat);
+            bool gpu_blended = b->aux[4 * p + 3] == XS_TF_STATUS_BLENDED;
+            rejected += b->aux[4 * p + 3] == XS_TF_STATUS_REJECTED;
+            /* decisions near the threshold may flip with float rounding */
+            if (fabs(w - XS_TF_MIN_WEIGHT) > 1e-3) {
+                decided++;
+                disagree += gpu_blended != (w >= XS_TF_MIN_WEIGHT);
+            }
+            if (!gpu_blended || !all4)
+                continue;
+            compared++;
+            for (int i = 0; i < 3; i++)
+                max_err = fmax(max_err, fabs(b->reproj[4 * p + i] - h[i]));
+            if (is_flat) {
+                flat++;
+                for (int i = 0; i < 3; i++)
+                    max_flat_err =
+                        fmax(max_flat_err, fabs(b->reproj[4 * p + i] - b->src[4 * p + i]));
+            }
+        }
+        count_status(b, XS_TF_STATUS_REJECTED, true);
+    }
+    printf("  %s: %u px compared (%u flat), max |GPU - CPU| %.2g, max |history - current| on "
+           "flat taps %.2g, %u/%u decisions differ, %u rejected\n",
+           translate ? "turn + move" : "turn", compared, flat, max_err, max_flat_err, disagree,
+           decided, rejected);
+    CHECK(compared > 2u * T_W * T_H * 7u / 10u);
+    CHECK(flat > 2u * T_W * T_H / 4u);
+    CHECK(max_err <= T_EXACT_TOL);
+    CHECK(max_flat_err <= T_FLAT_TOL);
+    CHECK(disagree <= decided / 200u);
+    CHECK(rejected > 0); /* the image border the turn brought in */
+    /* reset: no history again */
+    tf_taa_reset(r.taa);
+    if (ok && rig_render(&r, &f1) && rig_read(&r, 0, &cur[0]))
+        check_first_frame(&cur[0]);
+    free(prev);
+    free(cur);
+    rig_close(&r);
+}
+
+static void test_reprojection_turn(void)
+{
+    camera_motion_case(false);
+}
+static void test_reprojection_turn_and_move(void)
+{
+    camera_motion_case(true);
+}
+
+/* ---- 3. disocclusion with a moving instance ---- */
+
+/** A glTF of a wall and a quad in front of it that moves right by `move` over 1 s. */
+static const char *moving_quad_scene(void)
+{
+    /* buffer: per quad 4 positions + 4 normals (96 B), u16 indices (12 B), times (8 B),
+     * translations at t = 0 and 1 (24 B) */
+    enum { QUADS = 2 };
+    static const float half[QUADS] = {4.0f, 0.3f};
+    static const float pos[QUADS][3] = {{0, 0, -4}, {-0.3f, 0, -1.5f}};
+    static const float col[QUADS][3] = {{0.2f, 0.4f, 0.6f}, {0.9f, 0.1f, 0.1f}};
+    uint8_t buf[QUADS * 96 + 12 + 8 + 24];
+    size_t off = 0;
+    for (int i = 0; i < QUADS; i++) {
+        float h = half[i];
+        float p[12] = {-h, -h, 0, h, -h, 0, h, h, 0, -h, h, 0};
+        float n[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+        memcpy(buf + off, p, 48);
+        memcpy(buf + off + 48, n, 48);
+        off += 96;
+    }
+    const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+    memcpy(buf + off, idx, 12);
+    const float times[2] = {0.0f, 1.0f};
+    memcpy(buf + off + 12, times, 8);
+    const float tr[6] = {pos[1][0], pos[1][1], pos[1][2], pos[1][0] + 0.6f, pos[1][1], pos[1][2]};
+    memcpy(buf + off + 20, tr, 24);
+    char *uri = t_data_uri(buf, sizeof(buf));
+    char *json = malloc(8192 + strlen(uri));
+    snprintf(
+        json, 8192 + strlen(uri),
+        "{\"asset\":{\"version\":\"2.0\"},\"extras\":{\"xrsc_environment\":[0.5,0.5,0.5]},"
+        "\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],"
+        "\"nodes\":[{\"mesh\":0,\"translation\":[%g,%g,%g]},"
+        "{\"mesh\":1,\"translation\":[%g,%g,%g]}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"NORMAL\":1},"
+        "\"indices\":4,\"material\":0}]},{\"primitives\":[{\"attributes\":{\"POSITION\":2,"
+        "\"NORMAL\":3},\"indices\":4,\"material\":1}]}],"
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[%g,%g,%g,1],"
+        "\"metallicFactor\":0}},{\"pbrMetallicRoughness\":{\"baseColorFactor\":[%g,%g,%g,1],"
+        "\"metallicFactor\":0}}],"
+        "\"accessors\":["
+        "{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\","
+        "\"min\":[%g,%g,0],\"max\":[%g,%g,0]},"
+        "{\"bufferView\":1,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\"},"
+        "{\"bufferView\":2,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\","
+        "\"min\":[%g,%g,0],\"max\":[%g,%g,0]},"
+        "{\"bufferView\":3,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\"},"
+        "{\"bufferView\":4,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"},"
+        "{\"bufferView\":5,\"componentType\":5126,\"count\":2,\"type\":\"SCALAR\","
+        "\"min\":[0],\"max\":[1]},"
+        "{\"bufferView\":6,\"componentType\":5126,\"count\":2,\"type\":\"VEC3\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":48},"
+        "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":48},"
+        "{\"buffer\":0,\"byteOffset\":96,\"byteLength\":48},"
+        "{\"buffer\":0,\"byteOffset\":144,\"byteLength\":48},"
+        "{\"buffer\":0,\"byteOffset\":192,\"byteLength\":12},"
+        "{\"buffer\":0,\"byteOffset\":204,\"byteLength\":8},"
+        "{\"buffer\":0,\"byteOffset\":212,\"byteLength\":24}],"
+        "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"%s\"}],"
+        "\"animations\":[{\"samplers\":[{\"input\":5,\"output\":6,\"interpolation\":\"LINEAR\"}],"
+        "\"channels\":[{\"sampler\":0,\"target\":{\"node\":1,\"path\":\"translation\"}}]}]}",
+        pos[0][0], pos[0][1], pos[0][2], pos[1][0], pos[1][1], pos[1][2], col[0][0], col[0][1],
+        col[0][2], col[1][0], col[1][1], col[1][2], -half[0], -half[0], half[0], half[0], -half[1],
+        -half[1], half[1], half[1], sizeof(buf), uri);
+    const char *path = t_temp_file("taa_moving_quad.gltf", json);
+    free(json);
+    free(uri);
+    return path;
+}
+
+static void set_time(t_rig *r, double t_s)
+{
+    sc_scene_evaluate(r->cpu, t_s);
+    xrsc_diag diag = {0};
+    CHECK_EQ_INT(gpu_scene_stage_instances(r->gpu, r->gs, r->cpu, &diag), XRSC_OK);
+}
+
+static void test_disocclusion_moving_instance(void)
+{
+    t_rig r;
+    if (!rig_open(&r, moving_quad_scene(), XRSC_METHOD_PRIMARY, XRSC_TAA_ON)) {
+        rig_close(&r);
+        return;
+    }
+    uint32_t mover = UINT32_MAX;
+    for (uint32_t i = 0; i < r.cpu->instance_count; i++)
+        if (r.cpu->instances[i].animated)
+            mover = i;
+    CHECK(mover != UINT32_MAX && r.cpu->instance_count == 2);
+    XrPosef head = {.orientation = {0, 0, 0, 1}, .position = {0, 0, 0}};
+    xrsc_frame f0 = headset_frame(head, 0), f1 = headset_frame(head, 1);
+    t_eye *prev = calloc(2, sizeof(t_eye)), *cur = calloc(2, sizeof(t_eye));
+    double w0[3], w1[3];
+    set_time(&r, 0.0);
+    for (int i = 0; i < 3; i++)
+        w0[i] = r.cpu->instances[mover].world[12 + i];
+    bool ok = rig_render(&r, &f0) && rig_read(&r, 0, &prev[0]) && rig_read(&r, 1, &prev[1]);
+    set_time(&r, 0.5); /* the quad moves 0.3 m right: ~8 px at 1.5 m */
+    for (int i = 0; i < 3; i++)
+        w1[i] = r.cpu->instances[mover].world[12 + i];
+    double shift[3] = {w1[0] - w0[0], w1[1] - w0[1], w1[2] - w0[2]};
+    CHECK(shift[0] > 0.25);
+    ok = ok && rig_render(&r, &f1) && rig_read(&r, 0, &cur[0]) && rig_read(&r, 1, &cur[1]);
+    static const double no_shift[3] = {0, 0, 0};
+    uint32_t uncovered = 0, uncovered_ok = 0, on_mover = 0, mover_ok = 0;
+    for (int e = 0; e < 2 && ok; e++) {
+        t_cam c = make_cam(&f0.views[e]);
+        const t_eye *a = &prev[e], *b = &cur[e];
+        for (uint32_t p = 0; p < T_W * T_H; p++) {
+            uint32_t inst = inst_at(b, p);
+            if (inst == XS_MISS_INSTANCE)
+                continue;
+            double pos[2], d_exp, h[3];
+            bool all4, flat;
+            if (!cpu_reproject(&c, &c, p, b->depth[p], true, inst == mover ? shift : no_shift, pos,
+                               &d_exp))
+                continue;
+            int nx = (int)floor(pos[0]), ny = (int)floor(pos[1]);
+            if (nx < 1 || ny < 1 || nx >= (int)T_W - 1 || ny >= (int)T_H - 1)
+                continue;
+            double w =
+                cpu_history(a, pos, inst, d_exp, cpu_tolerance(b, p, d_exp), h, &all4, &flat);
+            float status = b->aux[4 * p + 3];
+            if (inst != mover && w == 0.0) {
+                /* wall the quad covered in frame 0 */
+                uncovered++;
+                uncovered_ok += status == XS_TF_STATUS_REJECTED &&
+                                memcmp(&b->out[4 * p], &b->src[4 * p], 16) == 0;
+            } else if (inst == mover && all4 && flat) {
+                on_mover++;
+                bool good = status == XS_TF_STATUS_BLENDED;
+                for (int c = 0; c < 3; c++) {
+                    good = good && fabsf(b->reproj[4 * p + c] - b->src[4 * p + c]) <= T_FLAT_TOL;
+                    /* the output too where clipping cannot touch it (flat 3 x 3) */
+                    good = good && (!flat3(b, p) ||
+                                    fabsf(b->out[4 * p + c] - b->src[4 * p + c]) <= T_FLAT_TOL);
+                }
+                mover_ok += good;
+            }
+        }
+        count_status(b, XS_TF_STATUS_REJECTED, true);
+    }
+    printf("  uncovered wall: %u/%u rejected (= current); moving quad: %u/%u follow its "
+           "motion\n",
+           uncovered_ok, uncovered, mover_ok, on_mover);
+    CHECK(uncovered >= 40u);
+    CHECK_EQ_INT(uncovered_ok, uncovered);
+    CHECK(on_mover >= 40u);
+    CHECK_EQ_INT(mover_ok, on_mover);
+    free(prev);
+    free(cur);
+    rig_close(&r);
+}
+
+/* ---- 4. PFJ23 weights ---- */
+
+static void test_pfj23_weights(void)
+{
+    t_rig r;
+    if (!rig_open(&r, t_source_path("scenes/cornell.gltf"), XRSC_METHOD_TAA, XRSC_TAA_PFJ23)) {
+        rig_close(&r);
+        return;
+    }
+    XrPosef head = {
+        .orientation = {r.cpu->viewpoint_orientation[0], r.cpu->viewpoint_orientation[1],
+                        r.cpu->viewpoint_orientation[2], r.cpu->viewpoint_orientation[3]},
+        .position = {r.cpu->viewpoint_position[0], r.cpu->viewpoint_position[1],
+                     r.cpu->viewpoint_position[2]}};
+    t_eye *e = calloc(1, sizeof(t_eye));
+    bool ok = true;
+    for (uint32_t i = 0; i < 16 && ok; i++) {
+        xrsc_frame f = headset_frame(head, i);
+        ok = rig_render(&r, &f);
+    }
+    uint32_t blended = 0, bad = 0;
+    double mean_alpha = 0.0;
+    for (uint32_t eye = 0; eye < 2 && ok && rig_read(&r, eye, e); eye++) {
+        blended += count_status(e, XS_TF_STATUS_BLENDED, false);
+        count_status(e, XS_TF_STATUS_REJECTED, true);
+        for (uint32_t p = 0; p < T_W * T_H; p++)
+            for (int c = 0; c < 3; c++) {
+                float a = e->aux[4 * p + c];
+                bad += !(a >= 0.0f && a <= 1.0f);
+                mean_alpha += a;
+            }
+    }
+    mean_alpha /= 2.0 * 3.0 * T_W * T_H;
+    printf("  pfj23: %u px blended, mean weight of the current frame %.3f, %u out of [0, 1]\n",
+           blended, mean_alpha, bad);
+    CHECK_EQ_INT(bad, 0);
+    CHECK(blended >= 2u * T_W * T_H * 99u / 100u); /* a still view keeps its history */
+    CHECK(mean_alpha < 0.5);                       /* and averages over frames */
+    free(e);
+    rig_close(&r);
+}
+
+int main(void)
+{
+    RUN(test_reprojection_turn);
+    RUN(test_reprojection_turn_and_move);
+    RUN(test_disocclusion_moving_instance);
+    RUN(test_pfj23_weights);
+    RUN(test_still_view_furnace);
+    RUN(test_still_view_cornell);
+    return t_finish();
+}
