@@ -42,7 +42,9 @@ typedef struct ts_views {
     uint32_t *hit[2];
 } ts_views;
 
-static inline bool ts_open(ts_rig *r, const char *scene_rel, const char *poses_rel, uint32_t w)
+/** Opens scene_rel (with scene options so, may be NULL) and poses_rel for w x w eyes. */
+static inline bool ts_open_with(ts_rig *r, const char *scene_rel, const xrsc_scene_options *so,
+                                const char *poses_rel, uint32_t w)
 {
     memset(r, 0, sizeof(*r));
     r->w = r->h = w;
@@ -51,7 +53,7 @@ static inline bool ts_open(ts_rig *r, const char *scene_rel, const char *poses_r
     CHECK_EQ_INT(xrsc_context_create(&co, &r->ctx, NULL), XRSC_OK);
     if (!r->ctx)
         return false;
-    CHECK_EQ_INT(xrsc_scene_load(r->ctx, t_source_path(scene_rel), NULL, &r->scene, NULL), XRSC_OK);
+    CHECK_EQ_INT(xrsc_scene_load(r->ctx, t_source_path(scene_rel), so, &r->scene, NULL), XRSC_OK);
     xrsc_diag diag = {0};
     CHECK_EQ_INT(
         hs_pose_stream_load(t_source_path(poses_rel), HS_POSE_FORMAT_AUTO, &r->poses, &diag),
@@ -65,6 +67,11 @@ static inline bool ts_open(ts_rig *r, const char *scene_rel, const char *poses_r
     r->instance_count = xrsc_scene_instance_flags(r->scene, r->flags, TS_MAX_INSTANCES);
     CHECK(r->instance_count <= TS_MAX_INSTANCES);
     return true;
+}
+
+static inline bool ts_open(ts_rig *r, const char *scene_rel, const char *poses_rel, uint32_t w)
+{
+    return ts_open_with(r, scene_rel, NULL, poses_rel, w);
 }
 
 static inline void ts_close(ts_rig *r)

@@ -234,6 +234,96 @@ xrsc_result xrsc_metrics_stereo_discrepancy(const xrsc_metrics_view *eye,
                                             xrsc_reproj_diff *out, uint8_t *out_status,
                                             float *out_sq_diff);
 
+/* ---- regions (issue 9: where methods fail) ---- */
+
+/**
+ * Image regions, one bit each in a region mask (::xrsc_metrics_regions). Masks come from the
+ * first-hit ids (XRSC_OUTPUT_HIT_ID: instance, UINT32_MAX = miss) and depth of the frame, so
+ * every method is scored on the same pixels.
+ */
+typedef enum xrsc_region {
+    XRSC_REGION_ALL = 0,   /**< every foreground pixel (a hit with depth > 0) */
+    XRSC_REGION_EDGE,      /**< a 3x3 neighbour hits another instance (or misses), or its depth
+                                differs by more than XRSC_REGION_EDGE_DEPTH_RATIO; both sides of
+                                a silhouette, background pixels included */
+    XRSC_REGION_OBJECT,    /**< first hit on an instance flagged XRSC_INSTANCE_FLAG_OBJECT */
+    XRSC_REGION_UNCOVERED, /**< foreground now, not visible last frame: reprojected by depth into
+                                the previous frame (static scene assumed) it lands outside the
+                                image, or none of its 2x2 nearest pixels there shows the same
+                                instance at the expected depth (depth_tolerance) */
+    XRSC_REGION_SPECULAR,  /**< first hit on an instance flagged XRSC_INSTANCE_FLAG_SPECULAR */
+    XRSC_REGION_ONE_EYE,   /**< foreground seen by this eye only: the same test into the other
+                                eye (instance only when other_hit_id is given) */
+    XRSC_REGION_COUNT
+} xrsc_region;
+#define XRSC_REGION_BIT(r) (1u << (r))
+/** Edge test: depth ratio between 3x3 neighbours above which a silhouette/crease is assumed.
+ *  Neighbours on one plane differ by a few percent except at grazing angles. */
+#define XRSC_REGION_EDGE_DEPTH_RATIO 0.1
+
+/** Per-instance flags (::xrsc_scene_instance_flags in xrsc.h fills them from a scene). */
+#define XRSC_INSTANCE_FLAG_OBJECT 1u   /**< animated (the node or an ancestor is) */
+#define XRSC_INSTANCE_FLAG_SPECULAR 2u /**< (metallic >= 0.5 or transmission > 0) and roughness
+                                            < 0.5: glossy metal, glass (seed 000 App. C) */
+
+/** Name of a region ("all", "edge", "object", "uncovered", "specular", "one_eye"), or "?". */
+const char *xrsc_region_name(xrsc_region region);
+
+/**
+ * What the region masks are made of. Cameras' width/height must equal width/height. Optional
+ * inputs (NULL) leave their regions empty: prev_* UNCOVERED, other_depth_m ONE_EYE,
+ * instance_flags OBJECT and SPECULAR (instances >= instance_count have no flags).
+ */
+typedef struct xrsc_region_input {
+    uint32_t width, height;
+    const uint32_t *hit_id; /**< w*h*4 (XRSC_OUTPUT_HIT_ID of this eye, this frame) */
+    const float *depth_m;   /**< w*h */
+    xrsc_metrics_camera camera;
+    const uint32_t *prev_hit_id; /**< optional: last frame, same eye (w*h*4) */
+    const float *prev_depth_m;   /**< optional with prev_hit_id */
+    xrsc_metrics_camera prev_camera;
+    const float *other_depth_m; /**< optional: the other eye, this frame */
+    xrsc_metrics_camera other_camera;
+    const uint8_t *instance_flags; /**< optional: per instance, XRSC_INSTANCE_FLAG_* */
+    uint32_t instance_count;
+    const uint32_t *other_hit_id; /**< optional with other_depth_m: adds the instance test */
+} xrsc_region_input;
+
+/** Fills out_mask (w*h bytes): bit XRSC_REGION_BIT(r) set when the pixel is in region r. */
+xrsc_result xrsc_metrics_regions(const xrsc_region_input *in, const xrsc_metrics_options *options,
+                                 uint8_t *out_mask);
+
+/**
+ * ::xrsc_metrics_error over the pixels whose mask has bit `region` only (N = 3 x their count).
+ * With no such pixel the errors are 0 and *out_count 0. out_count may be NULL.
+ */
+xrsc_result xrsc_metrics_region_error(const float *test_rgba, const float *ref_rgba,
+                                      const uint8_t *mask, xrsc_region region, uint32_t width,
+                                      uint32_t height, const xrsc_metrics_options *options,
+                                      xrsc_error_metrics *out, uint64_t *out_count);
+
+/**
+ * Recovery frames after an event (seed 000 Fig. 12's head turn): baseline = mean of err over
+ * the pre_frames frames before event_frame (0: all of them); the spike is the maximum of err at
+ * or after event_frame. Returns k - event_frame for the first k at or after the spike with
+ * err[k] <= factor * baseline (0 when the spike stays within it), UINT32_MAX when err never
+ * comes back, or no baseline can be formed (event_frame 0 or >= count, no finite value before
+ * it). NaN entries are frames without a measurement (e.g. unscored) and are skipped.
+ */
+uint32_t xrsc_metrics_recovery_frames(const double *err, uint32_t count, uint32_t event_frame,
+                                      uint32_t pre_frames, double factor);
+
+/**
+ * ::xrsc_metrics_recovery_frames for an event that lasts (a head turn from event_frame to
+ * end_frame): the baseline is taken before event_frame, the spike at or after it, and recovery
+ * is counted from end_frame: k - end_frame for the first k >= max(spike, end_frame) with
+ * err[k] <= factor * baseline. end_frame == event_frame is ::xrsc_metrics_recovery_frames.
+ * UINT32_MAX also when end_frame < event_frame or end_frame >= count.
+ */
+uint32_t xrsc_metrics_recovery_frames_after(const double *err, uint32_t count,
+                                            uint32_t event_frame, uint32_t pre_frames,
+                                            uint32_t end_frame, double factor);
+
 #ifdef __cplusplus
 }
 #endif
