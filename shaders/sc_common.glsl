@@ -45,6 +45,12 @@ layout(set = XS_SC_SET, binding = XS_SC_BIND_SRC, std430) buffer XsScSrcBlock
 {
     uint sc_src[];
 };
+/* `isrt`: the same binding holds the reprojection's 64-bit keys [slot][pix] instead
+ * (XS_SC_ISRT_KEY_*; the buffer is sized for them when scp.isrt_m > 0). */
+layout(set = XS_SC_SET, binding = XS_SC_BIND_SRC, std430) buffer XsScSrcKeyBlock
+{
+    uint64_t sc_src_key[];
+};
 layout(set = XS_SC_SET, binding = XS_SC_BIND_PLAN, std430) buffer XsScPlanBlock
 {
     uvec4 sc_plan[]; /* x trace bits, y new-sample bits, z shade bits, w visible count */
@@ -74,8 +80,14 @@ uint sc_prev() { return 1u - scp.cur; }
 uint sc_mask_at(uint c, uint pix) { return c * sc_plane() + pix; }
 /** Index of slot s of copy c in fh[] / rad[]. */
 uint sc_slot_at(uint c, uint s, uint pix) { return (c * scp.slots + s) * sc_plane() + pix; }
-/** Index of slot s of copy c in rad[]: without the shading cache rad[] holds one copy. */
-uint sc_rad_at(uint c, uint s, uint pix) { return sc_slot_at(scp.shade_cache != 0u ? c : 0u, s, pix); }
+/** Index of slot s of copy c in rad[]: without the shading cache rad[] holds one copy; in
+ *  `hybrid` (XS_SC_RAD_NONE) one dummy entry. */
+uint sc_rad_at(uint c, uint s, uint pix)
+{
+    if (scp.shade_cache == XS_SC_RAD_NONE)
+        return 0u;
+    return sc_slot_at(scp.shade_cache != 0u ? c : 0u, s, pix);
+}
 uint sc_occ(uint m) { return m & XS_SC_OCC_MASK; }
 uint sc_vis(uint m) { return m >> XS_SC_MAX_SLOTS; }
 uint sc_obit(uint s) { return 1u << s; }
@@ -83,6 +95,21 @@ uint sc_vbit(uint s) { return 1u << (s + XS_SC_MAX_SLOTS); }
 uint sc_all_slots() { return (1u << scp.slots) - 1u; }
 float sc_phi(uint eye) { return eye == 0u ? scp.phi_left : scp.phi_right; }
 vec3 sc_eye_pos(uint eye) { return frame.eyes[eye].view_inv[3].xyz; }
+
+/** `isrt` [DSK*17]: slot s of a pixel is the fixed sub-pixel cell (s % M, s / M) of an M x M
+ *  grid (seed 000 §5, Fig. 10). */
+bool sc_isrt() { return scp.isrt_m != 0u; }
+/** The slot (cell) of a sub-pixel position: pos in pixels, its fraction picks the cell. */
+uint sc_isrt_slot(vec2 pos)
+{
+    uvec2 c = min(uvec2(fract(pos) * float(scp.isrt_m)), uvec2(scp.isrt_m - 1u));
+    return c.y * scp.isrt_m + c.x;
+}
+/** The centre of slot s's cell, in [0, 1)^2 of the pixel. */
+vec2 sc_isrt_cell_centre(uint s)
+{
+    return (vec2(s % scp.isrt_m, s / scp.isrt_m) + 0.5) / float(scp.isrt_m);
+}
 
 /** Listing 1 (xs_sc_math.h for the 24-bit barycentrics). */
 uvec4 sc_encode_hit(uint instance, uint primitive, vec2 bary, uint material)
@@ -151,14 +178,9 @@ bool sc_project(uint eye, vec4 p_world, out vec2 pos)
            all(lessThan(pos, vec2(frame.width, frame.height)));
 }
 
-/* Albedo channels below this are not divided out (nor multiplied back): black base colours
- * can still reflect specularly. */
-#define SC_DEMOD_MIN 1e-3
-/** The factor radiance is demodulated by / remodulated with (§3.3). */
-vec3 sc_demod(vec3 albedo)
-{
-    return mix(vec3(1.0), albedo, greaterThanEqual(albedo, vec3(SC_DEMOD_MIN)));
-}
+/** The factor radiance is demodulated by / remodulated with (§3.3; xs_demod, shared with the
+ *  hash cache). */
+vec3 sc_demod(vec3 albedo) { return xs_demod(albedo); }
 
 /** Per-eye statistics of copy c. */
 uint sc_stats_at(uint c, uint eye) { return c * 2u + eye; }

@@ -6,6 +6,10 @@
  *
  * One invocation per target pixel (x, y, eye), looping over its slots; data and the mask's
  * occupancy/visibility bits then always belong to the same sample. Counts importance (§3.5).
+ *
+ * `isrt` (scp.isrt_m > 0) always runs this pass: each cell's winning key (sc_reproject.comp,
+ * XS_SC_ISRT_KEY_*) names the sample to copy, and this invocation writes the pixel's mask,
+ * which nothing else touches in that variant.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -16,6 +20,36 @@
 
 layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1) in;
 
+/** Copies the sample of the previous copy at address addr into slot s of pix (copy cur). */
+void copy_sample(uint eye, uint pix, uint s, uint addr, bool visible)
+{
+    uint plane = sc_plane();
+    uint prev = sc_prev();
+    uint src_slot = addr / plane;
+    uint src_pix = addr - src_slot * plane;
+    uvec4 fh = sc_fh[sc_slot_at(prev, src_slot, src_pix)];
+    vec4 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_at(prev, src_slot, src_pix)] : vec4(0.0);
+    sc_fh[sc_slot_at(scp.cur, s, pix)] = fh;
+    sc_rad[sc_rad_at(scp.cur, s, pix)] = rad;
+    if (visible && !sc_is_background(fh) && scp.shade_mode == XS_SC_SHADE_ADAPTIVE)
+        sc_count_importance(eye, xs_sc_importance(rad.w));
+}
+
+/** `isrt`: the winner of each cell, and the pixel's mask. */
+void copy_isrt(uint eye, uint pix)
+{
+    uint m = 0u;
+    for (uint s = 0u; s < scp.slots; s++) {
+        uint64_t key = sc_src_key[s * sc_plane() + pix];
+        if (key == SC_DEPTH_MIN_NONE)
+            continue;
+        bool visible = (key >> XS_SC_ISRT_KEY_INVISIBLE_SHIFT) == 0ul;
+        copy_sample(eye, pix, s, uint(key & 0xFFFFFFFFul) - 1u, visible);
+        m |= sc_obit(s) | (visible ? sc_vbit(s) : 0u);
+    }
+    sc_mask[sc_mask_at(scp.cur, pix)] = m;
+}
+
 void main()
 {
     uvec3 g = gl_GlobalInvocationID;
@@ -23,24 +57,13 @@ void main()
         return;
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
-    uint plane = sc_plane();
-    uint prev = sc_prev();
-    uint cur = scp.cur;
+    if (sc_isrt()) {
+        copy_isrt(eye, pix);
+        return;
+    }
     for (uint s = 0u; s < scp.slots; s++) {
-        uint w = sc_src[s * plane + pix];
-        if (w == 0u)
-            continue;
-        uint addr = (w & XS_SC_SRC_ADDR_MASK) - 1u;
-        uint src_slot = addr / plane;
-        uint src_pix = addr - src_slot * plane;
-        uint src_at = sc_slot_at(prev, src_slot, src_pix);
-        uint dst_at = sc_slot_at(cur, s, pix);
-        uvec4 fh = sc_fh[src_at];
-        vec4 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_at(prev, src_slot, src_pix)] : vec4(0.0);
-        sc_fh[dst_at] = fh;
-        sc_rad[sc_rad_at(cur, s, pix)] = rad;
-        if ((w & XS_SC_SRC_VISIBLE) != 0u && !sc_is_background(fh) &&
-            scp.shade_mode == XS_SC_SHADE_ADAPTIVE)
-            sc_count_importance(eye, xs_sc_importance(rad.w));
+        uint w = sc_src[s * sc_plane() + pix];
+        if (w != 0u)
+            copy_sample(eye, pix, s, (w & XS_SC_SRC_ADDR_MASK) - 1u, (w & XS_SC_SRC_VISIBLE) != 0u);
     }
 }

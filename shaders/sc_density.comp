@@ -21,6 +21,10 @@
  * their occupancy bit now and are traced through a random point of the pixel by sc_trace.rgen
  * (plan.y). Reads the visible counts of the 5 x 5 neighbourhood from plan.w (written by
  * sc_trace_mask.comp; each once) and writes only its own pixel.
+ *
+ * `isrt` (scp.isrt_m > 0): no density control, the M x M layout fixes the count [DSK*17]:
+ * every cell without a visible sample gets a new one (traced through the cell's centre by
+ * sc_trace.rgen), nothing is pruned.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -50,6 +54,16 @@ void main()
         return;
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
+    if (sc_isrt()) {
+        uint mi = sc_mask_at(scp.cur, pix);
+        uint m = sc_mask[mi];
+        uint vis = sc_vis(m) & sc_all_slots();
+        uint empty = sc_all_slots() & ~vis;
+        sc_mask[mi] = (sc_occ(m) | empty) | (vis << XS_SC_MAX_SLOTS);
+        sc_plan[pix].x &= ~empty;
+        sc_plan[pix].y = empty;
+        return;
+    }
     /* the 3 x 3 means of the neighbourhoods containing this pixel (each clipped to the
      * image, as each of those pixels measures its own), from the visible counts of the 5 x 5
      * window loaded once (pixels outside the image count 0; integer sums, so the order of

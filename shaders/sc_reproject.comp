@@ -19,6 +19,14 @@
  * Visible samples also update the target pixel's closest distance + slope (Eq. 1) in one
  * 64-bit atomicMin and its farthest distance (atomicMax on the float bits), §3.4; the 1-pass
  * variant counts importance (§3.5) here, the 2-pass one in sc_copy.comp.
+ *
+ * `isrt` (scp.isrt_m = M > 0, [DSK*17] as seed 000 §5 / Fig. 10 uses it): no reservation; the
+ * slot is the sub-pixel cell of the M x M grid that contains the reprojected position, and of
+ * the samples arriving in one cell the one with the smallest key (XS_SC_ISRT_KEY_*: visible
+ * first, then the closest, then the lowest source address) wins through a 64-bit atomicMin, so
+ * the result does not depend on the order of arrival; sc_copy.comp then copies the winners.
+ * The depth words count every visible arrival, losers too: two surfaces in one cell are an
+ * edge that Eq. 2 should see.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -68,6 +76,26 @@ bool try_reserve(uint tmask, uint i, bool visible, inout uint m)
     return success;
 }
 
+/** The target pixel's depth words (§3.4): closest distance + slope, farthest distance. */
+void update_depth_words(uint tpix, bool background, float t, float slope)
+{
+    if (!background) {
+        uint64_t packed = (uint64_t(floatBitsToUint(t)) << 32) | uint64_t(floatBitsToUint(slope));
+        atomicMin(sc_depth_min[tpix], packed);
+    }
+    atomicMax(sc_depth_max[tpix], floatBitsToUint(t));
+}
+
+/** `isrt`: offers source sample (slot s of pix) to the cell of pos in target pixel tpix. */
+void isrt_offer(uint s, uint pix, uint tpix, vec2 pos, bool visible, float t)
+{
+    uint key_at = sc_isrt_slot(pos) * sc_plane() + tpix;
+    uint64_t key = (uint64_t(visible ? 0u : 1u) << XS_SC_ISRT_KEY_INVISIBLE_SHIFT) |
+                   (uint64_t(floatBitsToUint(t)) << XS_SC_ISRT_KEY_T_SHIFT) |
+                   uint64_t(s * sc_plane() + pix + 1u);
+    atomicMin(sc_src_key[key_at], key);
+}
+
 void main()
 {
     uvec3 g = gl_GlobalInvocationID;
@@ -107,6 +135,12 @@ void main()
         }
         uint tpix = sc_pix(eye, uvec2(pos));
         uint tmask = sc_mask_at(cur, tpix);
+        if (sc_isrt()) {
+            isrt_offer(s, pix, tpix, pos, visible, t);
+            if (visible)
+                update_depth_words(tpix, background, t, slope);
+            continue;
+        }
 
         /* Listing 2, write_sample */
         uint m = sc_mask[tmask];
@@ -137,13 +171,7 @@ void main()
             if (visible && !background && scp.shade_mode == XS_SC_SHADE_ADAPTIVE)
                 sc_count_importance(eye, xs_sc_importance(rad.w));
         }
-        if (visible) {
-            if (!background) {
-                uint64_t packed = (uint64_t(floatBitsToUint(t)) << 32) |
-                                  uint64_t(floatBitsToUint(slope));
-                atomicMin(sc_depth_min[tpix], packed);
-            }
-            atomicMax(sc_depth_max[tpix], floatBitsToUint(t));
-        }
+        if (visible)
+            update_depth_words(tpix, background, t, slope);
     }
 }

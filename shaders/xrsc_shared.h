@@ -63,6 +63,19 @@ typedef struct xs_mat4 { float m[16]; } xs_mat4; /* column-major */
 
 /* material flags */
 #define XS_MAT_DOUBLE_SIDED 1u
+#define XS_MAT_UNLIT 2u /* KHR_materials_unlit: shows base colour x texture, scatters nothing */
+
+/* texture slots of xs_material.uv_rows (KHR_texture_transform, one 2x3 matrix per slot) */
+#define XS_TEX_BASE 0
+#define XS_TEX_METAL_ROUGH 1
+#define XS_TEX_EMISSION 2
+#define XS_TEX_NORMAL 3
+#define XS_TEX_SLOTS 4
+
+/* xs_frame.jitter: sub-pixel positions of the samples (spp.rgen) */
+#define XS_JITTER_CENTRE 0u /* every sample through the pixel centre */
+#define XS_JITTER_RANDOM 1u /* each sample at a random position (the RNG's first 2 numbers) */
+#define XS_JITTER_OFFSET 2u /* every sample at (jitter_x, jitter_y): method `taa`'s Halton */
 
 /* path tracer defaults (seed 000 §5.1: three bounces, Russian roulette from the second) */
 #define XS_DEFAULT_MAX_BOUNCES 3u
@@ -72,6 +85,7 @@ XS_STRUCT(xs_vertex)
 {
     xs_vec4 position_u; /* xyz position (object space), w = uv.x */
     xs_vec4 normal_v;   /* xyz normal (object space), w = uv.y */
+    xs_vec4 tangent;    /* xyz tangent (object space, along +u), w = handedness +-1 (glTF) */
 } XS_END(xs_vertex);
 
 XS_STRUCT(xs_instance)
@@ -97,6 +111,11 @@ XS_STRUCT(xs_material)
     xs_uint metal_rough_tex;
     xs_uint emission_tex;
     xs_uint flags; /* XS_MAT_* */
+    xs_uint normal_tex;      /* tangent-space normal map (linear) or XS_NO_TEXTURE */
+    xs_float normal_scale;   /* scales the map's x and y (glTF normalTexture.scale) */
+    xs_uint pad0, pad1;
+    /* slot k's uv' = (dot(uv_rows[2k].xyz, (u, v, 1)), dot(uv_rows[2k+1].xyz, (u, v, 1))) */
+    xs_vec4 uv_rows[2 * XS_TEX_SLOTS];
 } XS_END(xs_material);
 
 XS_STRUCT(xs_emitter)
@@ -127,9 +146,10 @@ XS_STRUCT(xs_frame)
     xs_uint max_bounces;
     xs_uint emitter_count;
     xs_uint accumulate; /* 1: add to XS_BIND_ACCUM and write its mean; 0: this frame only */
-    xs_uint jitter;     /* 1: random sub-pixel positions; 0: every sample at the pixel centre */
+    xs_uint jitter;     /* XS_JITTER_*: where in the pixel the samples go */
     xs_uint seed;
-    xs_uint pad0, pad1, pad2;
+    xs_float jitter_x, jitter_y; /* XS_JITTER_OFFSET: the sub-pixel position in [0, 1)^2 */
+    xs_uint pad0;
 } XS_END(xs_frame);
 
 /* The primary payload: what the closest-hit shader reports. */
@@ -145,9 +165,10 @@ XS_STRUCT(xs_hit)
 
 #ifndef XRSC_GLSL
 #include <stddef.h>
-_Static_assert(sizeof(xs_vertex) == 32, "xs_vertex layout");
+_Static_assert(sizeof(xs_vertex) == 48, "xs_vertex layout");
 _Static_assert(sizeof(xs_instance) == 208, "xs_instance layout");
-_Static_assert(sizeof(xs_material) == 64, "xs_material layout");
+_Static_assert(sizeof(xs_material) == 208, "xs_material layout");
+_Static_assert(offsetof(xs_material, uv_rows) == 80, "xs_material layout");
 _Static_assert(sizeof(xs_emitter) == 16, "xs_emitter layout");
 _Static_assert(sizeof(xs_eye) == 208, "xs_eye layout");
 _Static_assert(offsetof(xs_frame, width) == 464, "xs_frame layout");

@@ -75,6 +75,10 @@
 #define XS_SC_ALPHA_CLAMPED 0u
 #define XS_SC_ALPHA_FIXED 1u
 
+/* xs_sc_params.shade_cache of `hybrid` (mt_hybrid.c): no per-sample radiance at all; rad[]
+ * is a one-entry dummy that every sc_rad_at index maps to (0: one copy, 1: two copies). */
+#define XS_SC_RAD_NONE 2u
+
 /* Instance value of a background sample (fh.xyz = unit world direction as float bits). */
 #define XS_SC_BACKGROUND XS_MISS_INSTANCE
 
@@ -82,6 +86,16 @@
  * (address = slot * plane + pix in the previous copy); 0 = nothing reserved. */
 #define XS_SC_SRC_VISIBLE 0x80000000u
 #define XS_SC_SRC_ADDR_MASK 0x7FFFFFFFu
+
+/* `isrt` [DSK*17] (seed 000 §5, Fig. 10): the reprojection's key per slot (64-bit atomicMin in
+ * the src[] buffer, then sc_copy.comp copies the winner): bit 63 = the source sample is
+ * INVISIBLE, bits 32..62 = its distance to the eye (float bits of t >= 0; +inf = background),
+ * bits 0..31 = source address + 1 (address as for the 2-pass word). The smallest key wins: a
+ * visible sample before an invisible one, then the closest, then the lowest address, whatever
+ * the order of arrival. All ones = nothing arrived (the fill value). */
+#define XS_SC_ISRT_KEY_INVISIBLE_SHIFT 63u
+#define XS_SC_ISRT_KEY_T_SHIFT 32u
+#define XS_SC_ISRT_MAX_M 4u
 
 /* Shade-list entries: pixel index (both eyes' planes) above the slot. */
 #define XS_SC_SHADE_SLOT_BITS 4u
@@ -103,7 +117,7 @@ XS_STRUCT(xs_sc_params)
     xs_uint cur;          /* copy written this frame (prev = 1 - cur) */
     xs_uint trace_mode;   /* XS_SC_TRACE_* */
     xs_uint two_pass;     /* 1: reservation writes src[], sc_copy.comp copies */
-    xs_uint shade_cache;  /* 0: radiance is not carried between frames */
+    xs_uint shade_cache;  /* 0: radiance is not carried between frames; XS_SC_RAD_NONE */
     xs_uint shade_mode;   /* XS_SC_SHADE_* */
     xs_uint alpha_mode;   /* XS_SC_ALPHA_* */
     xs_uint block;        /* base-rate block size (4) */
@@ -116,7 +130,9 @@ XS_STRUCT(xs_sc_params)
     xs_float phi_left;    /* per eye: angle subtended by a pixel's diagonal (Eq. 1), rad */
     xs_float phi_right;
     xs_uint shade_capacity; /* entries of the shade list (more chosen samples are dropped) */
-    xs_uint pad0, pad1, pad2;
+    xs_uint isrt_m; /* `isrt` (mt_isrt.c): M > 0 = slot s is sub-pixel cell (s % M, s / M) of
+                       an M x M grid, see XS_SC_ISRT_* (0: the plain sample cache) */
+    xs_uint pad1, pad2;
 }
 XS_END(xs_sc_params);
 

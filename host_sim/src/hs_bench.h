@@ -119,6 +119,13 @@ xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *
  */
 int hs_bench_main(int argc, char **argv);
 
+/**
+ * `xrsc bench --suite stability [...]` (hs_bench_suite.c, issue 9): the failure cases, each
+ * for every method present, scored per image region; called by hs_bench_main when argv has
+ * --suite. Same exit codes.
+ */
+int hs_bench_suite_main(int argc, char **argv);
+
 #ifdef __cplusplus
 }
 #endif

@@ -69,6 +69,10 @@ static void usage(FILE *f)
 "  --device D          cpu | gpu | index | name part\n"
 "  --validation        enable the Vulkan validation layer\n"
 "\n"
+"Suites:\n"
+"  --suite stability   the issue-9 failure cases for every method (xrsc bench --suite\n"
+"                      stability --help; bench/README.md)\n"
+"\n"
 "Output:\n"
 "  --out DIR           output folder                            [out/bench]\n"
 "  --fresh             ignore results and references already in DIR\n"
@@ -148,6 +152,9 @@ int hs_bench_main(int argc, char **argv)
     char *settings_file = NULL;
     static char scene_buf[4096], poses_buf[4096];
     bool warmup_given = false;
+    for (int i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--suite"))
+            return hs_bench_suite_main(argc, argv);
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];

@@ -37,6 +37,13 @@ typedef struct hs_bench_report_info {
     uint32_t floor_frame;
 } hs_bench_report_info;
 
+/** Creates dir/name, a gnuplot script whose preamble draws png (w x h pixels); NULL and diag on
+ *  failure. Shared by the report and the stability suite (hs_bench_suite.c). */
+FILE *hs_bench_open_script(const char *dir, const char *name, const char *png, int w, int h,
+                           xrsc_diag *diag);
+/** Runs `gnuplot script` in dir, its output into dir/gnuplot.log; false on failure. */
+bool hs_bench_run_gnuplot(const char *dir, const char *script);
+
 /**
  * Reads every setting's CSV back from out_dir/frames, writes bench.csv, summary.csv, the plot
  * data and the gnuplot scripts, runs gnuplot (unless opt->no_plots) and prints the summary.

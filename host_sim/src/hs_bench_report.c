@@ -221,8 +221,8 @@ static const char *const terminal_preamble =
     "set datafile missing 'nan'\n"
     "set grid\n";
 
-static FILE *open_script(const char *dir, const char *name, const char *png, int w, int h,
-                         xrsc_diag *diag)
+FILE *hs_bench_open_script(const char *dir, const char *name, const char *png, int w, int h,
+                           xrsc_diag *diag)
 {
     char path[HS_BENCH_PATH_MAX + 64];
     snprintf(path, sizeof(path), "%s/%s", dir, name);
@@ -235,8 +235,7 @@ static FILE *open_script(const char *dir, const char *name, const char *png, int
     return f;
 }
 
-/* Runs `gnuplot script` in dir, its output into dir/gnuplot.log; false on failure. */
-static bool run_gnuplot(const char *dir, const char *script)
+bool hs_bench_run_gnuplot(const char *dir, const char *script)
 {
     fflush(NULL);
     pid_t pid = fork();
@@ -603,7 +602,8 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "writing failed");
             goto done;
         }
-        FILE *g = open_script(opt->out_dir, "stereo_r.gp", "stereo_r.png", 1100, 520, diag);
+        FILE *g =
+            hs_bench_open_script(opt->out_dir, "stereo_r.gp", "stereo_r.png", 1100, 520, diag);
         if (!g) {
             res = diag ? diag->code : XRSC_ERROR_IO;
             goto done;
@@ -653,7 +653,8 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
     for (char *p = title; *p; p++)
         if (*p == '\'')
             *p = '"';
-    FILE *g = open_script(opt->out_dir, "error_vs_time.gp", "error_vs_time.png", 1300, 520, diag);
+    FILE *g = hs_bench_open_script(opt->out_dir, "error_vs_time.gp", "error_vs_time.png", 1300,
+                                   520, diag);
     if (!g) {
         res = diag ? diag->code : XRSC_ERROR_IO;
         goto done;
@@ -685,7 +686,7 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             if (cell(&tab[i], r, "warmup") == 0.0 && isfinite(v) && v > gpu_max)
                 gpu_max = v;
         }
-    g = open_script(opt->out_dir, "sequence.gp", "sequence.png", 1100, 1000, diag);
+    g = hs_bench_open_script(opt->out_dir, "sequence.gp", "sequence.png", 1100, 1000, diag);
     if (!g) {
         res = diag ? diag->code : XRSC_ERROR_IO;
         goto done;
@@ -708,7 +709,7 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             gpu_max > 0 ? 1.15 * gpu_max : 1.0);
     fclose(g);
 
-    g = open_script(opt->out_dir, "passes.gp", "passes.png", 1100, 550, diag);
+    g = hs_bench_open_script(opt->out_dir, "passes.gp", "passes.png", 1100, 550, diag);
     if (!g) {
         res = diag ? diag->code : XRSC_ERROR_IO;
         goto done;
@@ -726,7 +727,7 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
     if (!opt->no_plots) {
         const char *scripts[] = {"error_vs_time.gp", "sequence.gp", "passes.gp", "stereo_r.gp"};
         for (size_t k = 0; k < (any_r ? 4u : 3u); k++)
-            if (!run_gnuplot(opt->out_dir, scripts[k]))
+            if (!hs_bench_run_gnuplot(opt->out_dir, scripts[k]))
                 fprintf(stderr, "xrsc bench: warning: gnuplot %s failed (see %s/gnuplot.log)\n",
                         scripts[k], opt->out_dir);
     }

@@ -60,6 +60,7 @@ static const char *set_bounces(xrsc_renderer_options *o, const char *v)
     if (!parse_u32(v, 0, 16, &u))
         return "0..16";
     o->spp.max_bounces = o->samplecache.max_bounces = u ? u : XRSC_BOUNCES_NONE;
+    o->hashcache.max_bounces = o->spp.max_bounces;
     return NULL;
 }
 
@@ -163,6 +164,48 @@ static const char *set_alpha_fixed(xrsc_renderer_options *o, const char *v)
     return parse_pos(v, 1, &o->samplecache.alpha_fixed) ? NULL : "(0, 1]";
 }
 
+static const char *set_isrt_m(xrsc_renderer_options *o, const char *v)
+{
+    return parse_u32(v, 1, 4, &o->isrt.m) ? NULL : "1..4";
+}
+
+static const char *set_hc_table(xrsc_renderer_options *o, const char *v)
+{
+    return parse_u32(v, 16, 1u << 27, &o->hashcache.table_entries) ? NULL : "16..134217728";
+}
+
+static const char *set_hc_lod(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "distance"))
+        o->hashcache.lod = XRSC_HC_LOD_DISTANCE;
+    else if (!strcmp(v, "distance-normal"))
+        o->hashcache.lod = XRSC_HC_LOD_DISTANCE_NORMAL;
+    else
+        return "distance, distance-normal";
+    return NULL;
+}
+
+static const char *set_hc_voxel_scale(xrsc_renderer_options *o, const char *v)
+{
+    return parse_pos(v, 1024, &o->hashcache.voxel_scale) ? NULL : "(0, 1024]";
+}
+
+static const char *set_hc_max_age(xrsc_renderer_options *o, const char *v)
+{
+    return parse_u32(v, 1, UINT32_MAX, &o->hashcache.max_age) ? NULL : "frames >= 1";
+}
+
+static const char *set_hc_voxel_jitter(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "on"))
+        o->hashcache.no_voxel_jitter = false;
+    else if (!strcmp(v, "off"))
+        o->hashcache.no_voxel_jitter = true;
+    else
+        return "on, off";
+    return NULL;
+}
+
 static const char *set_blend(xrsc_renderer_options *o, const char *v)
 {
     return xrsc_blend_from_name(v, &o->blend) == XRSC_OK ? NULL : "none, pfj23, moments";
@@ -197,26 +240,35 @@ typedef struct bench_key {
 
 /* The setting dimensions. Add renderer options here. */
 static const bench_key keys[] = {
-    {"blend", M_SPP | M_PRIMARY | M_SC, set_blend, "",
-     "stereo blend none | pfj23 | moments (moments: spp, samplecache) [none]"},
-    {"r", M_SPP | M_PRIMARY | M_SC, set_r, "r", "sharpness R of the moments blend, [0, 1] [0]"},
+    {"blend", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HC | M_HY, set_blend, "",
+     "stereo blend none | pfj23 | moments (moments: spp, samplecache, isrt, hybrid) [none]"},
+    {"r", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HY, set_r, "r",
+     "sharpness R of the moments blend, [0, 1] [0]"},
     {"taa", M_ALL, set_taa, "taa",
      "TAA post-pass off | on | pfj23 [on for taa, pfj23 for hashcache/hybrid, else off]"},
     {"spp", M_SPP, set_spp, "", "samples per pixel per frame, 1..4096 [1]"},
-    {"bounces", M_SPP | M_SC, set_bounces, "b", "bounces after the first hit, 0..16 [3]"},
-    {"trace", M_SC, set_trace, "", "single | multi | adaptive [adaptive]"},
-    {"reproject", M_SC, set_reproject, "", "1pass | 2pass [1pass]"},
-    {"slots", M_SC, set_slots, "n", "slots per pixel, 1..16 [12]"},
-    {"target", M_SC, set_target, "t", "target samples per pixel [4]"},
-    {"delta", M_SC, set_delta, "d", "density tolerance [1]"},
-    {"eps0", M_SC, set_eps0, "e0", "retrace tolerance (relative) [0.001]"},
-    {"eps1", M_SC, set_eps1, "e1", "edge test epsilon (Eq. 2) [0.005]"},
-    {"block", M_SC, set_block, "blk", "base-rate block size [4]"},
-    {"shading_cache", M_SC, set_shading_cache, "shc", "on | off [on]"},
-    {"shade", M_SC, set_shade, "shade", "uniform | adaptive [uniform]"},
-    {"shade_rate", M_SC, set_shade_rate, "rate", "adaptive shading rate, percent [100]"},
-    {"alpha", M_SC, set_alpha, "alpha", "clamped | fixed [clamped]"},
-    {"alpha_fixed", M_SC, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},
+    {"bounces", M_SPP | M_SC | M_ISRT | M_HC | M_HY, set_bounces, "b", "bounces after the first hit, 0..16 [3]"},
+    {"trace", M_SC | M_ISRT | M_HY, set_trace, "", "single | multi | adaptive [adaptive]"},
+    {"reproject", M_SC | M_HY, set_reproject, "", "1pass | 2pass [1pass]"},
+    {"slots", M_SC | M_HY, set_slots, "n", "slots per pixel, 1..16 [12]"},
+    {"target", M_SC | M_HY, set_target, "t", "target samples per pixel [4]"},
+    {"delta", M_SC | M_HY, set_delta, "d", "density tolerance [1]"},
+    {"eps0", M_SC | M_ISRT | M_HY, set_eps0, "e0", "retrace tolerance (relative) [0.001]"},
+    {"eps1", M_SC | M_ISRT | M_HY, set_eps1, "e1", "edge test epsilon (Eq. 2) [0.005]"},
+    {"block", M_SC | M_ISRT | M_HY, set_block, "blk", "base-rate block size [4]"},
+    {"shading_cache", M_SC | M_ISRT, set_shading_cache, "shc", "on | off [on]"},
+    {"shade", M_SC | M_ISRT, set_shade, "shade", "uniform | adaptive [uniform]"},
+    {"shade_rate", M_SC | M_ISRT, set_shade_rate, "rate", "adaptive shading rate, percent [100]"},
+    {"alpha", M_SC | M_ISRT, set_alpha, "alpha", "clamped | fixed [clamped]"},
+    {"alpha_fixed", M_SC | M_ISRT, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},
+    {"m", M_ISRT, set_isrt_m, "m", "isrt: M x M fixed sub-pixel slots per pixel, 1..4 [2]"},
+    {"hc_table", M_HC | M_HY, set_hc_table, "tab", "hash cache entries, 16..2^27 [4194304]"},
+    {"hc_lod", M_HC | M_HY, set_hc_lod, "", "voxel LoD distance | distance-normal [distance]"},
+    {"hc_voxel_scale", M_HC | M_HY, set_hc_voxel_scale, "vs",
+     "voxel edge / pixel footprint [0.5]"},
+    {"hc_max_age", M_HC | M_HY, set_hc_max_age, "age",
+     "frames before an unaccessed entry may be overwritten [64]"},
+    {"hc_voxel_jitter", M_HC | M_HY, set_hc_voxel_jitter, "vj", "on | off [on]"},
 };
 #define KEY_COUNT (sizeof(keys) / sizeof(keys[0]))
 

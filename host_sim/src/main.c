@@ -7,6 +7,7 @@
 #include "hs_args.h"
 #include "hs_bench.h"
 #include "hs_metrics_cmd.h"
+#include "hs_poses_cmd.h"
 #include "hs_replay.h"
 #include "hs_xr_replay.h"
 #include "u_diag.h"
@@ -39,6 +40,7 @@ static void usage(FILE *f)
 "usage: xrsc [replay] [options]\n"
 "       xrsc metrics --ref DIR --test DIR [options]   (image metrics; xrsc metrics --help)\n"
 "       xrsc bench [options]        (speed vs. accuracy of methods; xrsc bench --help)\n"
+"       xrsc poses stats [--fastest S] FILE   (pose stream speed; xrsc poses --help)\n"
 "\n"
 "Replays a recorded head-pose stream over a glTF 2.0 scene, ray traces both eyes with\n"
 "Vulkan and writes the stereo result: per-eye and side-by-side PNG (tone-mapped), linear\n"
@@ -49,9 +51,18 @@ static void usage(FILE *f)
 "  --scene PATH        glTF scene (.gltf/.glb)        [scenes/cornell.gltf]\n"
 "  --poses PATH        pose stream                    [poses/orbit_cornell.xrpose]\n"
 "  --pose-format F     auto | xrsc | pred6dof | 360video | librnr   [auto]\n"
+"  --pose-columns L    read a CSV/TSV export by columns, e.g. t,x,y,z,qx,qy,qz,qw (any\n"
+"                      order; _ skips a column; delimiter, header and a leading index\n"
+"                      column are detected; poses/README.md, \"Import by columns\")\n"
+"  --pose-time-unit U  s | ms | us | ns | ticks (with --pose-columns) [s]\n"
+"  --pose-handedness H right | left-unity (with --pose-columns) [right]\n"
 "  --no-anchor         use the stream's coordinates as they are (default: its first pose\n"
 "                      is placed at the scene's viewpoint)\n"
-"  --start S           start S seconds into the stream [0]\n"
+"  --start S           start S seconds into the stream (past its end: an error) [0]\n"
+"  --fov F             headset | scene: scene = both eyes use the glTF camera's yfov and\n"
+"                      aspect ratio (needs --direct) [headset]\n"
+"  --frame             place the viewpoint so the scene's bounds fill the view (default:\n"
+"                      the glTF camera, else in front of the bounds looking down -Z)\n"
 "  --frames N          render N frames (0 = until the stream ends) [0]\n"
 "\n"
 "Rendering:\n"
@@ -78,6 +89,16 @@ static void usage(FILE *f)
 "  --sc-shade-rate P   adaptive shading rate, percent of the pixels [100]\n"
 "  --sc-alpha A        clamped | fixed (temporal blend, App. C) [clamped]\n"
 "  --sc-alpha-fixed X  alpha of --sc-alpha fixed      [0.1]\n"
+"  --isrt-m N          --method isrt: M x M fixed sub-pixel slots, 1..4 [2] (interactive\n"
+"                      stable ray tracing's layout, seed 000 Fig. 10; the --sc-* shading and\n"
+"                      --sc-trace options apply, slots/target/delta/reproject do not)\n"
+"\n"
+"Hash cache (--method hashcache, and hybrid's radiance; seed 000 section 4):\n"
+"  --hc-table N        table entries, 16..2^27 (24 B each) [4194304]\n"
+"  --hc-lod L          distance | distance-normal (voxel LoD; Fig. 9) [distance]\n"
+"  --hc-voxel-scale X  voxel edge / pixel footprint, rounded down to 2^k m [0.5]\n"
+"  --hc-max-age N      frames an entry lives unaccessed before it may be overwritten [64]\n"
+"  --hc-voxel-jitter   on | off (jitter the lookup within +-1/2 voxel, BFK18) [on]\n"
 "\n"
 "Stereo blend (after reconstruction, before submission; seed 000 section 3.6):\n"
 "  --blend B           none | pfj23 | moments         [none]\n"
@@ -117,11 +138,14 @@ static int bad_arg(const char *flag, const char *value, const char *why)
 /* Options that take a value; anything else starting with "--" is unknown. */
 static const char *const value_options[] = {
     "--scene", "--poses",   "--pose-format", "--start", "--frames", "--method",
+    "--pose-columns", "--pose-time-unit", "--pose-handedness", "--fov",
     "--spp",   "--bounces", "--resolution",  "--seed",  "--env",    "--device",
     "--ipd",   "--refresh", "--out",         "--write", "--exposure",
     "--sc-slots", "--sc-target", "--sc-delta", "--sc-eps0", "--sc-eps1", "--sc-block",
     "--sc-trace", "--sc-reproject", "--sc-shading-cache", "--sc-shade", "--sc-shade-rate",
     "--sc-alpha", "--sc-alpha-fixed", "--blend", "--blend-r", "--taa", "--taa-alpha",
+    "--isrt-m", "--hc-table", "--hc-lod", "--hc-voxel-scale", "--hc-max-age",
+    "--hc-voxel-jitter",
 };
 
 /* Positive float option; returns 0 or the exit code of bad_arg. */
@@ -206,12 +230,48 @@ static int parse_samplecache(const char *a, const char *v, xrsc_samplecache_opti
     return 0;
 }
 
+/* The --hc-* options (xrsc_hashcache_options); returns 0 or the exit code of bad_arg. */
+static int parse_hashcache(const char *a, const char *v, xrsc_hashcache_options *hc)
+{
+    uint32_t u;
+    if (!strcmp(a, "--hc-table")) {
+        if (!hs_parse_u32(v, &u) || u < 16 || u > (1u << 27))
+            return bad_arg(a, v, "expected 16..134217728");
+        hc->table_entries = u;
+    } else if (!strcmp(a, "--hc-lod")) {
+        if (!strcmp(v, "distance"))
+            hc->lod = XRSC_HC_LOD_DISTANCE;
+        else if (!strcmp(v, "distance-normal"))
+            hc->lod = XRSC_HC_LOD_DISTANCE_NORMAL;
+        else
+            return bad_arg(a, v, "expected distance or distance-normal");
+    } else if (!strcmp(a, "--hc-voxel-scale")) {
+        return parse_positive(a, v, 1024.0f, &hc->voxel_scale);
+    } else if (!strcmp(a, "--hc-max-age")) {
+        if (!hs_parse_u32(v, &u) || u < 1)
+            return bad_arg(a, v, "expected frames >= 1");
+        hc->max_age = u;
+    } else if (!strcmp(a, "--hc-voxel-jitter")) {
+        if (!strcmp(v, "on"))
+            hc->no_voxel_jitter = false;
+        else if (!strcmp(v, "off"))
+            hc->no_voxel_jitter = true;
+        else
+            return bad_arg(a, v, "expected on or off");
+    } else {
+        return bad_arg(a, NULL, "unknown option");
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1 && strcmp(argv[1], "metrics") == 0)
         return hs_metrics_main(argc - 1, argv + 1);
     if (argc > 1 && strcmp(argv[1], "bench") == 0)
         return hs_bench_main(argc - 1, argv + 1);
+    if (argc > 1 && strcmp(argv[1], "poses") == 0)
+        return hs_poses_main(argc - 1, argv + 1);
     hs_replay_options opt = {
         .scene_path = DEFAULT_SCENE,
         .poses_path = DEFAULT_POSES,
@@ -225,6 +285,7 @@ int main(int argc, char **argv)
     xrsc_headset_default(&opt.headset);
     bool quiet = false;
     bool direct = false; /* --direct: in-process, no OpenXR */
+    const char *pose_columns = NULL, *pose_time_unit = NULL, *pose_handedness = NULL;
 
     int i = 1;
     if (i < argc && strcmp(argv[i], "replay") == 0)
@@ -237,6 +298,10 @@ int main(int argc, char **argv)
         }
         if (!strcmp(a, "--no-anchor")) {
             opt.no_anchor = true;
+            continue;
+        }
+        if (!strcmp(a, "--frame")) {
+            opt.frame_bounds = true;
             continue;
         }
         if (!strcmp(a, "--direct")) {
@@ -278,6 +343,16 @@ int main(int argc, char **argv)
                 opt.pose_format = HS_POSE_FORMAT_LIBRNR;
             else
                 return bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
+        } else if (!strcmp(a, "--pose-columns")) {
+            pose_columns = v;
+        } else if (!strcmp(a, "--pose-time-unit")) {
+            pose_time_unit = v;
+        } else if (!strcmp(a, "--pose-handedness")) {
+            pose_handedness = v;
+        } else if (!strcmp(a, "--fov")) {
+            if (strcmp(v, "headset") && strcmp(v, "scene"))
+                return bad_arg(a, v, "expected headset or scene");
+            opt.fov_scene = !strcmp(v, "scene");
         } else if (!strcmp(a, "--start")) {
             if (!hs_parse_f(v, &d) || d < 0)
                 return bad_arg(a, v, "expected seconds >= 0");
@@ -292,6 +367,10 @@ int main(int argc, char **argv)
             if (!strcmp(v, "default") ||
                 xrsc_taa_mode_from_name(v, &opt.renderer.taa.mode) != XRSC_OK)
                 return bad_arg(a, v, "expected off, on or pfj23");
+        } else if (!strcmp(a, "--isrt-m")) {
+            if (!hs_parse_u32(v, &u) || u < 1 || u > 4)
+                return bad_arg(a, v, "expected 1..4");
+            opt.renderer.isrt.m = u;
         } else if (!strcmp(a, "--taa-alpha")) {
             int r = parse_positive(a, v, 1.0f, &opt.renderer.taa.alpha);
             if (r)
@@ -312,6 +391,7 @@ int main(int argc, char **argv)
                 return bad_arg(a, v, "expected 0..16");
             opt.renderer.spp.max_bounces = u ? u : XRSC_BOUNCES_NONE;
             opt.renderer.samplecache.max_bounces = opt.renderer.spp.max_bounces;
+            opt.renderer.hashcache.max_bounces = opt.renderer.spp.max_bounces;
         } else if (!strcmp(a, "--resolution")) {
             unsigned w = 0, h = 0;
             char tail;
@@ -366,11 +446,24 @@ int main(int argc, char **argv)
             int r = parse_samplecache(a, v, &opt.renderer.samplecache);
             if (r)
                 return r;
+        } else if (!strncmp(a, "--hc-", 5)) {
+            int r = parse_hashcache(a, v, &opt.renderer.hashcache);
+            if (r)
+                return r;
         } else {
             return bad_arg(a, NULL, "unknown option");
         }
     }
 
+    if (pose_columns) {
+        xrsc_diag pd = {0};
+        if (hs_pose_columns_parse(pose_columns, pose_time_unit, pose_handedness,
+                                  &opt.pose_columns, &pd) != XRSC_OK)
+            return bad_arg(pd.field, NULL, pd.message);
+    } else if (pose_time_unit || pose_handedness) {
+        return bad_arg(pose_time_unit ? "--pose-time-unit" : "--pose-handedness", NULL,
+                       "needs --pose-columns");
+    }
     if (!quiet)
         fprintf(stderr, "xrsc: replaying %s over %s (%s, %ux%u per eye)\n", opt.poses_path,
                 opt.scene_path, xrsc_method_name(opt.renderer.method), opt.renderer.width,

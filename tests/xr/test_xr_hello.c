@@ -207,7 +207,9 @@ static void hello_xr_realtime_pace(void)
     CHECK_MSG(p.exited && p.code == 0, "exit %d signal %d", p.code, p.sig);
     long long t[64];
     CHECK_EQ_INT(read_display_times(dir, t, 64), 45);
-    /* display times lie on the 90 Hz grid, strictly increasing */
+    /* display times lie on the 90 Hz grid, strictly increasing. How many steps are one period
+     * rather than several depends on how fast hello_xr renders, i.e. on scheduling (a busy
+     * machine misses refreshes), so it is printed, not asserted. */
     int one_period = 0;
     for (int i = 1; i < 45; i++) {
         long long d = t[i] - t[i - 1];
@@ -215,7 +217,7 @@ static void hello_xr_realtime_pace(void)
         CHECK_MSG(d > 0 && fabs(k - floor(k + 0.5)) < 1e-3, "step %d: %lld ns", i, d);
         one_period += fabs(k - 1.0) < 1e-3;
     }
-    CHECK_MSG(one_period >= 30, "only %d of 44 steps are one period", one_period);
+    printf("  %d of 44 display-time steps are one period\n", one_period);
     /* and xrWaitFrame really waits: 45 frames take at least ~0.45 s */
     CHECK_MSG(p.wall_s > 44.0 / 90.0, "wall %.3f s", p.wall_s);
 }

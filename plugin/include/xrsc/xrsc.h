@@ -70,6 +70,8 @@ typedef struct xrsc_scene_info {
     uint32_t instance_count, material_count, emitter_count;
     float animation_duration_s;
     bool has_camera;
+    float camera_yfov_rad;     /**< the glTF camera's perspective.yfov when has_camera */
+    float camera_aspect_ratio; /**< its aspectRatio; 0 when the file gives none */
     XrPosef viewpoint; /**< where a replay's first pose is anchored by default */
     float bounds_min[3], bounds_max[3];
     double blas_build_ms; /**< GPU time of the BLAS builds at load (timestamp queries) */
@@ -81,6 +83,14 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
                             xrsc_diag *out_diag);
 void xrsc_scene_destroy(xrsc_scene **scene);
 void xrsc_scene_get_info(const xrsc_scene *scene, xrsc_scene_info *out_info);
+/**
+ * Per-instance flags for the region metrics (xrsc_metrics.h, XRSC_INSTANCE_FLAG_*): OBJECT for
+ * animated instances, SPECULAR for material factors (metallic >= 0.5 or transmission > 0) with
+ * roughness < 0.5 (textures not read). Instance i is the first-hit id i of XRSC_OUTPUT_HIT_ID.
+ * Writes min(count, max_count) bytes to out (may be NULL) and returns the instance count
+ * (0 for a NULL scene).
+ */
+uint32_t xrsc_scene_instance_flags(const xrsc_scene *scene, uint8_t *out, uint32_t max_count);
 
 /**
  * Rendering methods.
@@ -95,15 +105,23 @@ typedef enum xrsc_method {
     XRSC_METHOD_PRIMARY = 1,
     XRSC_METHOD_SAMPLECACHE = 2,
     /** 1 spp path traced with Halton(2,3) sub-pixel jitter + TAA ([YLS20] as seed 000 §5 uses
-     *  it; TAA on by default, ::xrsc_taa_options). */
+     *  it; TAA on by default, ::xrsc_taa_options). Frame f samples every pixel of both eyes at
+     *  Halton point (f mod 16) + 1; max_bounces from ::xrsc_spp_options (its other fields are
+     *  ignored). Passes "trace", then "taa". */
     XRSC_METHOD_TAA = 3,
-    /** World-space hashed voxel radiance cache (seed 000 §4, seed 001), ::xrsc_hashcache_options;
-     *  TAA with PFJ23 weights on by default. */
+    /** World-space hashed voxel radiance cache (seed 000 §4, seed 001), ::xrsc_hashcache_options:
+     *  jittered 1 spp first hits (pass "trace"), then per pixel a lookup/reservation of the hit's
+     *  voxel, one secondary path per voxel and frame, the voxel's running mean of demodulated
+     *  radiance and the colour (pass "shade"); TAA with PFJ23 weights on by default. */
     XRSC_METHOD_HASHCACHE = 4,
     /** The sample cache's visibility (adaptive first-hit tracing, no shading storage) with
-     *  radiance from the hash cache at the hit voxel and its parent LoD (seed 000 §4);
-     *  ::xrsc_samplecache_options for visibility, ::xrsc_hashcache_options for radiance; TAA
-     *  with PFJ23 weights on by default. */
+     *  radiance from the hash cache at the hit voxel and its parent LoD (seed 000 §4): a shaded
+     *  sample updates one of the two levels at random, a visible sample's radiance is the
+     *  count-weighted mean of both; ::xrsc_samplecache_options for visibility (shade must be
+     *  uniform; the shading-cache and alpha fields do not apply), ::xrsc_hashcache_options for
+     *  radiance (its max_bounces, when set, overrides the sample cache's); TAA with PFJ23
+     *  weights on by default. Visibility (masks, first hits, depth, hit id) equals
+     *  `samplecache`'s with the same options and seed. */
     XRSC_METHOD_HYBRID = 5,
     /** Interactive stable ray tracing's superresolution layout [DSK*17] (seed 000 Fig. 10):
      *  M x M fixed sub-pixel slots per pixel with the sample cache's shading cache,
@@ -204,7 +222,13 @@ typedef struct xrsc_samplecache_options {
  * - XRSC_TAA_OFF: no temporal filter.
  * - XRSC_TAA_ON: fixed blend weight alpha (default 0.1) for the current frame.
  * - XRSC_TAA_PFJ23: per-pixel variance-based temporal blend weights of seed 004 instead of
- *   the fixed alpha.
+ *   the fixed alpha: its Eq. 4 per pixel and colour channel, with the current frame's variance
+ *   over the 3 x 3 neighbourhood (Eq. 10) and the mean squared difference of the reprojected
+ *   history to each neighbour (Eq. 11), as seed 004 §4.2 specifies; no variance clipping
+ *   (seed 004 §5.1 leaves out history rectification); the disocclusion test still applies.
+ * The history is the filtered colour before any stereo blend; the first frame of a renderer
+ * has none (its output is the method's colour). The output replaces the method's colour:
+ * XRSC_OUTPUT_COLOR, the OpenXR submission and the bench all see it.
  */
 typedef enum xrsc_taa_mode {
     XRSC_TAA_DEFAULT = 0,
@@ -232,10 +256,30 @@ typedef enum xrsc_hc_lod {
 
 /**
  * Options of the `hashcache` method and of `hybrid`'s radiance (seed 000 §4). Zero fields mean
- * the defaults: table_entries 2^22 (24 B each), lod distance, voxel_scale 0.5 (voxel edge =
- * half the pixel footprint at the hit distance, so a voxel is smaller than a pixel), max_age
- * 64 frames (an entry not accessed for that long may be overwritten), voxel jitter on,
- * max_bounces as ::xrsc_spp_options for the secondary path.
+ * the defaults: table_entries 2^22 (24 B each), lod distance, voxel_scale 0.5, max_age 64
+ * frames, voxel jitter on, max_bounces as ::xrsc_spp_options for the secondary path.
+ * - table_entries: rounded down to a multiple of 16 (4 x 4 tiles); 16 .. 2^27, else
+ *   XRSC_ERROR_INVALID_ARGUMENT. Linear probing visits at most 8 tiles; a lookup that finds
+ *   neither its voxel nor a free or stale entry there is a failed insert (the pixel is shaded
+ *   uncached that frame).
+ * - voxel_scale: voxel edge = 2^floor(log2(voxel_scale x footprint)) m, footprint = the pixel
+ *   size at the hit distance (tan-space pixel size at the image centre x distance), so with
+ *   the default a voxel is at most half a pixel; powers of two so the LoDs nest (hybrid's
+ *   parent = edge x 2). XRSC_HC_LOD_DISTANCE_NORMAL divides the footprint by
+ *   max(|cos theta|, 0.05) (theta: view ray vs. surface normal).
+ * - max_age: an entry whose last access is more than max_age frames old may be overwritten
+ *   (an eviction).
+ * - no_voxel_jitter: look voxels up at the hit itself instead of a position jittered by up to
+ *   half a voxel in the surface's tangent plane [BFK18] (hybrid: jitter applies to its
+ *   updates only; its reconstruction never jitters).
+ * A voxel keeps the running mean of its samples' demodulated radiance (divided by the
+ * first-hit albedo, as the sample cache), counting at most 256 samples (then an exponential
+ * average with weight 1/256); one pixel (hybrid: one shaded sample) per voxel and frame
+ * traces and updates it, the others read it (or, while it holds nothing yet, shade themselves
+ * uncached).
+ * Counters (xrsc_renderer_counters) of both methods: hc_table_bytes, hc_occupancy (entries
+ * accessed within max_age / entries), hc_probe_mean, hc_probe_max (tiles visited per lookup),
+ * hc_lookups, hc_inserts, hc_evictions, hc_failed_inserts, hc_traced (secondary paths).
  */
 typedef struct xrsc_hashcache_options {
     uint32_t table_entries;
@@ -246,7 +290,15 @@ typedef struct xrsc_hashcache_options {
     uint32_t max_bounces;
 } xrsc_hashcache_options;
 
-/** Options of `isrt`. m: M x M fixed sub-pixel slots per pixel, 1..4 (0: 2). */
+/**
+ * Options of `isrt`. m: M x M fixed sub-pixel slots per pixel, 1..4 (0: 2). Slot s of a pixel
+ * is the cell (s % M, s / M): a reprojected sample goes to the cell containing its new
+ * position (of several, the visible and then the closest one stays), every cell without a
+ * visible sample is traced through its centre, a retraced sample found occluded is replaced by
+ * the occluder. Retracing follows ::xrsc_samplecache_options trace (seed 000 Fig. 10 uses
+ * single); shading, the shading cache and reconstruction are the sample cache's own, with its
+ * shading options; slots, n_target, delta and reproject are not used (no density control).
+ */
 typedef struct xrsc_isrt_options {
     uint32_t m;
 } xrsc_isrt_options;
@@ -264,7 +316,7 @@ typedef struct xrsc_isrt_options {
  *   own samples (XRSC_OUTPUT_MU1/MU2, Eq. 5-7), this eye's blurred in 3 x 3 (weight 1 - R off
  *   centre, 1 at the centre), the other eye's resampled with Dodgson's quadratic kernel with R
  *   as its spline parameter (seed 000 §5.2); R smooths only these estimates, the colour X is
- *   resampled bilinearly as for PFJ23. Needs a method with moments (`spp`, `samplecache`).
+ *   resampled bilinearly as for PFJ23. Needs a method with moments (`spp`, `samplecache`, `hybrid`).
  */
 typedef enum xrsc_blend {
     XRSC_BLEND_NONE = 0,
@@ -324,7 +376,8 @@ typedef enum xrsc_output {
     XRSC_OUTPUT_HIT_ID, /**< uint32 x4: instance (UINT32_MAX = miss), primitive, bary u, v bits */
     /** float RGBA, `samplecache` and `spp`: raw moments of the pixel's samples (seed 000
      *  Eq. 5), rgb = mu_1 (resp. mu_2) per channel, a = c_X (Eq. 6, the pixel's effective
-     *  sample count). `spp`: the N path values of this frame's samples, c_s = 1, c_X = N. */
+     *  sample count). `spp`: the N path values of this frame's samples, c_s = 1, c_X = N.
+     *  `hybrid`: as `samplecache` with c_s = the hit voxel's + its parent's counts. */
     XRSC_OUTPUT_MU1,
     XRSC_OUTPUT_MU2,
 } xrsc_output;
@@ -349,8 +402,10 @@ typedef struct xrsc_pass_timing {
  * (animated) instances and of the TLAS, about 0 ms when nothing moved (static scenes, or the
  * same display time as the last frame). Then the method's passes: `spp` and `primary` have
  * one, "trace" (both eyes); `samplecache` has "reproject", "trace_mask", "density", "trace",
- * "shade", "reconstruct". With a stereo blend other than none, "blend" comes last (the copy
- * of the colour and the blend dispatch). Read-back copies for xrsc_renderer_read are not timed.
+ * "shade", "reconstruct" (`hybrid` the same); `hashcache` has "trace", "shade". With TAA on
+ * (::xrsc_taa_options), "taa" follows them (its copies and dispatch); with a stereo blend
+ * other than none, "blend" comes last (the copy of the colour and the blend dispatch).
+ * Read-back copies for xrsc_renderer_read are not timed.
  */
 uint32_t xrsc_renderer_timings(const xrsc_renderer *renderer, xrsc_pass_timing *out,
                                uint32_t max_count);

@@ -4,14 +4,17 @@
  * @brief The public API (xrsc.h) on top of the gpu, scene and methods layers.
  */
 #include "xrsc/xrsc.h"
+#include "xrsc/xrsc_metrics.h" /* XRSC_INSTANCE_FLAG_* (constants only) */
 
 #include "xrsc_core_internal.h"
 
 #include "gpu_scene.h"
+#include "mt_hashcache.h"
 #include "mt_method.h"
 #include "mt_samplecache.h"
 #include "sc_scene.h"
 #include "st_blend.h"
+#include "tf_taa.h"
 #include "u_diag.h"
 
 #include <stdlib.h>
@@ -38,8 +41,9 @@ struct xrsc_renderer {
     xrsc_scene *scene;
     mt_method *method;
     xrsc_renderer_options opt;
+    tf_taa *taa;     /**< NULL when TAA is off (after resolving XRSC_TAA_DEFAULT) */
     st_blend *blend; /**< NULL for XRSC_BLEND_NONE */
-    mt_post post;    /**< records the blend into the method's frame (env.post) */
+    mt_post post;    /**< records TAA, then the blend, into the method's frame (env.post) */
 };
 
 /* ---- context ---- */
@@ -129,6 +133,8 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
     info->emitter_count = c->emitter_count;
     info->animation_duration_s = c->animation_duration_s;
     info->has_camera = c->has_camera;
+    info->camera_yfov_rad = c->camera_yfov_rad;
+    info->camera_aspect_ratio = c->camera_aspect_ratio;
     info->viewpoint.position = (XrVector3f){c->viewpoint_position[0], c->viewpoint_position[1],
                                             c->viewpoint_position[2]};
     info->viewpoint.orientation =
@@ -164,6 +170,27 @@ void xrsc_scene_get_info(const xrsc_scene *scene, xrsc_scene_info *out_info)
         return;
     }
     *out_info = scene->info;
+}
+
+/* Material factors only: a texture could vary them per texel, but the case scenes use
+ * factors (scenes/README.md). */
+#define SPECULAR_METALLIC_MIN 0.5f
+#define SPECULAR_ROUGHNESS_MAX 0.5f
+
+uint32_t xrsc_scene_instance_flags(const xrsc_scene *scene, uint8_t *out, uint32_t max_count)
+{
+    if (!scene)
+        return 0;
+    const sc_scene *s = scene->cpu;
+    for (uint32_t i = 0; out && i < s->instance_count && i < max_count; i++) {
+        const sc_instance *inst = &s->instances[i];
+        const sc_material *m = &s->materials[s->meshes[inst->mesh].material];
+        bool glossy = (m->metallic >= SPECULAR_METALLIC_MIN || m->transmission > 0.0f) &&
+                      m->roughness < SPECULAR_ROUGHNESS_MAX;
+        out[i] = (uint8_t)((inst->animated ? XRSC_INSTANCE_FLAG_OBJECT : 0u) |
+                           (glossy ? XRSC_INSTANCE_FLAG_SPECULAR : 0u));
+    }
+    return s->instance_count;
 }
 
 /** Moves animated instances to time_ns (prev transforms keep the last evaluated time's). The
@@ -270,10 +297,43 @@ xrsc_result xrsc_blend_from_name(const char *name, xrsc_blend *out_blend)
     return XRSC_ERROR_INVALID_ARGUMENT;
 }
 
-/** mt_post: the blend pass after the method's last pass, in its command buffer and timer. */
-static void blend_record(void *user, VkCommandBuffer cmd, gpu_timer *timer, const xs_frame *xf)
+/** mt_post: the post-passes after the method's last pass, in its command buffer and timer:
+ *  TAA (its history is the filtered colour before any blend), then the stereo blend (seed 004
+ *  Fig. 1: stereo filtering on top of temporal filtering). Either may be absent. */
+static void post_record(void *user, VkCommandBuffer cmd, gpu_timer *timer, const xs_frame *xf)
 {
-    st_blend_cmd_record((st_blend *)user, cmd, timer, xf->eyes);
+    xrsc_renderer *r = user;
+    tf_taa_cmd_record(r->taa, cmd, timer, xf);
+    st_blend_cmd_record(r->blend, cmd, timer, xf->eyes);
+}
+
+/** XRSC_TAA_DEFAULT per method (xrsc.h): on for `taa`, pfj23 for `hashcache` and `hybrid`
+ *  (seed 000 §4), off for the others. */
+static xrsc_taa_mode taa_mode_resolve(xrsc_method method, xrsc_taa_mode mode)
+{
+    if (mode != XRSC_TAA_DEFAULT)
+        return mode;
+    if (method == XRSC_METHOD_TAA)
+        return XRSC_TAA_ON;
+    if (method == XRSC_METHOD_HASHCACHE || method == XRSC_METHOD_HYBRID)
+        return XRSC_TAA_PFJ23;
+    return XRSC_TAA_OFF;
+}
+
+/** The TAA post-pass on the method's colour, depth and hit ids, unless it resolves to off. */
+static xrsc_result taa_create(xrsc_renderer *r, xrsc_diag *diag)
+{
+    r->opt.taa.mode = taa_mode_resolve(r->opt.method, r->opt.taa.mode);
+    if (r->opt.taa.mode == XRSC_TAA_OFF)
+        return XRSC_OK;
+    tf_settings set = {.mode = r->opt.taa.mode, .alpha = r->opt.taa.alpha};
+    tf_images imgs = {
+        .color = mt_method_output_image(r->method, XRSC_OUTPUT_COLOR),
+        .depth = mt_method_output_image(r->method, XRSC_OUTPUT_DEPTH),
+        .hitid = mt_method_output_image(r->method, XRSC_OUTPUT_HIT_ID),
+    };
+    return tf_taa_create(r->ctx->gpu, r->scene->gpu, r->scene->cpu->instance_count,
+                         r->opt.width, r->opt.height, &set, &imgs, &r->taa, diag);
 }
 
 /* ---- renderers ---- */
@@ -306,7 +366,7 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
         .width = r->opt.width,
         .height = r->opt.height,
         .seed = r->opt.seed,
-        .post = &r->post, /* filled in once the blend exists */
+        .post = &r->post, /* filled in once TAA and the blend exist */
     };
     xrsc_result res;
     if ((unsigned)r->opt.blend > XRSC_BLEND_MOMENTS || !(r->opt.blend_r >= 0.0f) ||
@@ -314,6 +374,14 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
         res = u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "blend",
                          "blend %d with R = %g (R must be in [0, 1])", (int)r->opt.blend,
                          (double)r->opt.blend_r);
+        free(r);
+        return res;
+    }
+    if ((unsigned)r->opt.taa.mode > XRSC_TAA_PFJ23 || !(r->opt.taa.alpha >= 0.0f) ||
+        !(r->opt.taa.alpha <= 1.0f)) {
+        res = u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa",
+                         "TAA mode %d with alpha = %g (alpha must be in (0, 1], 0 = default)",
+                         (int)r->opt.taa.mode, (double)r->opt.taa.alpha);
         free(r);
         return res;
     }
@@ -327,12 +395,30 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
     case XRSC_METHOD_SAMPLECACHE:
         res = mt_samplecache_create(&env, &r->opt.samplecache, &r->method, out_diag);
         break;
+    case XRSC_METHOD_TAA:
+        res = mt_taa_create(&env, &r->opt.spp, &r->method, out_diag);
+        break;
+    case XRSC_METHOD_ISRT:
+        res = mt_isrt_create(&env, &r->opt.isrt, &r->opt.samplecache, &r->method, out_diag);
+        break;
+    case XRSC_METHOD_HASHCACHE:
+        res = mt_hashcache_create(&env, &r->opt.hashcache, &r->method, out_diag);
+        break;
+    case XRSC_METHOD_HYBRID:
+        res = mt_hybrid_create(&env, &r->opt.samplecache, &r->opt.hashcache, &r->method,
+                               out_diag);
+        break;
     default:
         res = u_diag_set(out_diag, XRSC_ERROR_UNKNOWN_METHOD, "", 0, "method",
                          "unknown method %d", (int)r->opt.method);
         break;
     }
     if (res != XRSC_OK) {
+        free(r);
+        return res;
+    }
+    if ((res = taa_create(r, out_diag)) != XRSC_OK) {
+        mt_method_destroy(&r->method);
         free(r);
         return res;
     }
@@ -348,11 +434,13 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
                               out_diag);
         if (res != XRSC_OK) {
             mt_method_destroy(&r->method);
+            tf_taa_destroy(&r->taa);
             free(r);
             return res;
         }
-        r->post = (mt_post){.record = blend_record, .user = r->blend};
     }
+    if (r->taa || r->blend)
+        r->post = (mt_post){.record = post_record, .user = r};
     *out_renderer = r;
     return XRSC_OK;
 }
@@ -362,6 +450,7 @@ void xrsc_renderer_destroy(xrsc_renderer **renderer)
     if (!renderer || !*renderer)
         return;
     mt_method_destroy(&(*renderer)->method);
+    tf_taa_destroy(&(*renderer)->taa);
     st_blend_destroy(&(*renderer)->blend);
     free(*renderer);
     *renderer = NULL;

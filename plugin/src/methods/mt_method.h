@@ -47,8 +47,9 @@ struct mt_method {
 
 /**
  * Work recorded after the method's last pass into its frame's one command buffer, before the
- * read-back copies (the stereo blend, plugin/src/stereo/): record(user, cmd, timer, xf) with
- * the method's pass timer and the frame's constants. record NULL: nothing.
+ * read-back copies (TAA, plugin/src/temporal/, then the stereo blend, plugin/src/stereo/):
+ * record(user, cmd, timer, xf) with the method's pass timer and the frame's constants (TAA
+ * reads xf's eyes as the current views). record NULL: nothing.
  */
 typedef struct mt_post {
     void (*record)(void *user, VkCommandBuffer cmd, gpu_timer *timer, const xs_frame *xf);
@@ -126,6 +127,15 @@ xrsc_result mt_primary_create(const mt_env *env, mt_method **out, xrsc_diag *dia
  * 1 sample per pixel, XS_DEFAULT_MAX_BOUNCES bounces, jitter on, no accumulation).
  */
 xrsc_result mt_spp_create(const mt_env *env, const xrsc_spp_options *options, mt_method **out,
+                          xrsc_diag *diag);
+
+/**
+ * `taa`'s rendering (mt_taa.c): 1 path-traced sample per pixel (spp.rgen) at the Halton(2,3)
+ * point (frame_index mod XS_TF_HALTON_PERIOD) + 1, the same sub-pixel offset in both eyes;
+ * max_bounces from options as `spp` (other fields ignored). The TAA itself is the renderer's
+ * post-pass (plugin/src/temporal/), on by default for this method.
+ */
+xrsc_result mt_taa_create(const mt_env *env, const xrsc_spp_options *options, mt_method **out,
                           xrsc_diag *diag);
 
 #ifdef __cplusplus

@@ -80,6 +80,8 @@ typedef struct mt_samplecache {
     gpu_rt_program shade;
     gpu_compute_program prog[PROG_COUNT];
     gpu_buffer params; /**< xs_sc_params, host-visible */
+    gpu_buffer shade_readback; /**< the shade list's count after the last frame (host) */
+    uint32_t shaded;           /**< samples shaded in the last frame, both eyes */
     gpu_buffer mask, fh, rad, depth_min, depth_max, src, plan, stats, shade_list;
     gpu_image mu1, mu2;
     xrsc_samplecache_options opt; /**< defaults filled in */
@@ -87,6 +89,7 @@ typedef struct mt_samplecache {
     uint32_t plane;      /**< 2 * width * height */
     uint32_t frames;     /**< rendered so far (0: the previous copy must be cleared) */
     uint32_t stop_after; /**< last STAGE_* recorded (debug; STAGE_RECONSTRUCT = all) */
+    const struct mt_sc_hybrid *hybrid; /**< `hybrid` (mt_hybrid.c, borrowed), else NULL */
 } mt_samplecache;
 
 _Static_assert(offsetof(mt_samplecache, base) == 0, "base first");
@@ -228,6 +231,8 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     xrsc_result res = mt_trace_cmd_frame_begin(t, &xf, &cmd, diag);
     if (res != XRSC_OK)
         return res;
+    if (s->hybrid) /* hybrid: the hash table's frame start */
+        s->hybrid->record_begin(s->hybrid->user, cmd);
 
     VkDeviceSize plane = s->plane;
     VkDeviceSize cur = s->p.cur;
@@ -242,10 +247,12 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     cmd_fill(cmd, &s->depth_max, 0, VK_WHOLE_SIZE, 0);
     if (s->p.two_pass)
         cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0);
+    if (s->p.isrt_m) /* the isrt keys: all ones = nothing arrived (XS_SC_ISRT_KEY_*) */
+        cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
     vkCmdFillBuffer(cmd, t->ray_counter.buffer, 0, sizeof(uint64_t), 0);
     gpu_cmd_barrier_all(cmd);
     dispatch(cmd, s, PROG_REPROJECT);
-    if (s->p.two_pass) {
+    if (s->p.two_pass || s->p.isrt_m) {
         gpu_cmd_barrier_all(cmd);
         dispatch(cmd, s, PROG_COPY);
     }
@@ -297,8 +304,12 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     mt_post_record(t->env.post, cmd, &t->timer, &xf); /* the stereo blend, if any */
 
 submit:;
+    if (s->hybrid) /* hybrid: the hash table's statistics */
+        s->hybrid->record_end(s->hybrid->user, cmd);
     VkBufferCopy region = {0, 0, sizeof(uint64_t)};
     vkCmdCopyBuffer(cmd, t->ray_counter.buffer, t->ray_readback.buffer, 1, &region);
+    VkBufferCopy count = {0, 0, sizeof(uint32_t)};
+    vkCmdCopyBuffer(cmd, s->shade_list.buffer, s->shade_readback.buffer, 1, &count);
     mt_trace_cmd_stage_outputs(t, cmd);
     gpu_cmd_barrier_all(cmd);
     res = gpu_cmd_submit_wait(ctx, cmd, diag);
@@ -310,7 +321,29 @@ submit:;
         return res;
     gpu_buffer_invalidate(ctx, &t->ray_readback);
     memcpy(&t->rays, t->ray_readback.mapped, sizeof(uint64_t));
+    gpu_buffer_invalidate(ctx, &s->shade_readback);
+    memcpy(&s->shaded, s->shade_readback.mapped, sizeof(uint32_t));
+    if (s->shaded > s->p.shade_capacity) /* the rest were dropped, not shaded */
+        s->shaded = s->p.shade_capacity;
     return XRSC_OK;
+}
+
+/* Counters: the shading work (seed 000 Fig. 14 compares shading rates) and the cache's size. */
+static uint32_t sc_counters(const mt_method *m, xrsc_counter *out, uint32_t max_count)
+{
+    const mt_samplecache *s = (const mt_samplecache *)m;
+    double resident, working;
+    mt_samplecache_bytes_per_pixel(m, &resident, &working);
+    double px = 2.0 * s->trace.env.width * s->trace.env.height;
+    xrsc_counter c[] = {
+        {"sc_shaded", (double)s->shaded},
+        {"sc_shaded_per_px", (double)s->shaded / px},
+        {"sc_bytes_per_px", resident + working},
+    };
+    uint32_t n = 0;
+    for (; n < max_count && n < sizeof(c) / sizeof(c[0]); n++)
+        out[n] = c[n];
+    return n;
 }
 
 static size_t sc_output_size(const mt_method *m, xrsc_output output)
@@ -366,6 +399,7 @@ static void sc_destroy(mt_method *m)
         gpu_image_destroy(ctx, &s->mu2);
         gpu_image_destroy(ctx, &s->mu1);
         gpu_buffer_destroy(ctx, &s->shade_list);
+        gpu_buffer_destroy(ctx, &s->shade_readback);
         gpu_buffer_destroy(ctx, &s->stats);
         gpu_buffer_destroy(ctx, &s->plan);
         gpu_buffer_destroy(ctx, &s->src);
@@ -404,11 +438,17 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
     mt_sc_variant var = {0};
     if (variant)
         var = *variant;
-    (void)var; /* filled in by the variants' code (isrt layout, hybrid radiance) */
     xrsc_samplecache_options o = {0};
     if (options)
         o = *options;
     fill_defaults(&o);
+    if (var.isrt_m) { /* isrt [DSK*17]: M x M cells; its own two reprojection steps */
+        if (var.isrt_m > XS_SC_ISRT_MAX_M)
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "m", "isrt M = %u > %u",
+                              var.isrt_m, XS_SC_ISRT_MAX_M);
+        o.slots = var.isrt_m * var.isrt_m;
+        o.reproject = XRSC_SC_REPROJECT_1PASS;
+    }
     uint64_t plane = 2ull * env->width * env->height;
     if (o.slots > XS_SC_MAX_SLOTS)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "slots",
@@ -451,8 +491,12 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         .alpha_fixed = o.alpha_fixed,
     };
     s->p.shade_capacity = shade_capacity(&o, env->width, env->height);
+    s->p.isrt_m = var.isrt_m;
+    s->hybrid = var.hybrid; /* hybrid: no per-sample radiance; its own shade and reconstruct */
+    if (s->hybrid)
+        s->p.shade_cache = XS_SC_RAD_NONE;
     s->base = (mt_method){
-        .name = "samplecache",
+        .name = var.name ? var.name : "samplecache",
         .render = sc_render,
         .output_size = sc_output_size,
         .read = sc_read,
@@ -460,6 +504,7 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         .rays_last_frame = sc_rays,
         .destroy = sc_destroy,
         .output_image = sc_output_image,
+        .counters = sc_counters,
     };
     gpu_context *ctx = env->gpu;
     xrsc_result res;
@@ -471,14 +516,19 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
     }
     /* from here on sc_destroy frees whatever was created */
     VkDeviceSize slot_plane = (VkDeviceSize)o.slots * plane;
-    /* the 2-pass address buffer only when used (a 16-byte stub keeps the binding valid) */
+    /* the 2-pass address buffer only when used (a 16-byte stub keeps the binding valid); isrt
+     * keeps its 64-bit keys there */
     VkDeviceSize src_size = s->p.two_pass ? slot_plane * sizeof(uint32_t) : 0;
+    if (s->p.isrt_m)
+        src_size = slot_plane * sizeof(uint64_t);
     if ((res = gpu_buffer_create(ctx, sizeof(xs_sc_params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                  GPU_MEMORY_UPLOAD, &s->params, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create(ctx, sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                 GPU_MEMORY_READBACK, &s->shade_readback, diag)) != XRSC_OK ||
         (res = create_storage(ctx, 2 * plane * sizeof(uint32_t), &s->mask, diag)) != XRSC_OK ||
         (res = create_storage(ctx, 2 * slot_plane * 16, &s->fh, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, (s->p.shade_cache ? 2 : 1) * slot_plane * 16, &s->rad, diag)) !=
-            XRSC_OK ||
+        (res = create_storage(ctx, s->hybrid ? 16 : (s->p.shade_cache ? 2 : 1) * slot_plane * 16,
+                              &s->rad, diag)) != XRSC_OK ||
         (res = create_storage(ctx, plane * sizeof(uint64_t), &s->depth_min, diag)) != XRSC_OK ||
         (res = create_storage(ctx, plane * sizeof(uint32_t), &s->depth_max, diag)) != XRSC_OK ||
         (res = create_storage(ctx, src_size, &s->src, diag)) != XRSC_OK ||
@@ -495,14 +545,29 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
 
     gpu_rt_program_desc shade_desc = {
         .raygen = "sc_shade.rgen", .set1 = cache_bindings, .set1_count = CACHE_BINDING_COUNT};
+    gpu_binding cb[GPU_MAX_BINDINGS], sb[GPU_MAX_BINDINGS], hb[GPU_MAX_BINDINGS];
+    uint32_t cb_count = compute_bindings(cb), hb_count = cb_count;
+    if (s->hybrid) { /* hybrid: its programs, the cache's bindings + its own */
+        const struct mt_sc_hybrid *hy = s->hybrid;
+        memcpy(sb, cache_bindings, sizeof(cache_bindings));
+        memcpy(sb + CACHE_BINDING_COUNT, hy->bindings, hy->binding_count * sizeof(gpu_binding));
+        shade_desc = (gpu_rt_program_desc){.raygen = hy->shade_raygen, .set1 = sb,
+                                           .set1_count = CACHE_BINDING_COUNT + hy->binding_count};
+    }
     if ((res = gpu_rt_program_create(ctx, &shade_desc, &s->shade, diag)) != XRSC_OK)
         goto fail;
-    gpu_binding cb[GPU_MAX_BINDINGS];
-    uint32_t cb_count = compute_bindings(cb);
-    for (int i = 0; i < PROG_COUNT; i++)
-        if ((res = gpu_compute_program_create(ctx, prog_shader[i], cb, cb_count, 0, &s->prog[i],
-                                              diag)) != XRSC_OK)
+    if (s->hybrid) {
+        memcpy(hb, cb, cb_count * sizeof(gpu_binding));
+        memcpy(hb + cb_count, s->hybrid->bindings, s->hybrid->binding_count * sizeof(gpu_binding));
+        hb_count = cb_count + s->hybrid->binding_count;
+    }
+    for (int i = 0; i < PROG_COUNT; i++) {
+        bool hy = s->hybrid && i == PROG_RECONSTRUCT;
+        if ((res = gpu_compute_program_create(
+                 ctx, hy ? s->hybrid->reconstruct_shader : prog_shader[i], hy ? hb : cb,
+                 hy ? hb_count : cb_count, 0, &s->prog[i], diag)) != XRSC_OK)
             goto fail;
+    }
 
     write_cache(s, &s->trace.program.set1);
     write_set0(s, &s->shade.set0);
@@ -512,6 +577,10 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         write_cache(s, &s->prog[i].set0);
         gpu_descriptors_write_storage_image(ctx, &s->prog[i].set0, XS_SC_BIND_OUT_MU1, &s->mu1);
         gpu_descriptors_write_storage_image(ctx, &s->prog[i].set0, XS_SC_BIND_OUT_MU2, &s->mu2);
+    }
+    if (s->hybrid) {
+        s->hybrid->write(s->hybrid->user, &s->shade.set1);
+        s->hybrid->write(s->hybrid->user, &s->prog[PROG_RECONSTRUCT].set0);
     }
     *out = &s->base;
     return XRSC_OK;
@@ -529,11 +598,12 @@ void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, do
 {
     const mt_samplecache *s = (const mt_samplecache *)m;
     double n = s->opt.slots;
-    double rad_copies = s->p.shade_cache ? 2.0 : 1.0;
+    double rad_copies = s->p.shade_cache == XS_SC_RAD_NONE ? 0.0 : s->p.shade_cache ? 2.0 : 1.0;
     /* per copy: mask 4 B, first hits 16 B per slot, radiance 16 B per slot */
     *out_resident = 2.0 * (4.0 + 16.0 * n) + rad_copies * 16.0 * n;
     /* depth_min 8 + depth_max 4 + plan 16, 4 B per slot for 2-pass addresses, the shade list */
     *out_working = 8.0 + 4.0 + 16.0 + (s->p.two_pass ? 4.0 * n : 0.0) +
+                   (s->p.isrt_m ? 8.0 * n : 0.0) +
                    4.0 * s->p.shade_capacity / (2.0 * s->trace.env.width * s->trace.env.height);
 }
 
@@ -636,10 +706,13 @@ xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *
     for (uint32_t k = 0; k < n; k++) {
         VkDeviceSize fh_off = ((VkDeviceSize)(cur * n + k) * plane + eye_off) * 16;
         VkDeviceSize rad_off = ((VkDeviceSize)(rad_copy * n + k) * plane + eye_off) * 16;
+        bool no_rad = s->p.shade_cache == XS_SC_RAD_NONE; /* hybrid: radiance all zeros */
+        if (no_rad)
+            memset(out->rad + (size_t)k * px * 4, 0, px * 16);
         if ((res = read_buffer(ctx, &s->fh, fh_off, px * 16, out->fh + (size_t)k * px * 4, diag)) !=
                 XRSC_OK ||
-            (res = read_buffer(ctx, &s->rad, rad_off, px * 16, out->rad + (size_t)k * px * 4,
-                               diag)) != XRSC_OK)
+            (!no_rad && (res = read_buffer(ctx, &s->rad, rad_off, px * 16,
+                                           out->rad + (size_t)k * px * 4, diag)) != XRSC_OK))
             goto fail;
     }
     return XRSC_OK;

@@ -49,6 +49,26 @@ xrsc_result mt_samplecache_create(const mt_env *env, const xrsc_samplecache_opti
  * - hybrid: `hybrid` (mt_hybrid.c): radiance from the world-space hash cache instead of the
  *   per-sample shading storage (seed 000 §4).
  */
+/**
+ * `hybrid`'s changes to the sample cache (filled in by mt_hybrid.c; borrowed: it must outlive
+ * the method). The cache then keeps no per-sample radiance (xs_sc_params.shade_cache =
+ * XS_SC_RAD_NONE: rad[] is a 16-byte dummy) and only uniform shading is accepted; the shading
+ * and reconstruction programs are replaced, with extra bindings (set 1 of the shading
+ * program, set 0 of the reconstruction, after the cache's own) that `write` fills in;
+ * record_begin runs right after the frame prologue (before "reproject"), record_end after the
+ * last pass (before the read-back copies), both with `user`.
+ */
+struct mt_sc_hybrid {
+    const char *shade_raygen;       /**< replaces sc_shade.rgen */
+    const char *reconstruct_shader; /**< replaces sc_reconstruct.comp */
+    const gpu_binding *bindings;
+    uint32_t binding_count;
+    void (*write)(void *user, gpu_descriptors *d);
+    void (*record_begin)(void *user, VkCommandBuffer cmd);
+    void (*record_end)(void *user, VkCommandBuffer cmd);
+    void *user;
+};
+
 typedef struct mt_sc_variant {
     const char *name;
     uint32_t isrt_m;
@@ -60,6 +80,15 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
                                           const xrsc_samplecache_options *options,
                                           const mt_sc_variant *variant, mt_method **out,
                                           xrsc_diag *diag);
+
+/**
+ * `isrt` (mt_isrt.c): the sample cache with M x M fixed sub-pixel slots (M = isrt->m, 1..4, 0:
+ * 2) and the shading options of `samplecache` (its slots, n_target, delta and reproject are
+ * not used). XRSC_ERROR_INVALID_ARGUMENT for M > 4, and as ::mt_samplecache_create.
+ */
+xrsc_result mt_isrt_create(const mt_env *env, const xrsc_isrt_options *isrt,
+                           const xrsc_samplecache_options *options, mt_method **out,
+                           xrsc_diag *diag);
 
 /** The options in use, defaults filled in (m must be a `samplecache` method). */
 const xrsc_samplecache_options *mt_samplecache_options(const mt_method *m);
@@ -76,7 +105,7 @@ typedef struct mt_sc_snapshot {
     uint32_t width, height, slots;
     uint32_t *mask;       /**< [p]: o_s = bit s, v_s = bit XS_SC_MAX_SLOTS + s */
     uint32_t *fh;         /**< [(s * width * height + p) * 4 + k]: Listing 1 words x, y, z, w */
-    float *rad;           /**< [(s * width * height + p) * 4 + k]: L_s rgb, c_s */
+    float *rad;           /**< [(s * width * height + p) * 4 + k]: L_s rgb, c_s (hybrid: 0) */
     uint64_t *depth_min;  /**< [p]: closest distance bits << 32 | slope bits; all ones = none */
     uint32_t *depth_max;  /**< [p]: farthest distance bits (0 = none, +inf = background) */
     uint32_t *plan;       /**< [p * 4 + k]: trace bits, new bits, shade bits, visible count
