@@ -153,6 +153,15 @@ xrsc_result gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, VkDeviceSize of
     return res;
 }
 
+xrsc_result gpu_buffer_create_storage(gpu_context *ctx, VkDeviceSize size, gpu_buffer *out,
+                                      xrsc_diag *diag)
+{
+    return gpu_buffer_create(ctx, size,
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                             GPU_MEMORY_DEVICE, out, diag);
+}
+
 xrsc_result gpu_buffer_create_with_data(gpu_context *ctx, const void *data, VkDeviceSize size,
                                         VkBufferUsageFlags usage, gpu_buffer *out,
                                         xrsc_diag *diag)

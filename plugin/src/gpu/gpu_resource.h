@@ -34,6 +34,10 @@ typedef struct gpu_buffer {
 xrsc_result gpu_buffer_create(gpu_context *ctx, VkDeviceSize size, VkBufferUsageFlags usage,
                               gpu_memory memory, gpu_buffer *out, xrsc_diag *diag);
 void gpu_buffer_destroy(gpu_context *ctx, gpu_buffer *buf);
+/** A device-local storage buffer of size bytes, also a copy source and destination (fills,
+ *  read-back copies). */
+xrsc_result gpu_buffer_create_storage(gpu_context *ctx, VkDeviceSize size, gpu_buffer *out,
+                                      xrsc_diag *diag);
 /** Copies size bytes into buf at offset through a temporary staging buffer (waits). */
 xrsc_result gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, VkDeviceSize offset,
                               const void *data, VkDeviceSize size, xrsc_diag *diag);

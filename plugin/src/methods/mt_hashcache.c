@@ -158,25 +158,14 @@ xrsc_result mt_hashcache_create(const mt_env *env, const xrsc_hashcache_options 
     gpu_rt_program_desc shade_desc = {
         .raygen = "hc_shade.rgen", .set1 = shade_set1, .set1_count = n};
     VkDeviceSize hits_size = 2ull * env->width * env->height * 4 * sizeof(uint32_t);
-    if ((res = gpu_buffer_create(
-             ctx, hits_size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-             GPU_MEMORY_DEVICE, &s->hits, diag)) != XRSC_OK ||
+    if ((res = gpu_buffer_create_storage(ctx, hits_size, &s->hits, diag)) != XRSC_OK ||
         (res = gpu_rt_program_create(ctx, &shade_desc, &s->shade, diag)) != XRSC_OK) {
         hc_destroy(&s->base);
         return res;
     }
     gpu_descriptors_write_buffer(ctx, &s->trace.program.set1, XS_HC_BIND_HITS, &s->hits);
     /* pass 2: the same set 0 as pass 1 (scene, frame, outputs, ray counter) */
-    mt_trace *t = &s->trace;
-    gpu_descriptors *d = &s->shade.set0;
-    gpu_scene_write_descriptors(ctx, env->scene, d);
-    gpu_descriptors_write_buffer(ctx, d, XS_BIND_FRAME, &t->frame_ubo);
-    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_COLOR, &t->color);
-    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_ALBEDO, &t->albedo);
-    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_DEPTH, &t->depth);
-    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_HITID, &t->hitid);
-    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_ACCUM, &t->accum);
-    gpu_descriptors_write_buffer(ctx, d, XS_BIND_RAY_COUNTER, &t->ray_counter);
+    mt_trace_write_set0(&s->trace, &s->shade.set0);
     mt_hctable_write(&s->table, &s->shade.set1);
     gpu_descriptors_write_buffer(ctx, &s->shade.set1, XS_HC_BIND_HITS, &s->hits);
     *out = &s->base;

@@ -60,15 +60,6 @@ void mt_hctable_write(const mt_hctable *t, gpu_descriptors *d)
     gpu_descriptors_write_buffer(t->gpu, d, XS_HC_BIND_STATS, &t->stats);
 }
 
-static xrsc_result create_storage(gpu_context *ctx, VkDeviceSize size, gpu_buffer *out,
-                                  xrsc_diag *diag)
-{
-    return gpu_buffer_create(ctx, size,
-                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                             GPU_MEMORY_DEVICE, out, diag);
-}
-
 xrsc_result mt_hctable_init(mt_hctable *t, gpu_context *ctx, const xrsc_hashcache_options *o,
                             xrsc_diag *diag)
 {
@@ -103,9 +94,9 @@ xrsc_result mt_hctable_init(mt_hctable *t, gpu_context *ctx, const xrsc_hashcach
     uint32_t nb = mt_hctable_bindings(b);
     if ((res = gpu_buffer_create(ctx, sizeof(xs_hc_params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                  GPU_MEMORY_UPLOAD, &t->params, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, e * sizeof(uint64_t), &t->words, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, e * 4 * sizeof(float), &t->rad, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, sizeof(xs_hc_stats), &t->stats, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, e * sizeof(uint64_t), &t->words, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, e * 4 * sizeof(float), &t->rad, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, sizeof(xs_hc_stats), &t->stats, diag)) != XRSC_OK ||
         (res = gpu_buffer_create(ctx, sizeof(xs_hc_stats), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                  GPU_MEMORY_READBACK, &t->stats_readback, diag)) != XRSC_OK ||
         (res = gpu_compute_program_create(ctx, "hc_occupancy.comp", b, nb, 0, &t->occupancy,

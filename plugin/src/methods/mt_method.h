@@ -129,6 +129,16 @@ xrsc_result mt_primary_create(const mt_env *env, mt_method **out, xrsc_diag *dia
 xrsc_result mt_spp_create(const mt_env *env, const xrsc_spp_options *options, mt_method **out,
                           xrsc_diag *diag);
 
+/** Sets xf's sub-pixel jitter (jitter, jitter_x, jitter_y) for frame; see mt_spp_create_variant. */
+typedef void (*mt_spp_jitter_fn)(const xrsc_frame *frame, xs_frame *xf);
+
+/** `spp` (mt_spp_create) named `name`, for methods that are `spp` with another jitter (`taa`):
+ *  jitter, when not NULL, runs every frame after spp set its own jitter (options->no_jitter).
+ *  name is a static string. */
+xrsc_result mt_spp_create_variant(const mt_env *env, const xrsc_spp_options *options,
+                                  const char *name, mt_spp_jitter_fn jitter, mt_method **out,
+                                  xrsc_diag *diag);
+
 /**
  * `taa`'s rendering (mt_taa.c): 1 path-traced sample per pixel (spp.rgen) at the Halton(2,3)
  * point (frame_index mod XS_TF_HALTON_PERIOD) + 1, the same sub-pixel offset in both eyes;

@@ -83,7 +83,6 @@ typedef struct mt_samplecache {
     gpu_buffer shade_readback; /**< the shade list's count after the last frame (host) */
     uint32_t shaded;           /**< samples shaded in the last frame, both eyes */
     gpu_buffer mask, fh, rad, depth_min, depth_max, src, plan, stats, shade_list;
-    gpu_image mu1, mu2;
     xrsc_samplecache_options opt; /**< defaults filled in */
     xs_sc_params p;
     uint32_t plane;      /**< 2 * width * height */
@@ -156,21 +155,6 @@ static uint32_t compute_bindings(gpu_binding *out)
     out[n++] = (gpu_binding){XS_SC_BIND_OUT_MU1, GPU_BINDING_STORAGE_IMAGE, 1};
     out[n++] = (gpu_binding){XS_SC_BIND_OUT_MU2, GPU_BINDING_STORAGE_IMAGE, 1};
     return n;
-}
-
-/** Writes the frame, outputs, ray counter (and scene) bindings of mt_trace's set 0 into d. */
-static void write_set0(mt_samplecache *s, gpu_descriptors *d)
-{
-    gpu_context *ctx = s->trace.env.gpu;
-    mt_trace *t = &s->trace;
-    gpu_scene_write_descriptors(ctx, t->env.scene, d);
-    gpu_descriptors_write_buffer(ctx, d, XS_BIND_FRAME, &t->frame_ubo);
-    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_COLOR, &t->color);
-    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_ALBEDO, &t->albedo);
-    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_DEPTH, &t->depth);
-    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_HITID, &t->hitid);
-    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_ACCUM, &t->accum);
-    gpu_descriptors_write_buffer(ctx, d, XS_BIND_RAY_COUNTER, &t->ray_counter);
 }
 
 static void write_cache(mt_samplecache *s, gpu_descriptors *d)
@@ -348,33 +332,18 @@ static uint32_t sc_counters(const mt_method *m, xrsc_counter *out, uint32_t max_
 
 static size_t sc_output_size(const mt_method *m, xrsc_output output)
 {
-    const mt_samplecache *s = (const mt_samplecache *)m;
-    if (output == XRSC_OUTPUT_MU1 || output == XRSC_OUTPUT_MU2)
-        return (size_t)s->mu1.width * s->mu1.height * s->mu1.texel_size;
-    return mt_trace_output_size(&s->trace, output);
+    return mt_trace_output_size(&((const mt_samplecache *)m)->trace, output);
 }
 
 static xrsc_result sc_read(mt_method *m, uint32_t eye, xrsc_output output, void *dst,
                            size_t dst_size, xrsc_diag *diag)
 {
-    mt_samplecache *s = (mt_samplecache *)m;
-    if (output == XRSC_OUTPUT_MU1 || output == XRSC_OUTPUT_MU2) {
-        if (eye > 1)
-            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "eye", "eye %u", eye);
-        const gpu_image *img = output == XRSC_OUTPUT_MU1 ? &s->mu1 : &s->mu2;
-        return gpu_image_read_layer(s->trace.env.gpu, img, eye, dst, dst_size, diag);
-    }
-    return mt_trace_read(&s->trace, eye, output, dst, dst_size, diag);
+    return mt_trace_read(&((mt_samplecache *)m)->trace, eye, output, dst, dst_size, diag);
 }
 
 static const gpu_image *sc_output_image(const mt_method *m, xrsc_output output)
 {
-    const mt_samplecache *s = (const mt_samplecache *)m;
-    if (output == XRSC_OUTPUT_MU1)
-        return &s->mu1;
-    if (output == XRSC_OUTPUT_MU2)
-        return &s->mu2;
-    return mt_trace_output_image(&s->trace, output);
+    return mt_trace_output_image(&((const mt_samplecache *)m)->trace, output);
 }
 
 static uint32_t sc_timings(const mt_method *m, xrsc_pass_timing *out, uint32_t max_count)
@@ -396,8 +365,6 @@ static void sc_destroy(mt_method *m)
         for (int i = 0; i < PROG_COUNT; i++)
             gpu_compute_program_destroy(ctx, &s->prog[i]);
         gpu_rt_program_destroy(ctx, &s->shade);
-        gpu_image_destroy(ctx, &s->mu2);
-        gpu_image_destroy(ctx, &s->mu1);
         gpu_buffer_destroy(ctx, &s->shade_list);
         gpu_buffer_destroy(ctx, &s->shade_readback);
         gpu_buffer_destroy(ctx, &s->stats);
@@ -412,15 +379,6 @@ static void sc_destroy(mt_method *m)
         mt_trace_fini(&s->trace);
     }
     free(s);
-}
-
-static xrsc_result create_storage(gpu_context *ctx, VkDeviceSize size, gpu_buffer *out,
-                                  xrsc_diag *diag)
-{
-    return gpu_buffer_create(ctx, size,
-                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                             GPU_MEMORY_DEVICE, out, diag);
 }
 
 xrsc_result mt_samplecache_create(const mt_env *env, const xrsc_samplecache_options *options,
@@ -525,22 +483,24 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
                                  GPU_MEMORY_UPLOAD, &s->params, diag)) != XRSC_OK ||
         (res = gpu_buffer_create(ctx, sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                  GPU_MEMORY_READBACK, &s->shade_readback, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, 2 * plane * sizeof(uint32_t), &s->mask, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, 2 * slot_plane * 16, &s->fh, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, s->hybrid ? 16 : (s->p.shade_cache ? 2 : 1) * slot_plane * 16,
-                              &s->rad, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, plane * sizeof(uint64_t), &s->depth_min, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, plane * sizeof(uint32_t), &s->depth_max, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, src_size, &s->src, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, plane * 16, &s->plan, diag)) != XRSC_OK ||
-        (res = create_storage(ctx, 4 * sizeof(xs_sc_stats), &s->stats, diag)) != XRSC_OK ||
-        (res = create_storage(
+        (res = gpu_buffer_create_storage(ctx, 2 * plane * sizeof(uint32_t), &s->mask, diag)) !=
+            XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, 2 * slot_plane * 16, &s->fh, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(
+             ctx, s->hybrid ? 16 : (s->p.shade_cache ? 2 : 1) * slot_plane * 16, &s->rad, diag)) !=
+            XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, plane * sizeof(uint64_t), &s->depth_min, diag)) !=
+            XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, plane * sizeof(uint32_t), &s->depth_max, diag)) !=
+            XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, src_size, &s->src, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, plane * 16, &s->plan, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, 4 * sizeof(xs_sc_stats), &s->stats, diag)) !=
+            XRSC_OK ||
+        (res = gpu_buffer_create_storage(
              ctx, (XS_SC_SHADE_LIST_HEADER + (VkDeviceSize)s->p.shade_capacity) * sizeof(uint32_t),
              &s->shade_list, diag)) != XRSC_OK ||
-        (res = gpu_image_create_storage(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, env->width, env->height,
-                                        2, &s->mu1, diag)) != XRSC_OK ||
-        (res = gpu_image_create_storage(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, env->width, env->height,
-                                        2, &s->mu2, diag)) != XRSC_OK)
+        (res = mt_trace_create_moments(&s->trace, diag)) != XRSC_OK)
         goto fail;
 
     gpu_rt_program_desc shade_desc = {
@@ -570,13 +530,14 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
     }
 
     write_cache(s, &s->trace.program.set1);
-    write_set0(s, &s->shade.set0);
+    mt_trace_write_set0(&s->trace, &s->shade.set0);
     write_cache(s, &s->shade.set1);
     for (int i = 0; i < PROG_COUNT; i++) {
-        write_set0(s, &s->prog[i].set0);
-        write_cache(s, &s->prog[i].set0);
-        gpu_descriptors_write_storage_image(ctx, &s->prog[i].set0, XS_SC_BIND_OUT_MU1, &s->mu1);
-        gpu_descriptors_write_storage_image(ctx, &s->prog[i].set0, XS_SC_BIND_OUT_MU2, &s->mu2);
+        gpu_descriptors *d = &s->prog[i].set0;
+        mt_trace_write_set0(&s->trace, d);
+        write_cache(s, d);
+        gpu_descriptors_write_storage_image(ctx, d, XS_SC_BIND_OUT_MU1, &s->trace.mu1);
+        gpu_descriptors_write_storage_image(ctx, d, XS_SC_BIND_OUT_MU2, &s->trace.mu2);
     }
     if (s->hybrid) {
         s->hybrid->write(s->hybrid->user, &s->shade.set1);

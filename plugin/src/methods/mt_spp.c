@@ -14,12 +14,12 @@
 typedef struct mt_spp {
     mt_method base;
     mt_trace trace;
-    gpu_image mu1, mu2;   /**< raw moments of each pixel's samples (set 1 of spp.rgen) */
     xrsc_spp_options opt; /**< with defaults filled in */
     bool have_last;
     xrsc_view last_views[2];
     int64_t last_time_ns;
-    uint32_t accumulated; /**< frames summed into the accumulation image */
+    uint32_t accumulated;    /**< frames summed into the accumulation image */
+    mt_spp_jitter_fn jitter; /**< NULL: spp's own (opt.no_jitter); else a variant's */
 } mt_spp;
 
 _Static_assert(offsetof(mt_spp, base) == 0, "base first");
@@ -38,6 +38,8 @@ static xrsc_result spp_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *
     xf.samples_per_pixel = s->opt.samples_per_pixel;
     xf.max_bounces = s->opt.max_bounces == XRSC_BOUNCES_NONE ? 0u : s->opt.max_bounces;
     xf.jitter = s->opt.no_jitter ? 0u : 1u;
+    if (s->jitter)
+        s->jitter(frame, &xf);
     bool clear = false;
     if (s->opt.accumulate) {
         if (!same_views(s, frame)) {
@@ -60,30 +62,15 @@ static xrsc_result spp_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *
     return XRSC_OK;
 }
 
-static const gpu_image *moment_image(const mt_spp *s, xrsc_output output)
-{
-    return output == XRSC_OUTPUT_MU1 ? &s->mu1 : output == XRSC_OUTPUT_MU2 ? &s->mu2 : NULL;
-}
-
 static size_t spp_output_size(const mt_method *m, xrsc_output output)
 {
-    const gpu_image *mu = moment_image((const mt_spp *)m, output);
-    if (mu)
-        return (size_t)mu->width * mu->height * mu->texel_size;
     return mt_trace_output_size(&((const mt_spp *)m)->trace, output);
 }
 
 static xrsc_result spp_read(mt_method *m, uint32_t eye, xrsc_output output, void *dst,
                             size_t dst_size, xrsc_diag *diag)
 {
-    mt_spp *s = (mt_spp *)m;
-    const gpu_image *mu = moment_image(s, output);
-    if (mu) {
-        if (eye > 1)
-            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "eye", "eye %u", eye);
-        return gpu_image_read_layer(s->trace.env.gpu, mu, eye, dst, dst_size, diag);
-    }
-    return mt_trace_read(&s->trace, eye, output, dst, dst_size, diag);
+    return mt_trace_read(&((mt_spp *)m)->trace, eye, output, dst, dst_size, diag);
 }
 
 static uint32_t spp_timings(const mt_method *m, xrsc_pass_timing *out, uint32_t max_count)
@@ -95,24 +82,25 @@ static uint64_t spp_rays(const mt_method *m) { return ((const mt_spp *)m)->trace
 
 static const gpu_image *spp_output_image(const mt_method *m, xrsc_output output)
 {
-    const gpu_image *mu = moment_image((const mt_spp *)m, output);
-    return mu ? mu : mt_trace_output_image(&((const mt_spp *)m)->trace, output);
+    return mt_trace_output_image(&((const mt_spp *)m)->trace, output);
 }
 
 static void spp_destroy(mt_method *m)
 {
     mt_spp *s = (mt_spp *)m;
-    if (s->trace.env.gpu) {
-        vkDeviceWaitIdle(s->trace.env.gpu->device);
-        gpu_image_destroy(s->trace.env.gpu, &s->mu2);
-        gpu_image_destroy(s->trace.env.gpu, &s->mu1);
-    }
-    mt_trace_fini(&s->trace);
+    mt_trace_fini(&s->trace); /* with the moments */
     free(s);
 }
 
 xrsc_result mt_spp_create(const mt_env *env, const xrsc_spp_options *options, mt_method **out,
                           xrsc_diag *diag)
+{
+    return mt_spp_create_variant(env, options, "spp", NULL, out, diag);
+}
+
+xrsc_result mt_spp_create_variant(const mt_env *env, const xrsc_spp_options *options,
+                                  const char *name, mt_spp_jitter_fn jitter, mt_method **out,
+                                  xrsc_diag *diag)
 {
     *out = NULL;
     mt_spp *s = calloc(1, sizeof(*s));
@@ -120,6 +108,7 @@ xrsc_result mt_spp_create(const mt_env *env, const xrsc_spp_options *options, mt
         return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
     if (options)
         s->opt = *options;
+    s->jitter = jitter;
     if (s->opt.samples_per_pixel == 0)
         s->opt.samples_per_pixel = 1;
     if (s->opt.max_bounces == 0)
@@ -134,19 +123,15 @@ xrsc_result mt_spp_create(const mt_env *env, const xrsc_spp_options *options, mt
         free(s);
         return res;
     }
-    if ((res = gpu_image_create_storage(env->gpu, VK_FORMAT_R32G32B32A32_SFLOAT, env->width,
-                                        env->height, 2, &s->mu1, diag)) != XRSC_OK ||
-        (res = gpu_image_create_storage(env->gpu, VK_FORMAT_R32G32B32A32_SFLOAT, env->width,
-                                        env->height, 2, &s->mu2, diag)) != XRSC_OK) {
+    if ((res = mt_trace_create_moments(&s->trace, diag)) != XRSC_OK) {
         spp_destroy(&s->base);
         return res;
     }
-    gpu_descriptors_write_storage_image(env->gpu, &s->trace.program.set1, XS_SPP_BIND_MU1,
-                                        &s->mu1);
-    gpu_descriptors_write_storage_image(env->gpu, &s->trace.program.set1, XS_SPP_BIND_MU2,
-                                        &s->mu2);
+    gpu_descriptors *set1 = &s->trace.program.set1;
+    gpu_descriptors_write_storage_image(env->gpu, set1, XS_SPP_BIND_MU1, &s->trace.mu1);
+    gpu_descriptors_write_storage_image(env->gpu, set1, XS_SPP_BIND_MU2, &s->trace.mu2);
     s->base = (mt_method){
-        .name = "spp",
+        .name = name,
         .render = spp_render,
         .output_size = spp_output_size,
         .read = spp_read,

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file mt_trace.c
- * @brief Shared resources and the one-trace frame of the `primary` and `spp` methods.
+ * @brief Shared resources and the one-trace frame of the `primary`, `spp` and `taa` methods.
  */
 #include "mt_trace.h"
 
@@ -40,11 +40,8 @@ xrsc_result mt_trace_init_program(mt_trace *t, const mt_env *env,
         goto fail;
     if ((res = gpu_buffer_create(ctx, sizeof(xs_frame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                  GPU_MEMORY_UPLOAD, &t->frame_ubo, diag)) != XRSC_OK ||
-        (res = gpu_buffer_create(ctx, sizeof(uint64_t),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                     VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                 GPU_MEMORY_DEVICE, &t->ray_counter, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, sizeof(uint64_t), &t->ray_counter, diag)) !=
+            XRSC_OK ||
         (res = gpu_buffer_create(ctx, sizeof(uint64_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                  GPU_MEMORY_READBACK, &t->ray_readback, diag)) != XRSC_OK)
         goto fail;
@@ -53,19 +50,35 @@ xrsc_result mt_trace_init_program(mt_trace *t, const mt_env *env,
     if ((res = gpu_timer_create(ctx, &t->timer, diag)) != XRSC_OK)
         goto fail;
 
-    gpu_descriptors *set0 = &t->program.set0;
-    gpu_scene_write_descriptors(ctx, env->scene, set0);
-    gpu_descriptors_write_buffer(ctx, set0, XS_BIND_FRAME, &t->frame_ubo);
-    gpu_descriptors_write_storage_image(ctx, set0, XS_BIND_OUT_COLOR, &t->color);
-    gpu_descriptors_write_storage_image(ctx, set0, XS_BIND_OUT_ALBEDO, &t->albedo);
-    gpu_descriptors_write_storage_image(ctx, set0, XS_BIND_OUT_DEPTH, &t->depth);
-    gpu_descriptors_write_storage_image(ctx, set0, XS_BIND_OUT_HITID, &t->hitid);
-    gpu_descriptors_write_storage_image(ctx, set0, XS_BIND_ACCUM, &t->accum);
-    gpu_descriptors_write_buffer(ctx, set0, XS_BIND_RAY_COUNTER, &t->ray_counter);
+    mt_trace_write_set0(t, &t->program.set0);
     return XRSC_OK;
 fail:
     mt_trace_fini(t);
     return res;
+}
+
+xrsc_result mt_trace_create_moments(mt_trace *t, xrsc_diag *diag)
+{
+    gpu_context *ctx = t->env.gpu;
+    uint32_t w = t->env.width, h = t->env.height;
+    xrsc_result res =
+        gpu_image_create_storage(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, w, h, 2, &t->mu1, diag);
+    if (res != XRSC_OK)
+        return res;
+    return gpu_image_create_storage(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, w, h, 2, &t->mu2, diag);
+}
+
+void mt_trace_write_set0(const mt_trace *t, gpu_descriptors *d)
+{
+    gpu_context *ctx = t->env.gpu;
+    gpu_scene_write_descriptors(ctx, t->env.scene, d);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_FRAME, &t->frame_ubo);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_COLOR, &t->color);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_ALBEDO, &t->albedo);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_DEPTH, &t->depth);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_OUT_HITID, &t->hitid);
+    gpu_descriptors_write_storage_image(ctx, d, XS_BIND_ACCUM, &t->accum);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_RAY_COUNTER, &t->ray_counter);
 }
 
 void mt_trace_fini(mt_trace *t)
@@ -80,6 +93,8 @@ void mt_trace_fini(mt_trace *t)
     gpu_buffer_destroy(ctx, &t->ray_readback);
     gpu_buffer_destroy(ctx, &t->ray_counter);
     gpu_buffer_destroy(ctx, &t->frame_ubo);
+    gpu_image_destroy(ctx, &t->mu2);
+    gpu_image_destroy(ctx, &t->mu1);
     gpu_image_destroy(ctx, &t->accum);
     gpu_image_destroy(ctx, &t->hitid);
     gpu_image_destroy(ctx, &t->depth);
@@ -205,7 +220,11 @@ static const gpu_image *output_image(const mt_trace *t, xrsc_output output)
         return &t->depth;
     case XRSC_OUTPUT_HIT_ID:
         return &t->hitid;
-    default: /* method-specific outputs (e.g. the sample cache's moments) */
+    case XRSC_OUTPUT_MU1:
+        return t->mu1.image ? &t->mu1 : NULL;
+    case XRSC_OUTPUT_MU2:
+        return t->mu2.image ? &t->mu2 : NULL;
+    default:
         break;
     }
     return NULL;
@@ -295,6 +314,11 @@ xrsc_result mt_trace_read(mt_trace *t, uint32_t eye, xrsc_output output, void *d
                           size_t dst_size, xrsc_diag *diag)
 {
     const gpu_image *img = output_image(t, output);
+    if (img && (uint32_t)output >= MT_OUTPUT_COUNT) { /* the moments: not staged */
+        if (eye > 1)
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "eye", "eye %u", eye);
+        return gpu_image_read_layer(t->env.gpu, img, eye, dst, dst_size, diag);
+    }
     if (!img || eye > 1 || (uint32_t)output >= MT_OUTPUT_COUNT)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "output",
                           "unknown output %d or eye %u", (int)output, eye);

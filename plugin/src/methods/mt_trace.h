@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file mt_trace.h
- * @brief What the single-trace methods (`primary`, `spp`) share: their outputs, the frame
- *        uniform, the ray counter, the timer, and one vkCmdTraceRaysKHR per stereo frame.
+ * @brief What the single-trace methods (`primary`, `spp`, `taa`) share: their outputs, the
+ *        frame uniform, the ray counter, the timer, and one vkCmdTraceRaysKHR per stereo frame;
+ *        the multi-pass methods (`hashcache`, `samplecache`) reuse its resources and set-0
+ *        bindings, and `spp` and `samplecache` its moment images.
  */
 #pragma once
 
@@ -38,6 +40,9 @@ typedef struct mt_trace {
     mt_env env;
     gpu_rt_program program;
     gpu_image color, albedo, depth, hitid, accum; /**< 2 layers: [0] left, [1] right */
+    /** Raw moments of each pixel's samples (XRSC_OUTPUT_MU1/MU2, RGBA32F, 2 layers): only
+     *  methods that write them create them (mt_trace_create_moments), else zero. */
+    gpu_image mu1, mu2;
     gpu_buffer frame_ubo;   /**< xs_frame, host-visible */
     gpu_buffer ray_counter; /**< uint64, device */
     gpu_buffer ray_readback;
@@ -51,12 +56,21 @@ typedef struct mt_trace {
     uint32_t read_mask;   /**< bit o: output o was read since the last frame */
 } mt_trace;
 
-/** Creates the program for `raygen` and the resources, and writes set 0. */
+/** Creates the program for `raygen` and the resources, and writes set 0 (mt_trace_write_set0). */
 xrsc_result mt_trace_init(mt_trace *t, const mt_env *env, const char *raygen, xrsc_diag *diag);
 /** The same for any program description (tests: a raygen of their own, raygen_spirv). */
 xrsc_result mt_trace_init_program(mt_trace *t, const mt_env *env,
                                   const gpu_rt_program_desc *desc, xrsc_diag *diag);
 void mt_trace_fini(mt_trace *t);
+
+/** Creates mu1 and mu2 (cleared to zero); mt_trace_fini destroys them. The method binds them
+ *  to its programs (their bindings differ per method) and writes them. */
+xrsc_result mt_trace_create_moments(mt_trace *t, xrsc_diag *diag);
+
+/** Writes t's set-0 bindings (scene, XS_BIND_FRAME, the outputs, XS_BIND_ACCUM,
+ *  XS_BIND_RAY_COUNTER) into d: t's own program's set 0, or that of another program of the
+ *  same method sharing t's frame, outputs and counter. */
+void mt_trace_write_set0(const mt_trace *t, gpu_descriptors *d);
 
 /** Fills the views, environment, sun, sizes, seed and emitter count of xf from frame; the
  *  method fills samples, bounces, accumulate, jitter and frame_index. */
@@ -84,8 +98,11 @@ void mt_trace_frame_done(mt_trace *t, bool ok);
 xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc_diag *diag);
 
 size_t mt_trace_output_size(const mt_trace *t, xrsc_output output);
-/** The output's image (2 layers, GENERAL), NULL if this method does not produce it. */
+/** The output's image (2 layers, GENERAL), NULL if this method does not produce it (the
+ *  moments: NULL unless created). */
 const gpu_image *mt_trace_output_image(const mt_trace *t, xrsc_output output);
+/** Copies one eye of output (the last frame's) into dst: the MT_OUTPUT_COUNT outputs through
+ *  their read-back buffers, the moments directly (gpu_image_read_layer, one submission). */
 xrsc_result mt_trace_read(mt_trace *t, uint32_t eye, xrsc_output output, void *dst,
                           size_t dst_size, xrsc_diag *diag);
 uint32_t mt_trace_timings(const mt_trace *t, xrsc_pass_timing *out, uint32_t max_count);
