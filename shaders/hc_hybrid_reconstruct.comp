@@ -12,6 +12,11 @@
  * c_V + c_P the sample's count (so the finer voxel dominates once it has as many samples as
  * its parent). A sample with c_s = 0 (neither voxel written) has observed nothing and is left
  * out, as an unshaded sample of the sample cache is.
+ *
+ * A view-dependent sample (hc_view_dependent: smooth metal or glass) is never read from the
+ * table: its radiance is its own path of this frame, which hc_hybrid_shade.rgen left in the
+ * pixel's XS_BIND_ACCUM texel tagged hc_own_tag(slot), with count 1; when another sample of
+ * the pixel was shaded this frame it has no observation and is left out as above.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -80,7 +85,14 @@ void main()
                 hitid = uvec4(fh.w, fh.z, floatBitsToUint(bary.x), floatBitsToUint(bary.y));
                 depth = -(e.view * vec4(sf.p, 1.0)).z;
             }
-            vec4 rad = hy_radiance(eye, sf, t, wo);
+            vec4 rad;
+            if (hc_view_dependent(mt.metallic, mt.transmission, mt.roughness)) {
+                /* not cached: this frame's own path of this sample, if it was shaded */
+                vec4 own = imageLoad(accum, ivec3(g));
+                rad = own.w == hc_own_tag(s) ? vec4(own.rgb, 1.0) : vec4(0.0);
+            } else {
+                rad = hy_radiance(eye, sf, t, wo);
+            }
             c = rad.w;
             x = xs_emitted(mt, sf.outside) + sc_demod(a) * rad.rgb;
         }

@@ -30,6 +30,7 @@
 #extension GL_KHR_memory_scope_semantics : require
 
 #include "xs_hashcache.h"
+#include "xs_sc_math.h"
 
 #ifndef HC_SET
 #define HC_SET 0
@@ -126,6 +127,32 @@ hc_key hc_key_at(vec3 p, vec3 n, int lod, bool jitter, vec2 ju)
     k.axis = w;
     k.neg = n[w] < 0.0 ? 1u : 0u;
     return k;
+}
+
+/**
+ * True for a view-dependent first hit, which the cache does not serve: the radiance leaving a
+ * smooth metal or glass lobe changes with the view direction, so a voxel's mean (shared by all
+ * pixels, both eyes and, in `hybrid`, the parent level) is the wrong colour for nearly every
+ * pixel that reads it, and a rare bright path (a reflected or refracted light) stored in it
+ * lights up the whole voxel. Like hash radiance caches in the literature, such surfaces take
+ * this frame's own path through the pixel (the 1 spp path tracer's estimate) and leave the
+ * table alone; diffuse and rough surfaces use the cache. The decision is the sample cache's:
+ * its App. C clamp (xs_sc_alpha_min_material) above XS_HC_VIEW_DEP_ALPHA_MIN.
+ */
+bool hc_view_dependent(float metallic, float transmission, float roughness)
+{
+    return xs_sc_alpha_min_material(metallic, transmission, roughness) > XS_HC_VIEW_DEP_ALPHA_MIN;
+}
+
+/**
+ * `hybrid`: the tag that hc_hybrid_shade.rgen stores in the alpha of XS_BIND_ACCUM (unused by
+ * `hybrid` otherwise) next to the own-path radiance of view-dependent sample s of a pixel, so
+ * hc_hybrid_reconstruct.comp uses only this frame's (hcp.frame) value of that very sample
+ * (exact in float: < 2^24).
+ */
+float hc_own_tag(uint s)
+{
+    return float(1u + s + XS_SC_MAX_SLOTS * (hcp.frame & 0xFFFFu));
 }
 
 /** The key one LoD above (edge x 2; the levels nest: floor(c / 2)). */

@@ -60,6 +60,11 @@
 /* Running mean: the count stops growing here (an exponential average with weight 1/this
  * afterwards, so lighting changes still fade in). */
 #define XS_HC_MAX_COUNT 256.0
+/* View-dependent surfaces are not served from the cache (hc_view_dependent in hc_table.glsl):
+ * a first hit whose sample-cache clamp (App. C, xs_sc_alpha_min_material) exceeds this gets
+ * its own path instead. Full metal or glass: GGX alpha < 0.5 (roughness < ~0.71); a half
+ * metallic surface never (its clamp is at most 0.25). */
+#define XS_HC_VIEW_DEP_ALPHA_MIN 0.3
 
 /* Defaults (xrsc_hashcache_options). */
 #define XS_HC_DEFAULT_TABLE_ENTRIES (1u << 22)

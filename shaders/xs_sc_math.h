@@ -149,4 +149,17 @@ XS_SCM_FN xs_float xs_sc_alpha_min(xs_float a_ggx)
     return (1.0f - a_ggx) * XS_SC_ALPHA_MIN_SMOOTH + a_ggx * XS_SC_ALPHA_MIN_ROUGH;
 }
 
+/**
+ * App. C's clamp of a material: xs_sc_alpha_min of its GGX alpha (roughness^2) scaled by the
+ * weight of its view-dependent lobes, metallic + (1 - metallic) transmission (1 for metal and
+ * glass, 0 for diffuse surfaces: no clamp). The hash cache reuses it to decide which surfaces
+ * it does not serve (xs_hashcache.h: XS_HC_VIEW_DEP_ALPHA_MIN).
+ */
+XS_SCM_FN xs_float xs_sc_alpha_min_material(xs_float metallic, xs_float transmission,
+                                            xs_float roughness)
+{
+    xs_float view_dep = metallic + (1.0f - metallic) * transmission;
+    return view_dep * xs_sc_alpha_min(roughness * roughness);
+}
+
 #endif /* XS_SC_MATH_H */

@@ -13,6 +13,13 @@
  * hc_hybrid_shade.rgen (selected samples update the hit voxel or its parent, chosen at
  * random) and "reconstruct" by hc_hybrid_reconstruct.comp (count-weighted mean of the hit voxel
  * and its parent per visible sample).
+ * View-dependent surfaces are not served from the cache in either method (hc_view_dependent in
+ * hc_table.glsl): a first hit whose sample-cache clamp (seed 000 App. C, smooth metal or glass
+ * lobes: xs_sc_alpha_min_material > XS_HC_VIEW_DEP_ALPHA_MIN) takes this frame's own path
+ * through the pixel, as the 1 spp path tracer would (the TAA post-pass averages it), and never
+ * touches the table; its outgoing radiance depends on the view direction, so a voxel mean
+ * shared between pixels, eyes, frames and (hybrid) levels is wrong there. In `hybrid` the
+ * own path travels from shade to reconstruct in the unused XS_BIND_ACCUM image.
  * Both report the table's counters (mt_hctable.h) through mt_method.counters.
  */
 #pragma once

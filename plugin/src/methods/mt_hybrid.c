@@ -3,7 +3,8 @@
  * @file mt_hybrid.c
  * @brief Method `hybrid` (seed 000 §4): the sample cache without its shading storage does the
  *        adaptive first-hit tracing and gives stable lookups into the hash cache, which holds
- *        the radiance (mt_hashcache.h).
+ *        the radiance (mt_hashcache.h), except on view-dependent surfaces (smooth metal,
+ *        glass: hc_view_dependent), which get their own path of this frame.
  *
  * A thin wrapper: the inner `samplecache` method (mt_samplecache_create_variant with an
  * mt_sc_hybrid) records every pass; this file owns the hash table, updates its parameters
