@@ -66,7 +66,8 @@ static void usage(FILE *f)
 "  --frames N          render N frames (0 = until the stream ends) [0]\n"
 "\n"
 "Rendering:\n"
-"  --method M          spp | primary | samplecache | taa | hashcache | hybrid | isrt [spp]\n"
+"  --method M          spp | primary | samplecache | taa | hashcache | hybrid | isrt\n"
+"                      [samplecache: the sample cache of seed 000]\n"
 "  --spp N             samples per pixel per frame    [%d]\n"
 "  --bounces N         bounces after the first hit    [3]\n"
 "  --resolution WxH    render size per eye            [%dx%d]\n"
@@ -101,7 +102,8 @@ static void usage(FILE *f)
 "  --hc-voxel-jitter   on | off (jitter the lookup within +-1/2 voxel, BFK18) [on]\n"
 "\n"
 "Stereo blend (after reconstruction, before submission; seed 000 section 3.6):\n"
-"  --blend B           none | pfj23 | moments         [none]\n"
+"  --blend B           none | pfj23 | moments  [moments for the sample caches\n"
+"                      (samplecache, isrt, hybrid), else none]\n"
 "  --blend-r R         sharpness R in [0, 1] of moments (0: lowest error, Fig. 15) [0]\n"
 "\n"
 "Temporal antialiasing (after reconstruction, before the stereo blend; seed 000 section 5.1):\n"
@@ -128,6 +130,17 @@ static void usage(FILE *f)
 "  --quiet             no progress or summary\n"
 "  -h, --help          this help\n",
             DEFAULT_SPP, DEFAULT_WIDTH, DEFAULT_HEIGHT);
+}
+
+/* The stereo blend when --blend is not given: the raw-moment blend (R = 0) after the methods
+ * that keep per-sample radiance and counts (the sample caches, seed 000 §3.6), none after the
+ * others (their moments are those of a few fresh samples, or absent). */
+static xrsc_blend default_blend(xrsc_method method)
+{
+    return method == XRSC_METHOD_SAMPLECACHE || method == XRSC_METHOD_ISRT ||
+                   method == XRSC_METHOD_HYBRID
+               ? XRSC_BLEND_MOMENTS
+               : XRSC_BLEND_NONE;
 }
 
 static int bad_arg(const char *flag, const char *value, const char *why)
@@ -279,12 +292,15 @@ int main(int argc, char **argv)
         .write_eyes = true,
         .write_sbs = true,
         .progress = true,
-        .renderer = {.method = XRSC_METHOD_SPP, .width = DEFAULT_WIDTH, .height = DEFAULT_HEIGHT,
-                     .spp = {.samples_per_pixel = DEFAULT_SPP}},
+        /* the main job (seed 000): the per-eye sample cache with the raw-moment stereo blend
+         * at R = 0 (the blend is chosen after parsing: default_blend) */
+        .renderer = {.method = XRSC_METHOD_SAMPLECACHE, .width = DEFAULT_WIDTH,
+                     .height = DEFAULT_HEIGHT, .spp = {.samples_per_pixel = DEFAULT_SPP}},
     };
     xrsc_headset_default(&opt.headset);
     bool quiet = false;
-    bool direct = false; /* --direct: in-process, no OpenXR */
+    bool direct = false;       /* --direct: in-process, no OpenXR */
+    bool blend_given = false; /* --blend: else default_blend(method) */
     const char *pose_columns = NULL, *pose_time_unit = NULL, *pose_handedness = NULL;
 
     int i = 1;
@@ -378,6 +394,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--blend")) {
             if (xrsc_blend_from_name(v, &opt.renderer.blend) != XRSC_OK)
                 return bad_arg(a, v, "unknown blend (none, pfj23, moments)");
+            blend_given = true;
         } else if (!strcmp(a, "--blend-r")) {
             if (!hs_parse_f(v, &d) || !(d >= 0.0 && d <= 1.0))
                 return bad_arg(a, v, "expected R in [0, 1]");
@@ -464,6 +481,8 @@ int main(int argc, char **argv)
         return bad_arg(pose_time_unit ? "--pose-time-unit" : "--pose-handedness", NULL,
                        "needs --pose-columns");
     }
+    if (!blend_given)
+        opt.renderer.blend = default_blend(opt.renderer.method);
     if (!quiet)
         fprintf(stderr, "xrsc: replaying %s over %s (%s, %ux%u per eye)\n", opt.poses_path,
                 opt.scene_path, xrsc_method_name(opt.renderer.method), opt.renderer.width,
@@ -478,6 +497,11 @@ int main(int argc, char **argv)
     }
     if (!quiet) {
         printf("device: %s\n", st.device);
+        printf("method: %s, stereo blend: %s", xrsc_method_name(opt.renderer.method),
+               xrsc_blend_name(opt.renderer.blend));
+        if (opt.renderer.blend == XRSC_BLEND_MOMENTS)
+            printf(", R = %g", (double)opt.renderer.blend_r);
+        printf("\n");
         printf("frames: %u  load %.2f s  total %.2f s\n", st.frames, st.load_s, st.total_s);
         printf("render wall time per stereo frame: mean %.2f ms, max %.2f ms\n",
                st.render_ms_mean, st.render_ms_max);
