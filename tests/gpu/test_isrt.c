@@ -474,75 +474,14 @@ done:
 
 static void test_m2_convergence(void)
 {
-    xrsc_context *ctx = NULL;
-    xrsc_scene *scene = NULL;
-    xrsc_renderer *isrt = NULL, *ref = NULL;
-    xrsc_context_options co = {.validation = true};
-    CHECK_EQ_INT(xrsc_context_create(&co, &ctx, NULL), XRSC_OK);
-    if (!ctx)
-        return;
-    CHECK_EQ_INT(xrsc_scene_load(ctx, t_source_path("scenes/cornell.gltf"), NULL, &scene, NULL),
-                 XRSC_OK);
-    xrsc_renderer_options ro = {.method = XRSC_METHOD_ISRT,
-                                .width = T_CONV_W,
-                                .height = T_CONV_W,
-                                .seed = 7,
-                                .isrt = {.m = 2}};
-    xrsc_renderer_options rr = {.method = XRSC_METHOD_SPP,
-                                .width = T_CONV_W,
-                                .height = T_CONV_W,
-                                .seed = 1234,
-                                .spp = {.samples_per_pixel = T_REF_SPP, .accumulate = true}};
-    if (scene) {
-        CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &ro, &isrt, NULL), XRSC_OK);
-        CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &rr, &ref, NULL), XRSC_OK);
-    }
-    if (!isrt || !ref)
-        goto done;
-    xrsc_scene_info info;
-    xrsc_scene_get_info(scene, &info);
-    xrsc_frame f = tsc_headset_frame(info.viewpoint, 0);
-    size_t n = (size_t)T_CONV_W * T_CONV_W;
-    float *refimg[2] = {malloc(n * 16), malloc(n * 16)}, *img = malloc(n * 16);
-    for (uint32_t k = 0; k < T_REF_FRAMES; k++) {
-        f.frame_index = k;
-        CHECK_EQ_INT(xrsc_renderer_render(ref, &f), XRSC_OK);
-    }
-    for (uint32_t e = 0; e < 2; e++)
-        CHECK_EQ_INT(xrsc_renderer_read(ref, e, XRSC_OUTPUT_COLOR, refimg[e], n * 16), XRSC_OK);
+    static const uint32_t at[] = {4, 8, 16, 32, 64};
+    xrsc_renderer_options ro = {.method = XRSC_METHOD_ISRT, .seed = 7, .isrt = {.m = 2}};
     double rel[T_CONV_FRAMES + 1] = {0};
-    printf("  relMSE vs %u spp:", T_REF_SPP * T_REF_FRAMES);
-    for (uint32_t k = 0; k < T_CONV_FRAMES; k++) {
-        f.frame_index = k;
-        CHECK_EQ_INT(xrsc_renderer_render(isrt, &f), XRSC_OK);
-        uint32_t frame = k + 1;
-        if (frame == 4 || frame == 8 || frame == 16 || frame == 32 || frame == 64) {
-            double sum = 0.0;
-            for (uint32_t e = 0; e < 2; e++) {
-                xrsc_error_metrics em;
-                CHECK_EQ_INT(xrsc_renderer_read(isrt, e, XRSC_OUTPUT_COLOR, img, n * 16), XRSC_OK);
-                CHECK_EQ_INT(xrsc_metrics_error(img, refimg[e], T_CONV_W, T_CONV_W, NULL, &em),
-                             XRSC_OK);
-                sum += em.relmse;
-            }
-            rel[frame] = sum / 2.0;
-            printf(" %u: %.4f", frame, rel[frame]);
-        }
-    }
-    printf("\n");
+    tsc_convergence(&ro, T_CONV_W, T_CONV_FRAMES, at, 5, T_REF_SPP, T_REF_FRAMES, rel);
     CHECK_MSG(rel[64] < 0.5 * rel[4], "relMSE at frame 64 %.4f vs at frame 4 %.4f", rel[64],
               rel[4]);
     CHECK_MSG(rel[64] < T_FINAL_RELMSE, "final relMSE %.4f", rel[64]);
     CHECK(rel[8] < rel[4] && rel[16] < rel[8]);
-    free(refimg[0]);
-    free(refimg[1]);
-    free(img);
-done:
-    xrsc_renderer_destroy(&isrt);
-    xrsc_renderer_destroy(&ref);
-    xrsc_scene_destroy(&scene);
-    CHECK_EQ_INT(xrsc_context_validation_errors(ctx), 0);
-    xrsc_context_destroy(&ctx);
 }
 
 /* ---- bad options ---- */

@@ -14,6 +14,7 @@
 #include "testing.h"
 #include "xrsc/xrsc.h"
 #include "xrsc/xrsc_math.h"
+#include "xrsc/xrsc_metrics.h"
 #include "xs_sc_math.h"
 
 #include <math.h>
@@ -472,4 +473,80 @@ static inline void tsc_check_invariants(const mt_sc_snapshot *sn, const sc_scene
             }
         }
     }
+}
+
+/**
+ * Convergence on a still view of scenes/cornell.gltf (its viewpoint, the default headset):
+ * renders `frames` frames of a w x w renderer with options ro and, after each frame k listed in
+ * at[0..at_count), stores in rel[k] the relMSE (mean of both eyes) against an `spp` reference
+ * accumulated over ref_frames frames of ref_spp samples (seed 1234). Prints the series; checks
+ * every call and zero validation errors. rel has room for frames + 1 values.
+ */
+static inline void tsc_convergence(const xrsc_renderer_options *ro, uint32_t w, uint32_t frames,
+                                   const uint32_t *at, uint32_t at_count, uint32_t ref_spp,
+                                   uint32_t ref_frames, double *rel)
+{
+    xrsc_context *ctx = NULL;
+    xrsc_scene *scene = NULL;
+    xrsc_renderer *r = NULL, *ref = NULL;
+    xrsc_context_options co = {.validation = true};
+    CHECK_EQ_INT(xrsc_context_create(&co, &ctx, NULL), XRSC_OK);
+    if (!ctx)
+        return;
+    CHECK_EQ_INT(xrsc_scene_load(ctx, t_source_path("scenes/cornell.gltf"), NULL, &scene, NULL),
+                 XRSC_OK);
+    xrsc_renderer_options o = *ro;
+    o.width = o.height = w;
+    xrsc_renderer_options rr = {.method = XRSC_METHOD_SPP,
+                                .width = w,
+                                .height = w,
+                                .seed = 1234,
+                                .spp = {.samples_per_pixel = ref_spp, .accumulate = true}};
+    if (scene) {
+        CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &o, &r, NULL), XRSC_OK);
+        CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &rr, &ref, NULL), XRSC_OK);
+    }
+    size_t n = (size_t)w * w;
+    float *refimg[2] = {malloc(n * 16), malloc(n * 16)}, *img = malloc(n * 16);
+    if (!r || !ref || !refimg[0] || !refimg[1] || !img)
+        goto done;
+    xrsc_scene_info info;
+    xrsc_scene_get_info(scene, &info);
+    xrsc_frame f = tsc_headset_frame(info.viewpoint, 0);
+    for (uint32_t k = 0; k < ref_frames; k++) {
+        f.frame_index = k;
+        CHECK_EQ_INT(xrsc_renderer_render(ref, &f), XRSC_OK);
+    }
+    for (uint32_t e = 0; e < 2; e++)
+        CHECK_EQ_INT(xrsc_renderer_read(ref, e, XRSC_OUTPUT_COLOR, refimg[e], n * 16), XRSC_OK);
+    printf("  relMSE vs %u spp:", ref_spp * ref_frames);
+    for (uint32_t k = 0; k < frames; k++) {
+        f.frame_index = k;
+        CHECK_EQ_INT(xrsc_renderer_render(r, &f), XRSC_OK);
+        uint32_t frame = k + 1;
+        bool scored = false;
+        for (uint32_t i = 0; i < at_count; i++)
+            scored |= at[i] == frame;
+        if (!scored)
+            continue;
+        double sum = 0.0;
+        for (uint32_t e = 0; e < 2; e++) {
+            xrsc_error_metrics em;
+            CHECK_EQ_INT(xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, img, n * 16), XRSC_OK);
+            CHECK_EQ_INT(xrsc_metrics_error(img, refimg[e], w, w, NULL, &em), XRSC_OK);
+            sum += em.relmse;
+        }
+        rel[frame] = sum / 2.0;
+        printf(" %u: %.4f", frame, rel[frame]);
+    }
+    printf("\n");
+done:
+    free(refimg[0]);
+    free(refimg[1]);
+    free(img);
+    xrsc_renderer_destroy(&r);
+    xrsc_renderer_destroy(&ref);
+    xrsc_scene_destroy(&scene);
+    CHECK_EQ_INT(xrsc_context_validation_errors(ctx), 0);
+    xrsc_context_destroy(&ctx);
 }
