@@ -36,6 +36,7 @@
 #include "gpu_scene.h"
 #include "mt_method.h"
 #include "sc_scene.h"
+#include "test_samplecache_util.h"
 #include "testing.h"
 #include "tf_taa.h"
 #include "xrsc/xrsc.h"
@@ -58,35 +59,6 @@
 #define T_SHIFT_M 0.05f /* sideways move of the translation case */
 #define T_EXACT_TOL 1e-3
 #define T_FLAT_TOL 1e-5
-
-static void print_diag(const xrsc_diag *d)
-{
-    char msg[1400];
-    fprintf(stderr, "%s\n", xrsc_diag_format(d, msg, sizeof(msg)));
-}
-
-static XrQuaternionf quat_mul(XrQuaternionf a, XrQuaternionf b)
-{
-    return (XrQuaternionf){a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-                           a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
-                           a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w,
-                           a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z};
-}
-
-/** A still frame of the default headset at head pose `head`. */
-static xrsc_frame headset_frame(XrPosef head, uint32_t frame_index)
-{
-    xrsc_headset hs;
-    xrsc_headset_default(&hs);
-    XrPosef eyes[2];
-    xrsc_headset_eye_poses(&hs, head, eyes);
-    xrsc_frame f = {.frame_index = frame_index};
-    for (int e = 0; e < 2; e++) {
-        f.views[e].pose = eyes[e];
-        f.views[e].fov = hs.fov[e];
-    }
-    return f;
-}
 
 /* ---- 1. still view through the public API ---- */
 
@@ -112,7 +84,7 @@ static bool render_still(xrsc_context *ctx, xrsc_scene *scene, const xrsc_render
     xrsc_result res = xrsc_renderer_create(ctx, scene, ro, &r, &diag);
     CHECK_EQ_INT(res, XRSC_OK);
     if (res != XRSC_OK) {
-        print_diag(&diag);
+        tsc_print_diag(&diag);
         return false;
     }
     for (uint32_t i = 0; i < frames && res == XRSC_OK; i++) {
@@ -141,13 +113,13 @@ static void still_view_case(const char *scene_path, double on_ratio)
     if (ctx)
         CHECK_EQ_INT(xrsc_scene_load(ctx, t_source_path(scene_path), NULL, &scene, &diag), XRSC_OK);
     if (!scene) {
-        print_diag(&diag);
+        tsc_print_diag(&diag);
         xrsc_context_destroy(&ctx);
         return;
     }
     xrsc_scene_info info;
     xrsc_scene_get_info(scene, &info);
-    xrsc_frame f = headset_frame(info.viewpoint, 0);
+    xrsc_frame f = tsc_headset_frame(info.viewpoint, 0);
     size_t pixels = 2u * T_W * T_H;
     float *ref = calloc(pixels * 4, sizeof(float)), *img = calloc(pixels * 4, sizeof(float));
 
@@ -263,7 +235,7 @@ static bool rig_open(t_rig *r, const char *scene_path, xrsc_method method, xrsc_
     }
     CHECK_EQ_INT(res, XRSC_OK);
     if (res != XRSC_OK) {
-        print_diag(&diag);
+        tsc_print_diag(&diag);
         return false;
     }
     CHECK(r->gpu->validation);
@@ -290,7 +262,7 @@ static bool rig_render(t_rig *r, const xrsc_frame *f)
     xrsc_result res = mt_method_render(r->m, f, &diag);
     CHECK_EQ_INT(res, XRSC_OK);
     if (res != XRSC_OK)
-        print_diag(&diag);
+        tsc_print_diag(&diag);
     return res == XRSC_OK;
 }
 
@@ -318,7 +290,7 @@ static bool rig_read(t_rig *r, uint32_t eye, t_eye *out)
         res = tf_taa_read(r->taa, eye, TF_IMAGE_REPROJ, out->reproj, sizeof(out->reproj), &diag);
     CHECK_EQ_INT(res, XRSC_OK);
     if (res != XRSC_OK)
-        print_diag(&diag);
+        tsc_print_diag(&diag);
     return res == XRSC_OK;
 }
 
@@ -502,7 +474,7 @@ static void camera_motion_case(bool translate)
                         r.cpu->viewpoint_orientation[2], r.cpu->viewpoint_orientation[3]},
         .position = {r.cpu->viewpoint_position[0], r.cpu->viewpoint_position[1],
                      r.cpu->viewpoint_position[2]}};
-    xrsc_frame f0 = headset_frame(head, 0), f1 = f0;
+    xrsc_frame f0 = tsc_headset_frame(head, 0), f1 = f0;
     f1.frame_index = 1;
     for (int e = 0; e < 2; e++) {
         const XrFovf *fov = &f0.views[e].fov;
@@ -510,7 +482,7 @@ static void camera_motion_case(bool translate)
         float turn = (float)atan(T_TURN_PX * px_tan);
         XrPosef *p = &f1.views[e].pose;
         p->orientation = xrsc_quat_normalize(
-            quat_mul(p->orientation, xrsc_quat_from_axis_angle((XrVector3f){0, 1, 0}, turn)));
+            xrsc_quat_mul(p->orientation, xrsc_quat_from_axis_angle((XrVector3f){0, 1, 0}, turn)));
         if (translate) {
             XrVector3f side = xrsc_quat_rotate(p->orientation, (XrVector3f){T_SHIFT_M, 0, 0});
             p->position.x += side.x;
@@ -680,7 +652,7 @@ static void test_disocclusion_moving_instance(void)
             mover = i;
     CHECK(mover != UINT32_MAX && r.cpu->instance_count == 2);
     XrPosef head = {.orientation = {0, 0, 0, 1}, .position = {0, 0, 0}};
-    xrsc_frame f0 = headset_frame(head, 0), f1 = headset_frame(head, 1);
+    xrsc_frame f0 = tsc_headset_frame(head, 0), f1 = tsc_headset_frame(head, 1);
     t_eye *prev = calloc(2, sizeof(t_eye)), *cur = calloc(2, sizeof(t_eye));
     double w0[3], w1[3];
     set_time(&r, 0.0);
@@ -761,7 +733,7 @@ static void test_pfj23_weights(void)
     t_eye *e = calloc(1, sizeof(t_eye));
     bool ok = true;
     for (uint32_t i = 0; i < 16 && ok; i++) {
-        xrsc_frame f = headset_frame(head, i);
+        xrsc_frame f = tsc_headset_frame(head, i);
         ok = rig_render(&r, &f);
     }
     uint32_t blended = 0, bad = 0;
