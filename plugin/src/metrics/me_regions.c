@@ -157,24 +157,9 @@ xrsc_result xrsc_metrics_region_error(const float *test_rgba, const float *ref_r
     xrsc_result res = me_check_pair(test_rgba, ref_rgba, width, height, &n);
     if (res != XRSC_OK)
         return res;
-    const xrsc_metrics_options o = me_options_fill(options);
     const uint8_t bit = (uint8_t)XRSC_REGION_BIT(region);
-    double sq = 0.0, rel = 0.0;
-    uint64_t count = 0;
-    for (size_t p = 0; p < n; p++) {
-        if (!(mask[p] & bit))
-            continue;
-        count++;
-        for (int c = 0; c < 3; c++) {
-            double r = ref_rgba[p * 4 + c], d = (double)test_rgba[p * 4 + c] - r;
-            sq += d * d;
-            rel += d * d / (r * r + o.relmse_epsilon);
-        }
-    }
-    const double values = 3.0 * (double)count;
-    out->mse = count ? sq / values : 0.0;
-    out->rmse = sqrt(out->mse);
-    out->relmse = count ? rel / values : 0.0;
+    uint64_t count = me_error_over(test_rgba, ref_rgba, n, mask, bit,
+                                   me_options_fill(options).relmse_epsilon, out);
     if (out_count)
         *out_count = count;
     return XRSC_OK;
