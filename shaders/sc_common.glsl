@@ -31,7 +31,7 @@ layout(set = XS_SC_SET, binding = XS_SC_BIND_FH, std430) buffer XsScFhBlock
 };
 layout(set = XS_SC_SET, binding = XS_SC_BIND_RAD, std430) buffer XsScRadBlock
 {
-    vec4 sc_rad[];
+    uvec2 sc_rad[]; /* four halves: (r, g), (b, c_s) (XS_SC_RAD_BYTES) */
 };
 layout(set = XS_SC_SET, binding = XS_SC_BIND_DEPTH_MIN, std430) buffer XsScDepthMinBlock
 {
@@ -88,6 +88,19 @@ uint sc_rad_at(uint c, uint s, uint pix)
         return 0u;
     return sc_slot_at(scp.shade_cache != 0u ? c : 0u, s, pix);
 }
+/** The radiance record at index at (sc_rad_at): L_s in rgb, c_s in a. */
+vec4 sc_rad_load(uint at)
+{
+    uvec2 r = sc_rad[at];
+    return vec4(unpackHalf2x16(r.x), unpackHalf2x16(r.y));
+}
+/** Stores L_s and c_s as halves (clamped to the largest finite half, XS_SC_RAD_BYTES). */
+void sc_rad_store(uint at, vec4 v)
+{
+    v = min(v, vec4(XS_SC_RAD_HALF_MAX));
+    sc_rad[at] = uvec2(packHalf2x16(v.xy), packHalf2x16(v.zw));
+}
+
 uint sc_occ(uint m) { return m & XS_SC_OCC_MASK; }
 uint sc_vis(uint m) { return m >> XS_SC_MAX_SLOTS; }
 uint sc_obit(uint s) { return 1u << s; }
@@ -138,23 +151,96 @@ xs_surface sc_surface(uvec4 fh)
     return s;
 }
 
-/** The world position of a stored surface hit with the CURRENT instance transforms, and the
- *  unit geometric normal of its triangle UP TO SIGN (not oriented by the vertex normals):
- *  the arithmetic of xs_surface_at for s.p and s.ng without the vertex normals and uv, for
- *  passes that need only the position and |cos| (the reprojection's Eq. 1 slope). */
-vec3 sc_hit_position(uvec4 fh, out vec3 ng_unsigned)
+/**
+ * The last triangle one invocation rebuilt: its world-space corners and unit geometric normal
+ * up to sign. The samples of one pixel mostly lie on one triangle, and on lavapipe the
+ * per-lane buffer loads and the corner transforms dominate the passes that loop over a
+ * pixel's samples (reproject, reconstruct): sc_tri_fetch loads a triangle only when the key
+ * (instance, primitive) changes. Corners, position and normal are those of xs_surface_at, with
+ * the CURRENT instance transforms (App. D: moving objects need nothing else); the normal is
+ * not oriented by the vertex normals (passes that need |cos| only).
+ */
+struct sc_tri {
+    uint instance; /* XS_SC_BACKGROUND: empty */
+    uint primitive;
+    vec3 p0, p1, p2;
+    vec3 ng_unsigned;
+    /* with attributes (sc_tri_fetch): the vertex normals in world space, not normalised, and
+     * the vertex uv */
+    vec3 n0, n1, n2;
+    vec2 uv0, uv1, uv2;
+};
+
+void sc_tri_init(out sc_tri tri)
 {
+    tri.instance = XS_SC_BACKGROUND;
+    tri.primitive = 0u;
+    tri.p0 = tri.p1 = tri.p2 = tri.ng_unsigned = tri.n0 = tri.n1 = tri.n2 = vec3(0.0);
+    tri.uv0 = tri.uv1 = tri.uv2 = vec2(0.0);
+}
+
+/** Makes tri the triangle of surface hit fh (loads it unless it is already); attributes:
+ *  also the vertex normals and uv (sc_tri_outside, sc_tri_uv). */
+void sc_tri_fetch(inout sc_tri tri, uvec4 fh, bool attributes)
+{
+    if (tri.instance == fh.w && tri.primitive == fh.z)
+        return;
     xs_instance inst = instances[fh.w];
     uint base = inst.first_index + 3u * fh.z;
-    vec2 bary = sc_bary(fh);
-    vec3 w = vec3(1.0 - bary.x - bary.y, bary.x, bary.y);
-    vec3 p0 = (inst.object_to_world * vec4(vertices[indices[base]].position_u.xyz, 1.0)).xyz;
-    vec3 p1 = (inst.object_to_world * vec4(vertices[indices[base + 1u]].position_u.xyz, 1.0)).xyz;
-    vec3 p2 = (inst.object_to_world * vec4(vertices[indices[base + 2u]].position_u.xyz, 1.0)).xyz;
-    vec3 cr = cross(p1 - p0, p2 - p0);
+    uvec3 vi = uvec3(indices[base], indices[base + 1u], indices[base + 2u]);
+    vec4 a0 = vertices[vi.x].position_u, a1 = vertices[vi.y].position_u,
+         a2 = vertices[vi.z].position_u;
+    tri.instance = fh.w;
+    tri.primitive = fh.z;
+    tri.p0 = (inst.object_to_world * vec4(a0.xyz, 1.0)).xyz;
+    tri.p1 = (inst.object_to_world * vec4(a1.xyz, 1.0)).xyz;
+    tri.p2 = (inst.object_to_world * vec4(a2.xyz, 1.0)).xyz;
+    vec3 cr = cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
     float cr_len = length(cr);
-    ng_unsigned = cr_len > 0.0 ? cr / cr_len : vec3(0.0, 0.0, 1.0);
-    return w.x * p0 + w.y * p1 + w.z * p2;
+    tri.ng_unsigned = cr_len > 0.0 ? cr / cr_len : vec3(0.0, 0.0, 1.0);
+    if (!attributes)
+        return;
+    vec4 b0 = vertices[vi.x].normal_v, b1 = vertices[vi.y].normal_v, b2 = vertices[vi.z].normal_v;
+    mat3 n2w = mat3(inst.normal_to_world);
+    tri.n0 = n2w * b0.xyz;
+    tri.n1 = n2w * b1.xyz;
+    tri.n2 = n2w * b2.xyz;
+    tri.uv0 = vec2(a0.w, b0.w);
+    tri.uv1 = vec2(a1.w, b1.w);
+    tri.uv2 = vec2(a2.w, b2.w);
+}
+
+/** The barycentric weights of surface hit fh (corner 0, 1, 2). */
+vec3 sc_tri_weights(uvec4 fh)
+{
+    vec2 bary = sc_bary(fh);
+    return vec3(1.0 - bary.x - bary.y, bary.x, bary.y);
+}
+
+/** The uv of surface hit fh on tri (fetched with attributes). */
+vec2 sc_tri_uv(sc_tri tri, uvec4 fh)
+{
+    vec3 w = sc_tri_weights(fh);
+    return w.x * tri.uv0 + w.y * tri.uv1 + w.z * tri.uv2;
+}
+
+/** Whether direction wo (unit, from the surface) lies on the outside of surface hit fh on tri
+ *  (fetched with attributes): the side its interpolated vertex normal points to, as
+ *  xs_surface_at and xs_surface_orient decide it. */
+bool sc_tri_outside(sc_tri tri, uvec4 fh, vec3 wo)
+{
+    vec3 w = sc_tri_weights(fh);
+    vec3 ns = w.x * tri.n0 + w.y * tri.n1 + w.z * tri.n2;
+    float ns_len = length(ns);
+    bool flip = ns_len > 1e-20 && !isnan(ns_len) && dot(tri.ng_unsigned, ns) < 0.0;
+    return dot(wo, flip ? -tri.ng_unsigned : tri.ng_unsigned) >= 0.0;
+}
+
+/** The world position of surface hit fh on tri (sc_tri_fetch(tri, fh) first). */
+vec3 sc_tri_position(sc_tri tri, uvec4 fh)
+{
+    vec3 w = sc_tri_weights(fh);
+    return w.x * tri.p0 + w.y * tri.p1 + w.z * tri.p2;
 }
 
 /**
@@ -220,6 +306,43 @@ int sc_round_robin(uint bits, uint start)
         rot = bits;
     return int((uint(findLSB(rot)) + start) % n);
 }
+
+/** Appends an entry to the work list (the shade-list buffer: the trace list from the density
+ *  pass to the trace pass, then the shade list); entries past scp.shade_capacity are
+ *  dropped (the count keeps the total). */
+void sc_list_append(uint entry)
+{
+    uint at = atomicAdd(sc_shade_count, 1u);
+    if (at < scp.shade_capacity)
+        sc_shade_list[at] = entry;
+}
+
+#if XS_SC_SET == XS_SC_RT_SET
+/** The work-list entry of this launch invocation, false past the list's end. The launch is
+ *  width x (XS_SC_SHADE_STRIPES * q): launch row r takes list row (r % q) *
+ *  XS_SC_SHADE_STRIPES + r / q, so every contiguous band of launch rows (lavapipe gives each
+ *  worker thread one) gets an equal share of the filled prefix of the list. */
+bool sc_list_entry(out uint entry)
+{
+    uint q = gl_LaunchSizeEXT.y / XS_SC_SHADE_STRIPES;
+    uint row = (gl_LaunchIDEXT.y % q) * XS_SC_SHADE_STRIPES + gl_LaunchIDEXT.y / q;
+    uint idx = row * gl_LaunchSizeEXT.x + gl_LaunchIDEXT.x;
+    entry = 0u;
+    if (idx >= min(sc_shade_count, scp.shade_capacity))
+        return false;
+    entry = sc_shade_list[idx];
+    return true;
+}
+
+/** Eye and pixel of a both-eyes pixel index (sc_pix). */
+uvec3 sc_pixel_of(uint pix)
+{
+    uint per_eye = frame.width * frame.height;
+    uint eye = pix / per_eye;
+    uint p = pix - eye * per_eye;
+    return uvec3(p % frame.width, p / frame.width, eye);
+}
+#endif
 
 /** The 3x3 bounds of pixel p: the neighbourhood of §3.2 and §3.4, clipped to the image. */
 void sc_neighbourhood(uvec2 p, out uvec2 lo, out uvec2 hi)

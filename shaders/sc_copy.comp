@@ -28,11 +28,11 @@ void copy_sample(uint eye, uint pix, uint s, uint addr, bool visible)
     uint src_slot = addr / plane;
     uint src_pix = addr - src_slot * plane;
     uvec4 fh = sc_fh[sc_slot_at(prev, src_slot, src_pix)];
-    vec4 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_at(prev, src_slot, src_pix)] : vec4(0.0);
+    uvec2 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_at(prev, src_slot, src_pix)] : uvec2(0u);
     sc_fh[sc_slot_at(scp.cur, s, pix)] = fh;
-    sc_rad[sc_rad_at(scp.cur, s, pix)] = rad;
+    sc_rad[sc_rad_at(scp.cur, s, pix)] = rad; /* the halves as they are */
     if (visible && !sc_is_background(fh) && scp.shade_mode == XS_SC_SHADE_ADAPTIVE)
-        sc_count_importance(eye, xs_sc_importance(rad.w));
+        sc_count_importance(eye, xs_sc_importance(unpackHalf2x16(rad.y).y));
 }
 
 /** `isrt`: the winner of each cell, and the pixel's mask. */

@@ -60,8 +60,11 @@ void main()
         uint vis = sc_vis(m) & sc_all_slots();
         uint empty = sc_all_slots() & ~vis;
         sc_mask[mi] = (sc_occ(m) | empty) | (vis << XS_SC_MAX_SLOTS);
-        sc_plan[pix].x &= ~empty;
+        uint trace = sc_plan[pix].x & ~empty;
+        sc_plan[pix].x = trace;
         sc_plan[pix].y = empty;
+        if (scp.trace_mode == XS_SC_TRACE_ADAPTIVE && (trace | empty) != 0u)
+            sc_list_append(pix);
         return;
     }
     /* the 3 x 3 means of the neighbourhoods containing this pixel (each clipped to the
@@ -131,6 +134,10 @@ void main()
     vis &= ~newbits;
     sc_mask[mi] = occ | (vis << XS_SC_MAX_SLOTS);
     /* x and y only: neighbours read w concurrently */
-    sc_plan[pix].x = plan.x & occ & ~newbits;
+    uint trace = plan.x & occ & ~newbits;
+    sc_plan[pix].x = trace;
     sc_plan[pix].y = newbits;
+    /* adaptive tracing: the trace list of the pixels with rays to trace (sc_trace.rgen) */
+    if (scp.trace_mode == XS_SC_TRACE_ADAPTIVE && (trace | newbits) != 0u)
+        sc_list_append(pix);
 }

@@ -14,6 +14,8 @@
  * so mu_1 equals the colour whenever the counts agree. albedo = mean xs_demod_albedo of
  * all visible samples (1 for background); depth and hit id are those of the closest visible
  * sample (§3.6: its depth is the most stable), as the `spp` outputs define them.
+ * A sample on the triangle (material) of the one before reuses its corners (albedo and
+ * emission): sc_tri, rc_material; the values are those of xs_surface_at and xs_material_at.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -26,6 +28,44 @@ layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1)
 
 layout(set = 0, binding = XS_SC_BIND_OUT_MU1, rgba32f) uniform writeonly image2DArray out_mu1;
 layout(set = 0, binding = XS_SC_BIND_OUT_MU2, rgba32f) uniform writeonly image2DArray out_mu2;
+
+/** The last material one invocation looked up: a material without textures has one albedo
+ *  and emission, so it is evaluated once per run of samples with that material (most pixels'
+ *  samples share one), a textured one at every sample's uv. */
+struct rc_material {
+    uint id; /* 0xFFFFFFFF: none yet */
+    bool constant;
+    vec3 albedo;   /* xs_demod_albedo */
+    vec3 emission; /* xs_mat.emission */
+    bool double_sided;
+};
+
+/** Albedo (xs_demod_albedo) and emitted radiance towards the eye (xs_emitted) of the sample of
+ *  material id at uv, seen from its outside or not. */
+void rc_material_at(inout rc_material c, uint id, vec2 uv, bool outside, out vec3 albedo,
+                    out vec3 emitted)
+{
+    if (c.id != id) {
+        xs_material m = materials[id];
+        c.id = id;
+        c.constant = m.base_color_tex == XS_NO_TEXTURE && m.metal_rough_tex == XS_NO_TEXTURE &&
+                     m.emission_tex == XS_NO_TEXTURE;
+        if (c.constant) {
+            xs_mat mt = xs_material_at(id, vec2(0.0));
+            c.albedo = xs_demod_albedo(mt);
+            c.emission = mt.emission;
+            c.double_sided = mt.double_sided;
+        }
+    }
+    if (c.constant) {
+        albedo = c.albedo;
+        emitted = (outside || c.double_sided) ? c.emission : vec3(0.0);
+        return;
+    }
+    xs_mat mt = xs_material_at(id, uv);
+    albedo = xs_demod_albedo(mt);
+    emitted = xs_emitted(mt, outside);
+}
 
 void main()
 {
@@ -45,6 +85,13 @@ void main()
     float best_t = SC_T_BACKGROUND;
     uvec4 hitid = uvec4(XS_MISS_INSTANCE, 0u, 0u, 0u);
     float depth = 0.0;
+    sc_tri tri;
+    sc_tri_init(tri);
+    rc_material mc;
+    mc.id = 0xFFFFFFFFu;
+    mc.constant = false;
+    mc.albedo = mc.emission = vec3(0.0);
+    mc.double_sided = false;
     for (uint bits = sc_vis(m) & sc_occ(m) & sc_all_slots(); bits != 0u; bits &= bits - 1u) {
         uint s = uint(findLSB(bits));
         uint at = sc_slot_at(cur, s, pix);
@@ -57,22 +104,23 @@ void main()
             c = 1.0;
             albedo_sum += vec3(1.0);
         } else {
-            xs_surface sf = sc_surface(fh);
-            vec3 d = sf.p - o;
+            sc_tri_fetch(tri, fh, true);
+            vec3 sp = sc_tri_position(tri, fh);
+            vec3 d = sp - o;
             float t = length(d);
-            xs_surface_orient(sf, -d / max(t, 1e-30));
-            xs_mat mt = xs_material_at(sf.material, sf.uv);
-            vec3 a = xs_demod_albedo(mt);
+            bool outside = sc_tri_outside(tri, fh, -d / max(t, 1e-30));
+            vec3 a, emitted;
+            rc_material_at(mc, sc_material(fh), sc_tri_uv(tri, fh), outside, a, emitted);
             albedo_sum += a;
             if (t < best_t) {
                 best_t = t;
                 vec2 bary = sc_bary(fh);
                 hitid = uvec4(fh.w, fh.z, floatBitsToUint(bary.x), floatBitsToUint(bary.y));
-                depth = -(e.view * vec4(sf.p, 1.0)).z;
+                depth = -(e.view * vec4(sp, 1.0)).z;
             }
-            vec4 rad = sc_rad[sc_rad_at(cur, s, pix)];
+            vec4 rad = sc_rad_load(sc_rad_at(cur, s, pix));
             c = rad.w;
-            x = xs_emitted(mt, sf.outside) + sc_demod(a) * rad.rgb;
+            x = emitted + sc_demod(a) * rad.rgb;
         }
         if (!(c > 0.0 && xs_finite(x)))
             continue;

@@ -108,6 +108,8 @@ void main()
     uint pm = sc_mask[sc_mask_at(prev, pix)];
     uint occ = sc_occ(pm) & sc_all_slots();
     vec3 eye_pos = sc_eye_pos(eye);
+    sc_tri tri;
+    sc_tri_init(tri);
 
     while (occ != 0u) {
         uint s = uint(findLSB(occ));
@@ -125,13 +127,14 @@ void main()
                 continue;
         } else {
             /* position and |cos| only (the normal's sign does not matter under abs) */
-            vec3 ng;
-            vec3 p = sc_hit_position(fh, ng);
+            sc_tri_fetch(tri, fh, false);
+            vec3 p = sc_tri_position(tri, fh);
             if (!sc_project(eye, vec4(p, 1.0), pos))
                 continue;
             vec3 to_eye = eye_pos - p;
             t = length(to_eye);
-            slope = xs_sc_slope(t, abs(dot(ng, to_eye / max(t, 1e-30))), sc_phi(eye));
+            slope = xs_sc_slope(t, abs(dot(tri.ng_unsigned, to_eye / max(t, 1e-30))),
+                                sc_phi(eye));
         }
         uint tpix = sc_pix(eye, uvec2(pos));
         uint tmask = sc_mask_at(cur, tpix);
@@ -166,10 +169,10 @@ void main()
                       (visible ? XS_SC_SRC_VISIBLE : 0u) | (addr + 1u));
         } else {
             sc_fh[dst_at] = fh;
-            vec4 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_at(prev, s, pix)] : vec4(0.0);
-            sc_rad[sc_rad_at(cur, slot, tpix)] = rad;
+            uvec2 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_at(prev, s, pix)] : uvec2(0u);
+            sc_rad[sc_rad_at(cur, slot, tpix)] = rad; /* the halves as they are */
             if (visible && !background && scp.shade_mode == XS_SC_SHADE_ADAPTIVE)
-                sc_count_importance(eye, xs_sc_importance(rad.w));
+                sc_count_importance(eye, xs_sc_importance(unpackHalf2x16(rad.y).y));
         }
         if (visible)
             update_depth_words(tpix, background, t, slope);

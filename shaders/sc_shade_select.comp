@@ -84,7 +84,7 @@ void main()
         xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_SHADE_STREAM, frame.seed);
         for (uint cb = cand; cb != 0u; cb &= cb - 1u) {
             uint s = uint(findLSB(cb));
-            float w = xs_sc_importance(sc_rad[sc_rad_at(cur, s, pix)].w);
+            float w = xs_sc_importance(sc_rad_load(sc_rad_at(cur, s, pix)).w);
             int bucket = bounded ? int(xs_sc_bucket(w, w_min, w_max)) : int(XS_SC_BUCKETS) - 1;
             float u = xs_rng_next(rng);
             if (bucket > k || (bucket == k && u < p))

@@ -10,15 +10,19 @@
  * reads copy 1 - cur and writes copy cur, §3.1).
  *   mask[c][pix]                 32 bits: o_s = bit s, v_s = bit s + XS_SC_MAX_SLOTS (§3)
  *   fh[c][slot][pix]             uvec4, the first hit packed as Listing 1 (xs_sc_math.h)
- *   rad[c][slot][pix]            vec4: demodulated radiance L_s (rgb) and count c_s (a)
+ *   rad[c][slot][pix]            demodulated radiance L_s (rgb) and count c_s as four
+ *                                halves (XS_SC_RAD_BYTES: uvec2 of packHalf2x16 (r, g),
+ *                                (b, c_s)); sc_rad_load / sc_rad_store
  *   depth_min[pix]               uint64: closest distance t (float bits, high 32) | slope
  *                                Delta of that sample (Eq. 1, float bits, low 32), atomicMin
  *   depth_max[pix]               uint: farthest distance (float bits), atomicMax
  *   src[slot][pix]               2-pass reprojection: source address of each reserved slot
  *   plan[pix]                    uvec4: trace bits, new-sample bits, shade bits, visible count
  *   stats[c][eye]                xs_sc_stats: importance bounds and histogram (§3.5)
- *   shade list                   the samples chosen for shading, compacted (§3.5): a count,
- *                                then entries pix << XS_SC_SHADE_SLOT_BITS | slot
+ *   shade list                   a work list: a count, then entries. From the density pass
+ *                                to the trace pass the pixels with rays to trace (pix); then
+ *                                the samples chosen for shading, compacted (§3.5):
+ *                                pix << XS_SC_SHADE_SLOT_BITS | slot
  * Slot s of a pixel lives in "layer" s, as in the paper's array of textures (Fig. 3).
  */
 #ifndef XS_SAMPLECACHE_H
@@ -32,7 +36,7 @@
 #define XS_SC_BIND_PARAMS 16     /* uniform xs_sc_params */
 #define XS_SC_BIND_MASK 17       /* buffer uint[2][plane] */
 #define XS_SC_BIND_FH 18         /* buffer uvec4[2][N][plane] */
-#define XS_SC_BIND_RAD 19        /* buffer vec4[2][N][plane] */
+#define XS_SC_BIND_RAD 19        /* buffer uvec2[2][N][plane]: 4 halves (XS_SC_RAD_BYTES) */
 #define XS_SC_BIND_DEPTH_MIN 20  /* buffer uint64[plane] */
 #define XS_SC_BIND_DEPTH_MAX 21  /* buffer uint[plane] */
 #define XS_SC_BIND_SRC 22        /* buffer uint[N][plane] */
@@ -78,6 +82,14 @@
 /* xs_sc_params.shade_cache of `hybrid` (mt_hybrid.c): no per-sample radiance at all; rad[]
  * is a one-entry dummy that every sc_rad_at index maps to (0: one copy, 1: two copies). */
 #define XS_SC_RAD_NONE 2u
+
+/* Bytes of one slot's radiance record: L_s and c_s as half floats. Half precision (11
+ * significant bits) is below the noise of any cached estimate; radiance above
+ * XS_SC_RAD_HALF_MAX (the largest finite half) is clamped to it; c_s stops growing at 2048,
+ * where c_s + 1 rounds back to c_s (the plain mean's alpha is then 1/2049, the estimate of
+ * 2048 observations). */
+#define XS_SC_RAD_BYTES 8u
+#define XS_SC_RAD_HALF_MAX 65504.0
 
 /* Instance value of a background sample (fh.xyz = unit world direction as float bits). */
 #define XS_SC_BACKGROUND XS_MISS_INSTANCE

@@ -309,8 +309,8 @@ static void bytes_for(const char *label, const xrsc_samplecache_options *o)
            "(%.2f MiB per eye at 2064 x 2208)\n",
            label, resident, n, working, resident + working,
            (resident + working) * 2064.0 * 2208.0 / 1048576.0);
-    /* mask 4 B + fh 16 B + rad 16 B per slot, two copies each */
-    CHECK_NEAR(resident, 2.0 * (4.0 + 32.0 * n), 0.0);
+    /* mask 4 B + fh 16 B + rad XS_SC_RAD_BYTES (four halves) per slot, two copies each */
+    CHECK_NEAR(resident, 2.0 * (4.0 + (16.0 + XS_SC_RAD_BYTES) * n), 0.0);
     tsc_close(&rig);
 }
 

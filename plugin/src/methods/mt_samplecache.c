@@ -9,6 +9,7 @@
 
 #include "mt_trace.h"
 #include "u_diag.h"
+#include "u_half.h"
 #include "xs_sc_math.h"
 
 #include <math.h>
@@ -97,7 +98,8 @@ _Static_assert(offsetof(mt_samplecache, base) == 0, "base first");
  * holds that with this much headroom (plus the base rate); more are dropped that frame. */
 #define MT_SC_SHADE_HEADROOM 1.25
 
-/** Entries of the shade list for both eyes: uniform shading needs one per pixel. */
+/** Entries of the shade list for both eyes: uniform shading needs one per pixel, and so does
+ *  the trace list that uses the same buffer before it (at least one entry per pixel). */
 static uint32_t shade_capacity(const xrsc_samplecache_options *o, uint32_t w, uint32_t h)
 {
     double px = 2.0 * w * h;
@@ -193,6 +195,17 @@ static void dispatch(VkCommandBuffer cmd, const mt_samplecache *s, int prog)
     gpu_compute_program_cmd_dispatch(cmd, &s->prog[prog], NULL, gx, gy, 2);
 }
 
+/** Launches program over a work list of up to `entries` entries (sc_list_entry): rows of
+ *  width w striped over XS_SC_SHADE_STRIPES bands of the launch; entries past the list's
+ *  count exit at once. */
+static void cmd_trace_list(gpu_context *ctx, VkCommandBuffer cmd, const gpu_rt_program *program,
+                           uint32_t w, uint32_t entries)
+{
+    uint32_t list_rows = (entries + w - 1) / w;
+    uint32_t stripe_rows = (list_rows + XS_SC_SHADE_STRIPES - 1) / XS_SC_SHADE_STRIPES;
+    gpu_rt_program_cmd_trace(ctx, cmd, program, NULL, w, XS_SC_SHADE_STRIPES * stripe_rows, 1);
+}
+
 static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *diag)
 {
     mt_samplecache *s = (mt_samplecache *)m;
@@ -253,6 +266,8 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
         goto submit;
 
     pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_DENSITY);
+    cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0); /* the trace list's count */
+    gpu_cmd_barrier_all(cmd);
     dispatch(cmd, s, PROG_DENSITY);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
     gpu_cmd_barrier_all(cmd);
@@ -260,7 +275,10 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
         goto submit;
 
     pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_TRACE);
-    gpu_rt_program_cmd_trace(ctx, cmd, &t->program, NULL, w, h, 2);
+    if (s->p.trace_mode == XS_SC_TRACE_ADAPTIVE) /* the trace list: each pixel at most once */
+        cmd_trace_list(ctx, cmd, &t->program, w, s->plane);
+    else
+        gpu_rt_program_cmd_trace(ctx, cmd, &t->program, NULL, w, h, 2);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
     gpu_cmd_barrier_all(cmd);
     if (s->stop_after == STAGE_TRACE)
@@ -271,11 +289,7 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     gpu_cmd_barrier_all(cmd);
     dispatch(cmd, s, PROG_SHADE_SELECT);
     gpu_cmd_barrier_all(cmd);
-    /* one invocation per shade-list entry, rows of width w striped over XS_SC_SHADE_STRIPES
-     * bands of the launch (entries past the count exit) */
-    uint32_t list_rows = (s->p.shade_capacity + w - 1) / w;
-    uint32_t stripe_rows = (list_rows + XS_SC_SHADE_STRIPES - 1) / XS_SC_SHADE_STRIPES;
-    gpu_rt_program_cmd_trace(ctx, cmd, &s->shade, NULL, w, XS_SC_SHADE_STRIPES * stripe_rows, 1);
+    cmd_trace_list(ctx, cmd, &s->shade, w, s->p.shade_capacity);
     gpu_timer_cmd_end(cmd, &t->timer, pass);
     gpu_cmd_barrier_all(cmd);
     if (s->stop_after == STAGE_SHADE)
@@ -487,7 +501,8 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
             XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, 2 * slot_plane * 16, &s->fh, diag)) != XRSC_OK ||
         (res = gpu_buffer_create_storage(
-             ctx, s->hybrid ? 16 : (s->p.shade_cache ? 2 : 1) * slot_plane * 16, &s->rad, diag)) !=
+             ctx, s->hybrid ? 16 : (s->p.shade_cache ? 2 : 1) * slot_plane * XS_SC_RAD_BYTES,
+             &s->rad, diag)) !=
             XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, plane * sizeof(uint64_t), &s->depth_min, diag)) !=
             XRSC_OK ||
@@ -560,8 +575,8 @@ void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, do
     const mt_samplecache *s = (const mt_samplecache *)m;
     double n = s->opt.slots;
     double rad_copies = s->p.shade_cache == XS_SC_RAD_NONE ? 0.0 : s->p.shade_cache ? 2.0 : 1.0;
-    /* per copy: mask 4 B, first hits 16 B per slot, radiance 16 B per slot */
-    *out_resident = 2.0 * (4.0 + 16.0 * n) + rad_copies * 16.0 * n;
+    /* per copy: mask 4 B, first hits 16 B per slot, radiance XS_SC_RAD_BYTES per slot */
+    *out_resident = 2.0 * (4.0 + 16.0 * n) + rad_copies * XS_SC_RAD_BYTES * n;
     /* depth_min 8 + depth_max 4 + plan 16, 4 B per slot for 2-pass addresses, the shade list */
     *out_working = 8.0 + 4.0 + 16.0 + (s->p.two_pass ? 4.0 * n : 0.0) +
                    (s->p.isrt_m ? 8.0 * n : 0.0) +
@@ -607,6 +622,21 @@ static xrsc_result read_buffer(gpu_context *ctx, const gpu_buffer *b, VkDeviceSi
     memcpy(dst, rb.mapped, size);
 done:
     gpu_buffer_destroy(ctx, &rb);
+    return res;
+}
+
+/** Reads px radiance records (XS_SC_RAD_BYTES each: four halves) at offset as float rgba. */
+static xrsc_result read_radiance(gpu_context *ctx, const gpu_buffer *b, VkDeviceSize offset,
+                                 size_t px, float *dst, xrsc_diag *diag)
+{
+    _Static_assert(XS_SC_RAD_BYTES == 4 * sizeof(uint16_t), "four halves");
+    uint16_t *h = malloc(px * XS_SC_RAD_BYTES);
+    if (!h)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+    xrsc_result res = read_buffer(ctx, b, offset, px * XS_SC_RAD_BYTES, h, diag);
+    for (size_t i = 0; res == XRSC_OK && i < 4 * px; i++)
+        dst[i] = u_half_to_float(h[i]);
+    free(h);
     return res;
 }
 
@@ -666,14 +696,15 @@ xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *
         goto fail;
     for (uint32_t k = 0; k < n; k++) {
         VkDeviceSize fh_off = ((VkDeviceSize)(cur * n + k) * plane + eye_off) * 16;
-        VkDeviceSize rad_off = ((VkDeviceSize)(rad_copy * n + k) * plane + eye_off) * 16;
+        VkDeviceSize rad_off =
+            ((VkDeviceSize)(rad_copy * n + k) * plane + eye_off) * XS_SC_RAD_BYTES;
         bool no_rad = s->p.shade_cache == XS_SC_RAD_NONE; /* hybrid: radiance all zeros */
         if (no_rad)
             memset(out->rad + (size_t)k * px * 4, 0, px * 16);
         if ((res = read_buffer(ctx, &s->fh, fh_off, px * 16, out->fh + (size_t)k * px * 4, diag)) !=
                 XRSC_OK ||
-            (!no_rad && (res = read_buffer(ctx, &s->rad, rad_off, px * 16,
-                                           out->rad + (size_t)k * px * 4, diag)) != XRSC_OK))
+            (!no_rad && (res = read_radiance(ctx, &s->rad, rad_off, px,
+                                             out->rad + (size_t)k * px * 4, diag)) != XRSC_OK))
             goto fail;
     }
     return XRSC_OK;

@@ -5,8 +5,8 @@
  *        for tests and benchmarks (masks, first hits, radiance, depth words, plans, statistics).
  *
  * Data per eye (xs_samplecache.h has the exact layouts): a 32-bit mask per pixel (o_s = bit s,
- * v_s = bit 16 + s), N slots of a 128-bit first hit (Listing 1) and a 128-bit radiance + count
- * (L_s, c_s), all double buffered; per frame a 64-bit closest depth + slope, a 32-bit farthest
+ * v_s = bit 16 + s), N slots of a 128-bit first hit (Listing 1) and a 64-bit radiance + count
+ * (L_s, c_s as halves, read back as floats), all double buffered; per frame a 64-bit closest depth + slope, a 32-bit farthest
  * depth, a 128-bit plan and (2-pass) a 32-bit source address per slot. See
  * ::mt_samplecache_bytes_per_pixel.
  *
