@@ -11,12 +11,15 @@ PKGS=(
   build-essential cmake pkg-config clang libclang-rt-14-dev
   libvulkan-dev vulkan-validationlayers glslang-tools spirv-tools
   libglfw3-dev libx11-dev libcglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libpng-dev
+  libopenexr-dev
   libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation
   xvfb xauth gnuplot-nox mesa-vulkan-drivers
   libdraco-dev assimp-testmodels
 )
 # libdraco-dev: KHR_draco_mesh_compression (optional at build time: CMake XRSC_DRACO);
 # assimp-testmodels: third-party glTF 2.0 files for test_gltf_assimp (which skips without it).
+# libopenexr-dev: OpenEXR 3.1's C library (OpenEXRCore) for `xrsc --write exr`. ffmpeg (for
+# `xrsc --video`) is optional and deliberately not installed here.
 MESA_MIN=24.1
 
 sudo_() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }

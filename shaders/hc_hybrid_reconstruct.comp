@@ -24,6 +24,8 @@
 #include "xs_bindings.glsl"
 #include "xs_hitinfo.glsl"
 #include "xs_rng.glsl"
+#include "xs_camera.glsl"
+#include "xs_env.glsl"
 #include "sc_common.glsl"
 #include "hc_table.glsl"
 
@@ -53,6 +55,10 @@ void main()
     uint m = sc_mask[sc_mask_at(cur, pix)];
     vec3 o = sc_eye_pos(eye);
     xs_eye e = frame.eyes[eye];
+    /* background samples: the environment map through the pixel centre, when there is one */
+    vec3 bg = frame.env_width > 0u
+                  ? xs_env_escape(xs_camera_ray(eye, vec2(g.xy) + 0.5).dir, true, 0.0)
+                  : frame.environment.rgb;
 
     vec3 sum = vec3(0.0), sum_w1 = vec3(0.0), sum_w2 = vec3(0.0), albedo_sum = vec3(0.0);
     vec3 bg_w1 = vec3(0.0), bg_w2 = vec3(0.0);
@@ -67,7 +73,7 @@ void main()
         float c;
         n_vis += 1.0;
         if (sc_is_background(fh)) {
-            x = frame.environment.rgb;
+            x = bg;
             c = 1.0;
             albedo_sum += vec3(1.0);
         } else {

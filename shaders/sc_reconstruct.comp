@@ -7,7 +7,8 @@
  * Per pixel, over the visible samples: surface samples give emission + albedo * L_s (their
  * demodulated radiance remodulated, xs_demod_albedo through sc_demod) with weight c_s, and
  * count only once shaded (c_s > 0: an unshaded sample has observed nothing yet); background
- * samples give the environment. colour = mean of the observed samples' values (§3.3:
+ * samples give the environment along their own direction (xs_env_escape: the map and sun
+ * disk, or the constant). colour = mean of the observed samples' values (§3.3:
  * "average the observed radiance of all visible samples"); mu_1 = sum c_s X_s / c_X,
  * mu_2 = sum c_s X_s^2 / c_X (Eq. 5, 6; rgb, alpha = c_X), where a background sample (exact,
  * no count of its own) weighs as the pixel's mean surface c_s (1 without surface samples),
@@ -22,6 +23,7 @@
 #define XS_NO_TLAS
 #include "xs_bindings.glsl"
 #include "xs_hitinfo.glsl"
+#include "xs_env.glsl"
 #include "sc_common.glsl"
 
 layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1) in;
@@ -100,7 +102,9 @@ void main()
         float c;
         n_vis += 1.0;
         if (sc_is_background(fh)) {
-            x = frame.environment.rgb;
+            /* what the sample's own ray sees: the map (and sun disk) when there is one */
+            x = frame.env_width > 0u ? xs_env_escape(sc_background_dir(fh), true, 0.0)
+                                     : frame.environment.rgb;
             c = 1.0;
             albedo_sum += vec3(1.0);
         } else {

@@ -44,6 +44,15 @@ typedef struct xs_mat4 { float m[16]; } xs_mat4; /* column-major */
 #define XS_BIND_OUT_HITID 11 /* rgba32ui: instance, primitive, bary.u bits, bary.v bits */
 #define XS_BIND_ACCUM 12     /* rgba32f: progressive sum (rgb) and sample count (a) */
 #define XS_BIND_RAY_COUNTER 13 /* buffer uint64 (as uvec2 lo/hi or atomic uint): rays traced */
+#define XS_BIND_ENV_MAP 14     /* readonly buffer float[]: the environment map, XS_ENV_* layout */
+
+/* Layout of XS_BIND_ENV_MAP for a W x H equirectangular map (sc_env.h), N = W * H, in floats:
+ * texel i (row-major, rows top to bottom) at 4i: rgb radiance, a = p_texel W H / (2 pi^2);
+ * the marginal cdf over rows at XS_ENV_MARGINAL(N) (H floats); row y's conditional cdf at
+ * XS_ENV_CONDITIONAL(N, H) + y W (W floats). Without a map the buffer holds 4 zeros. */
+#define XS_ENV_MARGINAL(n) (4u * (n))
+#define XS_ENV_CONDITIONAL(n, h) (5u * (n) + (h))
+#define XS_ENV_FLOATS(n, h) (6u * (n) + (h))
 
 /* ---- descriptor set 1 of spp.rgen: the raw moments of each pixel's samples (seed 000 Eq. 5,
  * for the moments stereo blend), image2DArray rgba32f with layer = eye ---- */
@@ -149,7 +158,11 @@ XS_STRUCT(xs_frame)
     xs_uint jitter;     /* XS_JITTER_*: where in the pixel the samples go */
     xs_uint seed;
     xs_float jitter_x, jitter_y; /* XS_JITTER_OFFSET: the sub-pixel position in [0, 1)^2 */
-    xs_uint pad0;
+    /* environment map (XS_BIND_ENV_MAP): env_width 0 = none, the constant `environment` */
+    xs_uint env_width, env_height;
+    xs_uint env_sampling;     /* 1: importance-sample the map in next-event estimation */
+    xs_float env_rotation;    /* radians about +Y (sc_env.h) */
+    xs_float sun_cos_max;     /* cos of the sun disk's angular radius; 0 = a delta sun */
 } XS_END(xs_frame);
 
 /* The primary payload: what the closest-hit shader reports. */
@@ -173,6 +186,7 @@ _Static_assert(sizeof(xs_emitter) == 16, "xs_emitter layout");
 _Static_assert(sizeof(xs_eye) == 208, "xs_eye layout");
 _Static_assert(offsetof(xs_frame, width) == 464, "xs_frame layout");
 _Static_assert(sizeof(xs_frame) % 16 == 0, "xs_frame layout");
+_Static_assert(offsetof(xs_frame, sun_cos_max) == 524, "xs_frame layout");
 _Static_assert(sizeof(xs_hit) == 32, "xs_hit layout");
 #endif
 

@@ -72,6 +72,12 @@ layout(set = 0, binding = XS_BIND_OUT_DEPTH, r32f) uniform writeonly image2DArra
 layout(set = 0, binding = XS_BIND_OUT_HITID, rgba32ui) uniform writeonly uimage2DArray out_hitid;
 layout(set = 0, binding = XS_BIND_ACCUM, rgba32f) uniform image2DArray accum;
 
+/* The environment map and its sampling tables (XS_ENV_* layout of xrsc_shared.h). */
+layout(set = 0, binding = XS_BIND_ENV_MAP, std430) readonly buffer XsEnvMapBlock
+{
+    float env_map[];
+};
+
 /* One 64-bit counter of all rays traced (primary, bounce and shadow); one atomicAdd per pixel. */
 layout(set = 0, binding = XS_BIND_RAY_COUNTER, std430) buffer XsRayCounterBlock
 {

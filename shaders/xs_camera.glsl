@@ -20,12 +20,14 @@ uint xs_pixel_row(uint r, uint h)
     return (r & 1u) == 0u ? (r >> 1u) : (h - 1u - (r >> 1u));
 }
 
+#ifndef XS_NO_TLAS /* ray-tracing stages only; compute shaders may use the camera rays */
 /** Pixel of this invocation (x right, y down from the top row) and the eye (launch z). */
 uvec3 xs_launch_pixel()
 {
     uvec3 l = gl_LaunchIDEXT;
     return uvec3(l.x, xs_pixel_row(l.y, gl_LaunchSizeEXT.y), l.z);
 }
+#endif
 
 struct xs_ray {
     vec3 origin;

@@ -2,15 +2,20 @@
 /**
  * @file xs_path.glsl
  * @brief The path tracer's path loop (factored out of spp.rgen, unchanged in behaviour):
- *        next-event estimation of the sun and one emissive triangle with MIS, BSDF sampling,
- *        Russian roulette (seed 000 §5.1). Used by spp.rgen (camera paths) and by the sample
- *        cache's shading pass (paths continued from a cached first hit, sc_shade.rgen).
+ *        next-event estimation of the sun (a delta light, or the sky's disk sun with MIS), the
+ *        environment map (importance-sampled with MIS, xs_env.glsl) and one emissive triangle
+ *        with MIS, BSDF sampling, Russian roulette (seed 000 §5.1). Used by spp.rgen (camera
+ *        paths) and by the sample cache's shading pass (paths continued from a cached first
+ *        hit, sc_shade.rgen). Without a map or a disk sun no random number is drawn for them,
+ *        so the paths of a constant environment are those of before.
  *
  * Declares the two ray payloads at locations XS_PAYLOAD_PRIMARY / XS_PAYLOAD_SHADOW. Requires
  * xs_bindings.glsl, xs_bsdf.glsl, xs_hitinfo.glsl and xs_rng.glsl.
  */
 #ifndef XS_PATH_GLSL
 #define XS_PATH_GLSL
+
+#include "xs_env.glsl"
 
 layout(location = XS_PAYLOAD_PRIMARY) rayPayloadEXT xs_hit payload;
 layout(location = XS_PAYLOAD_SHADOW) rayPayloadEXT uint shadow_visible;
@@ -68,6 +73,25 @@ struct xs_path_out {
     uint rays;
 };
 
+/** Next-event estimation towards infinity: light sample wi (unit, world) with solid-angle pdf
+ *  pl and radiance le, power-heuristic MIS against the BSDF's pdf of wi. */
+void xs_add_light_sample(inout xs_path_out r, vec3 throughput, vec3 wi, float pl, vec3 le,
+                         xs_bsdf bsdf, vec3 wo_l, vec3 tb, vec3 bb, xs_surface s, vec3 o_up)
+{
+    if (!(pl > 0.0) || !any(greaterThan(le, vec3(0.0))))
+        return;
+    vec3 wi_l = xs_to_local(wi, tb, bb, s.ns);
+    float pdf_b;
+    vec3 fc = xs_bsdf_eval(bsdf, wo_l, wi_l, pdf_b);
+    if (!any(greaterThan(fc, vec3(0.0))) || !xs_side_ok(wi, s.ng, wi_l.z))
+        return;
+    vec3 c = throughput * fc * le * (xs_mis_power(pl, pdf_b) / pl);
+    if (!xs_finite(c))
+        return;
+    vec3 o = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
+    r.radiance += c * xs_visible(o, wi, XS_RAY_TMAX, r.rays);
+}
+
 /**
  * One path from origin along unit dir. With have_first, the first vertex is `first` (a hit
  * already known, e.g. a cached first hit of the sample cache: no ray is traced for it);
@@ -101,7 +125,7 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
         if (bounce == 0u)
             r.first = payload;
         if (payload.instance == XS_MISS_INSTANCE) {
-            r.radiance += throughput * frame.environment.rgb;
+            r.radiance += throughput * xs_env_escape(dir, prev_delta, prev_pdf);
             break;
         }
 
@@ -139,8 +163,20 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
         vec3 o_up = xs_offset_ray(s.p, s.ng);
 
         if (!delta) {
+            /* the sky's sun disk and the environment map: light samples with MIS */
+            if (frame.sun_direction.w > 0.0 && frame.sun_cos_max > 0.0) {
+                float pl = 1.0 / xs_sun_solid_angle();
+                xs_add_light_sample(r, throughput, xs_sun_sample(xs_rng_next2(rng)), pl,
+                                    frame.sun_radiance.rgb * pl, bsdf, wo_l, tb, bb, s, o_up);
+            }
+            if (frame.env_width > 0u && frame.env_sampling != 0u) {
+                vec3 wi;
+                float pl;
+                vec3 le = xs_env_sample(xs_rng_next2(rng), wi, pl);
+                xs_add_light_sample(r, throughput, wi, pl, le, bsdf, wo_l, tb, bb, s, o_up);
+            }
             /* the sun: a delta light, no MIS */
-            if (frame.sun_direction.w > 0.0) {
+            if (frame.sun_direction.w > 0.0 && frame.sun_cos_max <= 0.0) {
                 vec3 wi = frame.sun_direction.xyz;
                 vec3 wi_l = xs_to_local(wi, tb, bb, s.ns);
                 float pdf_b;

@@ -39,7 +39,9 @@ extern "C" {
 #define HS_BENCH_SPEC_MAX 320
 
 /**
- * The issue-3 set: `spp` 1 and 4, `samplecache` single / multi / adaptive x 1pass / 2pass.
+ * The default set: the issue-3 set (`spp` 1 and 4, `samplecache` single / multi / adaptive x
+ * 1pass / 2pass), then the main job's stereo blends on the default sample cache (adaptive,
+ * 1pass): `moments` at R = 0 (xrsc replay's default) and R = 1, and `pfj23`.
  * Settings text: settings separated by ';', each "METHOD[:KEY=VALUE,KEY=VALUE...]";
  * name=LABEL sets the label (default: derived from method and keys). Keys: hs_bench_print_keys.
  */
@@ -48,7 +50,8 @@ extern "C" {
     "samplecache:trace=single,reproject=1pass;samplecache:trace=multi,reproject=1pass;"           \
     "samplecache:trace=adaptive,reproject=1pass;"                                                 \
     "samplecache:trace=single,reproject=2pass;samplecache:trace=multi,reproject=2pass;"           \
-    "samplecache:trace=adaptive,reproject=2pass"
+    "samplecache:trace=adaptive,reproject=2pass;"                                                 \
+    "samplecache:blend=moments,r=0;samplecache:blend=moments,r=1;samplecache:blend=pfj23"
 
 /** One benchmarked setting. */
 typedef struct hs_bench_setting {

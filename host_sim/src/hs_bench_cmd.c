@@ -55,8 +55,8 @@ static void usage(FILE *f)
 "\n"
 "Rendering:\n"
 "  --settings LIST     settings separated by ';' (or @FILE, one per line, '#' comments):\n"
-"                      METHOD[:KEY=VALUE,...]   [the issue-3 set: spp 1, 4; samplecache\n"
-"                      single/multi/adaptive x 1pass/2pass]\n"
+"                      METHOD[:KEY=VALUE,...]   [spp 1, 4; samplecache single/multi/\n"
+"                      adaptive x 1pass/2pass; samplecache + moments R = 0, R = 1, pfj23]\n"
 "  --baseline NAME     setting the ratios are to     [the first samplecache trace=single]\n"
 "  --resolution WxH    per eye                                  [%dx%d]\n"
 "  --ref-spp N         samples per pixel of the references      [%d]\n"
@@ -153,8 +153,16 @@ int hs_bench_main(int argc, char **argv)
     static char scene_buf[4096], poses_buf[4096];
     bool warmup_given = false;
     for (int i = 1; i < argc; i++)
-        if (!strcmp(argv[i], "--suite"))
+        if (!strcmp(argv[i], "--suite") || !strncmp(argv[i], "--suite=", 8))
             return hs_bench_suite_main(argc, argv);
+    hs_args args; /* --opt=value (hs_args_prepare) */
+    const hs_args_spec spec = {.cmd = "xrsc bench", .value_options = value_options,
+                               .value_count = sizeof(value_options) / sizeof(value_options[0])};
+    int prep = hs_args_prepare(&args, &spec, argc, argv);
+    if (prep)
+        return prep;
+    argc = args.argc;
+    argv = args.argv;
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];

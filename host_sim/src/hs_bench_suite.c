@@ -969,6 +969,10 @@ static int suite_bad(const char *flag, const char *value, const char *why)
     return hs_bad_arg("xrsc bench --suite", flag, value, why);
 }
 
+/* The options of suite_option (all take a value), for --opt=value (hs_args_prepare). */
+static const char *const suite_value_options[] = {"--suite",      "--case",    "--out",   "--device",
+                                                  "--resolution", "--ref-spp", "--frames"};
+
 /* One option with its value (argv[*i + 1]); returns 0 or the exit code of a bad argument. */
 static int suite_option(suite_opts *o, const char *a, const char *v)
 {
@@ -1005,6 +1009,16 @@ int hs_bench_suite_main(int argc, char **argv)
                     .h = SUITE_DEFAULT_SIZE_PX,
                     .ref_spp = SUITE_DEFAULT_REF_SPP,
                     .progress = true};
+    hs_args args;
+    const hs_args_spec spec = {
+        .cmd = "xrsc bench --suite",
+        .value_options = suite_value_options,
+        .value_count = sizeof(suite_value_options) / sizeof(suite_value_options[0])};
+    int prep = hs_args_prepare(&args, &spec, argc, argv);
+    if (prep)
+        return prep;
+    argc = args.argc;
+    argv = args.argv;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {

@@ -5,6 +5,7 @@
  */
 #include "hs_image.h"
 
+#include "hs_file.h"
 #include "u_diag.h"
 
 #include <errno.h>
@@ -71,25 +72,77 @@ void hs_tonemap_rgba(const hs_tonemap *tm, const float *rgba, uint32_t w, uint32
     }
 }
 
+/* Histogram of log2(max(r, g, b)) for the bright percentile of hs_autoexposure_update:
+ * HS_AE_BINS bins over [HS_AE_LOG2_MIN, HS_AE_LOG2_MAX) (0.04 stops each, interpolated). */
+#define HS_AE_BINS 1024
+#define HS_AE_LOG2_MIN (-24.0)
+#define HS_AE_LOG2_MAX (16.0)
+
+/** The value below which fraction p of the histogram's count lies (log2, interpolated). */
+static double histogram_percentile(const uint32_t *bins, size_t total, double p)
+{
+    double want = p * (double)total, acc = 0.0, width = (HS_AE_LOG2_MAX - HS_AE_LOG2_MIN) / HS_AE_BINS;
+    for (int i = 0; i < HS_AE_BINS; i++) {
+        if (bins[i] > 0 && acc + bins[i] >= want)
+            return HS_AE_LOG2_MIN + width * (i + (want - acc) / bins[i]);
+        acc += bins[i];
+    }
+    return HS_AE_LOG2_MAX;
+}
+
+float hs_autoexposure_update(hs_autoexposure *ae, const float *const *rgba, uint32_t count,
+                             uint32_t w, uint32_t h)
+{
+    static const double scale = HS_AE_BINS / (HS_AE_LOG2_MAX - HS_AE_LOG2_MIN);
+    uint32_t *bins = calloc(HS_AE_BINS, sizeof(uint32_t));
+    double sum = 0.0;
+    size_t n = (size_t)w * h, used = 0;
+    for (uint32_t e = 0; bins && e < count; e++) {
+        for (size_t i = 0; i < n; i++) {
+            const float *p = &rgba[e][i * 4];
+            double y = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+            double m = fmax(p[0], fmax(p[1], p[2]));
+            if (!isfinite(y) || !isfinite(m)) continue;
+            sum += log2(HS_AUTO_DELTA + (y > 0.0 ? y : 0.0));
+            double b = m > 0.0 ? (log2(m) - HS_AE_LOG2_MIN) * scale : 0.0;
+            bins[b < 0.0 ? 0 : b >= HS_AE_BINS ? HS_AE_BINS - 1 : (int)b]++;
+            used++;
+        }
+    }
+    if (used > 0) {
+        double key = log2(HS_AUTO_KEY) - sum / (double)used;
+        double white = log2(HS_AUTO_WHITE) - histogram_percentile(bins, used, HS_AUTO_PERCENTILE);
+        double x = fmin(key, white);
+        x = fmin(fmax(x, log2(HS_AUTO_MIN)), log2(HS_AUTO_MAX));
+        ae->log2_exposure =
+            ae->frames == 0 ? x : ae->log2_exposure + HS_AUTO_ADAPT * (x - ae->log2_exposure);
+        ae->frames++;
+    }
+    free(bins);
+    return ae->frames == 0 ? 1.0f : (float)exp2(ae->log2_exposure);
+}
+
 xrsc_result hs_write_png(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h,
                          xrsc_diag *diag)
 {
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
+    /* Written whole under a temporary name, then renamed (hs_file.h). */
+    hs_out_file out;
+    xrsc_result res = hs_out_open(&out, path, diag);
+    if (res != XRSC_OK)
+        return res;
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (!png || !info) {
         png_destroy_write_struct(&png, &info);
-        fclose(f);
+        hs_out_close(&out, false, diag);
         return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "libpng setup failed");
     }
     if (setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, &info);
-        fclose(f);
+        hs_out_close(&out, false, diag);
         return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "libpng write failed");
     }
-    png_init_io(png, f);
+    png_init_io(png, out.f);
     png_set_IHDR(png, info, w, h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
@@ -99,23 +152,23 @@ xrsc_result hs_write_png(const char *path, const uint8_t *rgb, uint32_t w, uint3
         png_write_row(png, (png_const_bytep)(rgb + (size_t)y * w * 3));
     png_write_end(png, NULL);
     png_destroy_write_struct(&png, &info);
-    if (fclose(f) != 0)
-        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "close failed: %s", strerror(errno));
-    return XRSC_OK;
+    return hs_out_close(&out, true, diag);
 }
 
 xrsc_result hs_write_pfm(const char *path, const float *rgba, uint32_t w, uint32_t h,
                          xrsc_diag *diag)
 {
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
+    hs_out_file out; /* whole or nothing (hs_file.h) */
+    xrsc_result res = hs_out_open(&out, path, diag);
+    if (res != XRSC_OK)
+        return res;
+    FILE *f = out.f;
     /* The sign of the scale gives the byte order (negative: little-endian); the pixels are
      * written in the host's. PFM rows run bottom to top. */
     fprintf(f, "PF\n%u %u\n%s\n", w, h, host_is_little_endian() ? "-1.0" : "1.0");
     float *row = malloc((size_t)w * 3 * sizeof(float));
     if (!row) {
-        fclose(f);
+        hs_out_close(&out, false, diag);
         return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "out of memory");
     }
     int ok = 1;
@@ -126,9 +179,11 @@ xrsc_result hs_write_pfm(const char *path, const float *rgba, uint32_t w, uint32
         ok = fwrite(row, sizeof(float) * 3, w, f) == w;
     }
     free(row);
-    if (fclose(f) != 0 || !ok)
+    if (!ok) {
+        hs_out_close(&out, false, diag);
         return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "write failed");
-    return XRSC_OK;
+    }
+    return hs_out_close(&out, true, diag);
 }
 
 xrsc_result hs_read_pfm(const char *path, float **out_rgba, uint32_t *out_w, uint32_t *out_h,

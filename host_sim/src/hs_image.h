@@ -21,15 +21,46 @@ typedef struct hs_tonemap {
     float exposure; /**< 0 means 1.0 */
 } hs_tonemap;
 
+/**
+ * Automatic exposure (the default of `xrsc replay`; --exposure X overrides it), from all the
+ * pixels of a stereo frame (both eyes, so they get one exposure):
+ *   exposure = min(HS_AUTO_KEY / log-average luminance,
+ *                  HS_AUTO_WHITE / the HS_AUTO_PERCENTILE of max(r, g, b)),
+ * i.e. the log-average ("key", Reinhard et al. 2002) becomes middle grey unless that would
+ * push the brightest large areas past HS_AUTO_WHITE (ACES maps it to 0.62, sRGB 0.81): with
+ * the key alone a closed room with a dark ceiling and noisy zeros was blown out. The log2 of
+ * the exposure is smoothed over frames with weight HS_AUTO_ADAPT for the new frame, so a
+ * replay does not flicker; the first frame is taken as it is. Clamped to [HS_AUTO_MIN,
+ * HS_AUTO_MAX]. Zero-initialise the state; one state per stream of frames.
+ */
+typedef struct hs_autoexposure {
+    int frames;          /**< frames seen */
+    double log2_exposure; /**< smoothed */
+} hs_autoexposure;
+#define HS_AUTO_KEY 0.18      /**< middle grey: the target of the log-average luminance */
+#define HS_AUTO_WHITE 0.5     /**< the target of the bright percentile */
+#define HS_AUTO_PERCENTILE 0.97
+#define HS_AUTO_ADAPT 0.15    /**< weight of the new frame (about 6 frames to adapt) */
+#define HS_AUTO_DELTA 1e-4    /**< added to each luminance before the log (black pixels) */
+#define HS_AUTO_MIN (1.0 / 1024.0)
+#define HS_AUTO_MAX 1024.0
+/**
+ * Updates ae with count images of w*h RGBA floats (the eyes of one frame; non-finite pixels
+ * skipped) and returns the exposure for this frame.
+ */
+float hs_autoexposure_update(hs_autoexposure *ae, const float *const *rgba, uint32_t count,
+                             uint32_t w, uint32_t h);
+
 /** Converts w*h RGBA float pixels to w*h RGB 8-bit sRGB pixels. */
 void hs_tonemap_rgba(const hs_tonemap *tm, const float *rgba, uint32_t w, uint32_t h,
                      uint8_t *out_rgb);
 
-/** Writes 8-bit RGB (rows top to bottom) as PNG. */
+/** Writes 8-bit RGB (rows top to bottom) as PNG, whole or not at all (hs_file.h). */
 xrsc_result hs_write_png(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h,
                          xrsc_diag *diag);
 /**
- * Writes RGBA float pixels (rows top to bottom) as a colour PFM ("PF", the host's byte order
+ * Writes RGBA float pixels (rows top to bottom) as a colour PFM, whole or not at all
+ * (hs_file.h) ("PF", the host's byte order
  * marked by the scale's sign, rows stored bottom to top as the format requires; alpha dropped).
  */
 xrsc_result hs_write_pfm(const char *path, const float *rgba, uint32_t w, uint32_t h,

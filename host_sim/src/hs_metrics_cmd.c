@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file hs_metrics_cmd.c
- * @brief `xrsc metrics`: compares a test image sequence with a reference sequence (linear colour
- *        PFM) frame by frame with the metrics of xrsc_metrics.h and prints or writes the values.
+ * @brief `xrsc metrics`: compares a test run with a reference run frame by frame, both eyes,
+ *        with the metrics of xrsc_metrics.h, and prints or writes the values.
  */
 #include "hs_metrics_cmd.h"
 
 #include "hs_args.h"
-#include "hs_image.h"
+#include "hs_run_dir.h"
+#include "u_diag.h"
 #include "xrsc/xrsc_metrics.h"
 
 #include <stdbool.h>
@@ -16,8 +17,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define DEFAULT_PATTERN "frame_%05u_left.pfm"
 #define PATH_MAX_LEN 4096
+#define MAX_SEQ 2
 
 /* clang-format off */
 static void usage(FILE *f)
@@ -25,33 +26,71 @@ static void usage(FILE *f)
     fprintf(f,
 "usage: xrsc metrics --ref DIR --test DIR [options]\n"
 "\n"
-"Compares two image sequences frame by frame: linear colour PFM files as `xrsc --write linear`\n"
-"writes them. Per frame: relMSE, RMSE and mean SSIM of the test frame against the\n"
-"reference frame, and the CPBD sharpness of both; then the means over the sequence.\n"
+"Compares two runs frame by frame, both eyes: linear colour PFM files as `xrsc replay\n"
+"--write linear` writes them, else EXR files (--write exr), else the PNGs of runs that have\n"
+"only PNGs (a warning: those are tone-mapped and 8-bit, so the values are display-referred).\n"
+"Per frame and eye: relMSE, RMSE and mean SSIM of the test frame against the reference\n"
+"frame, and the CPBD sharpness of both; then the means over the sequence, per eye. The first\n"
+"frame is the lowest number present in the reference folder (OpenXR runs start at 1, --direct\n"
+"runs at 0).\n"
 "\n"
 "  --ref DIR           reference frames (e.g. `spp` with many samples per pixel)\n"
 "  --test DIR          frames to evaluate (same names and sizes)\n"
-"  --pattern FMT       file name with one %%u, zero padding allowed   [%s]\n"
-"  --first N           first frame number                             [0]\n"
+"  --pattern FMT       one sequence's file name with one %%u, zero padding allowed; a name\n"
+"                      with \"left\" also scores the \"right\" one  [frame_%%05u_left.pfm,\n"
+"                      .exr or .png]\n"
+"  --first N           first frame number          [the lowest in --ref]\n"
 "  --frames N          N frames, an error if fewer exist (0 = until a reference frame is\n"
-"                      missing)                                       [0]\n"
-"  --csv PATH          also write the per-frame values as CSV\n"
+"                      missing)                    [0]\n"
+"  --floor X|FILE      the reference's noise floor as a relMSE: rows whose relMSE is below it\n"
+"                      are marked \"below floor\" (their difference cannot be told from the\n"
+"                      reference's own noise). FILE: the saved output of `xrsc bench\n"
+"                      --ref-floor`, whose \"reference floor relMSE\" is measured between two\n"
+"                      independent references; half of it is one reference's noise, used here\n"
+"  --csv PATH          also write the per-frame values as CSV (one row per frame and eye)\n"
 "  --relmse-eps E      relMSE epsilon: (x - r)^2 / (r^2 + E)           [0.01]\n"
 "  --range L           display range: luminance clamped to [0, L] for SSIM and CPBD [1]\n"
 "  --cpbd-linear       CPBD on linear instead of sRGB-encoded luminance\n"
-"  --quiet             print only the mean line\n"
+"  --quiet             print only the mean lines\n"
 "  -h, --help          this help\n"
 "\n"
 "The temporal (frame-to-frame reprojected) difference and the stereo discrepancy need each\n"
 "frame's depth and eye poses, which the replay does not write yet; they are in the library\n"
-"(xrsc_metrics.h) but not in this command.\n",
-            DEFAULT_PATTERN);
+"(xrsc_metrics.h) and in the preview window's difference view, not in this command.\n");
 }
 /* clang-format on */
 
 static int bad_arg(const char *flag, const char *value, const char *why)
 {
     return hs_bad_arg("xrsc metrics", flag, value, why);
+}
+
+/** The line of `xrsc bench --ref-floor`'s report that carries the floor (hs_bench_report.c). */
+#define BENCH_FLOOR_TEXT "reference floor relMSE"
+
+/* --floor: a relMSE, or a saved bench report whose two-reference floor is halved (a test image
+ * equal to the truth scores about half of it against one reference). */
+static bool parse_floor(const char *v, double *out)
+{
+    if (hs_parse_f(v, out))
+        return *out > 0.0;
+    FILE *f = fopen(v, "r");
+    char line[1024];
+    bool found = false;
+    while (f && !found && fgets(line, sizeof(line), f)) {
+        const char *p = strstr(line, BENCH_FLOOR_TEXT);
+        if (!p)
+            continue;
+        for (p += strlen(BENCH_FLOOR_TEXT); *p && !(*p >= '0' && *p <= '9'); p++)
+            ;
+        char *end = NULL;
+        double x = strtod(p, &end);
+        found = end != p && x > 0.0;
+        *out = 0.5 * x;
+    }
+    if (f)
+        fclose(f);
+    return found;
 }
 
 /* A number in (0, 1e30]. */
@@ -62,68 +101,6 @@ static bool parse_positive(const char *s, double *out)
         return false;
     *out = v;
     return true;
-}
-
-/* A file-name pattern split around its one "%[0][width]u" (the user's text is never used as a
- * printf format; "%%" stands for "%"). */
-typedef struct name_pattern {
-    char prefix[512], suffix[512];
-    bool zero_pad;
-    int width;
-} name_pattern;
-
-static bool append_char(char *buf, size_t size, size_t *len, char c)
-{
-    if (*len + 1 >= size)
-        return false;
-    buf[(*len)++] = c;
-    buf[*len] = '\0';
-    return true;
-}
-
-static bool parse_pattern(const char *fmt, name_pattern *out)
-{
-    memset(out, 0, sizeof(*out));
-    size_t plen = 0, slen = 0;
-    int conversions = 0;
-    for (const char *p = fmt; *p; p++) {
-        char *buf = conversions ? out->suffix : out->prefix;
-        size_t *len = conversions ? &slen : &plen;
-        if (*p != '%') {
-            if (!append_char(buf, sizeof(out->prefix), len, *p))
-                return false;
-            continue;
-        }
-        p++;
-        if (*p == '%') {
-            if (!append_char(buf, sizeof(out->prefix), len, '%'))
-                return false;
-            continue;
-        }
-        if (*p == '0') {
-            out->zero_pad = true;
-            p++;
-        }
-        while (*p >= '0' && *p <= '9') {
-            out->width = out->width * 10 + (*p - '0');
-            if (out->width > 20)
-                return false;
-            p++;
-        }
-        if (*p != 'u' || ++conversions > 1)
-            return false;
-    }
-    return conversions == 1;
-}
-
-static bool frame_path(const char *dir, const name_pattern *pat, uint32_t frame, char *out,
-                       size_t size)
-{
-    int n =
-        pat->zero_pad
-            ? snprintf(out, size, "%s/%s%0*u%s", dir, pat->prefix, pat->width, frame, pat->suffix)
-            : snprintf(out, size, "%s/%s%*u%s", dir, pat->prefix, pat->width, frame, pat->suffix);
-    return n > 0 && (size_t)n < size;
 }
 
 static bool file_exists(const char *path)
@@ -150,8 +127,8 @@ static int compare_frame(const char *ref_path, const char *test_path,
     xrsc_diag diag = {0};
     char msg[1400];
     int rc = 1;
-    if (hs_read_pfm(ref_path, &ref, &rw, &rh, &diag) != XRSC_OK ||
-        hs_read_pfm(test_path, &test, &tw, &th, &diag) != XRSC_OK) {
+    if (hs_read_frame(ref_path, &ref, &rw, &rh, NULL, &diag) != XRSC_OK ||
+        hs_read_frame(test_path, &test, &tw, &th, NULL, &diag) != XRSC_OK) {
         fprintf(stderr, "xrsc metrics: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
         goto done;
     }
@@ -179,118 +156,242 @@ done:
     return rc;
 }
 
-int hs_metrics_main(int argc, char **argv)
-{
-    const char *ref_dir = NULL, *test_dir = NULL, *csv_path = NULL;
-    const char *pattern = DEFAULT_PATTERN;
-    uint32_t first = 0, max_frames = 0;
-    bool quiet = false;
-    xrsc_metrics_options mo = {0};
+/* The sequences to score: one per eye. A pattern naming "left" gets its "right" partner when
+ * that eye's first frame exists; any other pattern is one sequence (eye "-"). */
+typedef struct sequences {
+    uint32_t count;
+    hs_frame_pattern pat[MAX_SEQ];
+    const char *eye[MAX_SEQ];
+} sequences;
 
+static bool right_partner(const char *fmt, char *out, size_t size)
+{
+    const char *l = strstr(fmt, "left");
+    if (!l || (size_t)(l - fmt) + strlen(fmt) + 2 >= size)
+        return false;
+    snprintf(out, size, "%.*sright%s", (int)(l - fmt), fmt, l + 4);
+    return true;
+}
+
+typedef struct sums {
+    double rel, rmse, ssim, ct, cr;
+    uint32_t count, below;
+} sums;
+
+static void print_mean(const char *eye, const sums *s)
+{
+    printf("%6s %5s %12.6g %12.6g %9.6f %7.4f %7.4f  (%u frames", "mean", eye, s->rel / s->count,
+           s->rmse / s->count, s->ssim / s->count, s->ct / s->count, s->cr / s->count, s->count);
+    if (s->below)
+        printf(", %u below floor", s->below);
+    printf(")\n");
+}
+
+typedef struct metrics_args {
+    const char *ref_dir, *test_dir, *csv_path, *pattern;
+    uint32_t first, max_frames;
+    bool first_given, quiet;
+    double floor_relmse; /**< 0: none */
+    xrsc_metrics_options mo;
+} metrics_args;
+
+/* Parses the command line; returns -1 to go on, else the exit code. */
+static int parse_args(int argc, char **argv, metrics_args *a)
+{
+    static const char *const with_value[] = {"--ref",   "--test",       "--pattern",
+                                             "--first", "--frames",     "--csv",
+                                             "--floor", "--relmse-eps", "--range"};
+    /* --opt=value (hs_args_prepare); without config files the values stay in argv. */
+    hs_args args;
+    const hs_args_spec spec = {.cmd = "xrsc metrics",
+                               .value_options = with_value,
+                               .value_count = sizeof(with_value) / sizeof(with_value[0])};
+    int prep = hs_args_prepare(&args, &spec, argc, argv);
+    if (prep)
+        return prep;
+    argc = args.argc;
+    argv = args.argv;
     for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+        const char *f = argv[i];
+        if (!strcmp(f, "-h") || !strcmp(f, "--help")) {
             usage(stdout);
             return 0;
         }
-        if (!strcmp(a, "--quiet")) {
-            quiet = true;
+        if (!strcmp(f, "--quiet")) {
+            a->quiet = true;
             continue;
         }
-        if (!strcmp(a, "--cpbd-linear")) {
-            mo.cpbd_linear = true;
+        if (!strcmp(f, "--cpbd-linear")) {
+            a->mo.cpbd_linear = true;
             continue;
         }
-        static const char *const with_value[] = {"--ref",    "--test", "--pattern",    "--first",
-                                                 "--frames", "--csv",  "--relmse-eps", "--range"};
-        if (!hs_arg_in(a, with_value, sizeof(with_value) / sizeof(with_value[0])))
-            return bad_arg(a, NULL, a[0] == '-' ? "unknown option" : "unexpected argument");
+        if (!hs_arg_in(f, with_value, sizeof(with_value) / sizeof(with_value[0])))
+            return bad_arg(f, NULL, f[0] == '-' ? "unknown option" : "unexpected argument");
         if (i + 1 >= argc)
-            return bad_arg(a, NULL, "needs a value");
+            return bad_arg(f, NULL, "needs a value");
         const char *v = argv[++i];
-        if (!strcmp(a, "--ref")) {
-            ref_dir = v;
-        } else if (!strcmp(a, "--test")) {
-            test_dir = v;
-        } else if (!strcmp(a, "--pattern")) {
-            pattern = v;
-        } else if (!strcmp(a, "--first")) {
-            if (!hs_parse_u32(v, &first))
-                return bad_arg(a, v, "expected a frame number");
-        } else if (!strcmp(a, "--frames")) {
-            if (!hs_parse_u32(v, &max_frames))
-                return bad_arg(a, v, "expected a count");
-        } else if (!strcmp(a, "--csv")) {
-            csv_path = v;
-        } else if (!strcmp(a, "--relmse-eps")) {
-            if (!parse_positive(v, &mo.relmse_epsilon))
-                return bad_arg(a, v, "expected a positive number");
-        } else if (!strcmp(a, "--range")) {
-            if (!parse_positive(v, &mo.display_range))
-                return bad_arg(a, v, "expected a positive number");
+        if (!strcmp(f, "--ref")) {
+            a->ref_dir = v;
+        } else if (!strcmp(f, "--test")) {
+            a->test_dir = v;
+        } else if (!strcmp(f, "--pattern")) {
+            a->pattern = v;
+        } else if (!strcmp(f, "--first")) {
+            if (!hs_parse_u32(v, &a->first))
+                return bad_arg(f, v, "expected a frame number");
+            a->first_given = true;
+        } else if (!strcmp(f, "--frames")) {
+            if (!hs_parse_u32(v, &a->max_frames))
+                return bad_arg(f, v, "expected a count");
+        } else if (!strcmp(f, "--csv")) {
+            a->csv_path = v;
+        } else if (!strcmp(f, "--floor")) {
+            if (!parse_floor(v, &a->floor_relmse))
+                return bad_arg(f, v,
+                               "expected a positive relMSE, or a file with `xrsc bench "
+                               "--ref-floor`'s \"" BENCH_FLOOR_TEXT "\"");
+        } else if (!strcmp(f, "--relmse-eps")) {
+            if (!parse_positive(v, &a->mo.relmse_epsilon))
+                return bad_arg(f, v, "expected a positive number");
+        } else if (!strcmp(f, "--range")) {
+            if (!parse_positive(v, &a->mo.display_range))
+                return bad_arg(f, v, "expected a positive number");
         }
     }
-    if (!ref_dir || !test_dir)
-        return bad_arg(ref_dir ? "--test" : "--ref", NULL, "is required");
-    name_pattern pat;
-    if (!parse_pattern(pattern, &pat))
-        return bad_arg("--pattern", pattern, "expected one %u (e.g. frame_%05u_left.pfm)");
+    if (!a->ref_dir || !a->test_dir)
+        return bad_arg(a->ref_dir ? "--test" : "--ref", NULL, "is required");
+    return -1;
+}
+
+/* The sequences and first frame; returns -1 to go on, else the exit code. */
+static int pick_sequences(metrics_args *a, sequences *seq)
+{
+    memset(seq, 0, sizeof(*seq));
+    char fmt[2][1100];
+    if (a->pattern) {
+        snprintf(fmt[0], sizeof(fmt[0]), "%s", a->pattern);
+    } else {
+        xrsc_diag diag = {0};
+        char msg[1400];
+        hs_run_kind kind = hs_run_common_kind(a->ref_dir, a->test_dir, &diag);
+        if (kind == HS_RUN_NONE) {
+            fprintf(stderr, "xrsc metrics: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
+            return 1;
+        }
+        if (kind == HS_RUN_PNG)
+            fprintf(stderr, "xrsc metrics: warning: no linear (PFM) frames in both runs: scoring "
+                            "the PNGs, which are tone-mapped and 8-bit (display-referred values, "
+                            "not radiance); write both runs with --write linear for linear "
+                            "metrics\n");
+        snprintf(fmt[0], sizeof(fmt[0]), "%s", hs_run_pattern(kind, 0));
+    }
+    if (!hs_frame_pattern_parse(fmt[0], &seq->pat[0]))
+        return bad_arg("--pattern", fmt[0], "expected one %u (e.g. frame_%05u_left.pfm)");
+    if (!a->first_given && !hs_frame_pattern_first(a->ref_dir, &seq->pat[0], &a->first)) {
+        fprintf(stderr, "xrsc metrics: error: no frame named like %s in %s\n", fmt[0], a->ref_dir);
+        return 1;
+    }
+    seq->count = 1;
+    seq->eye[0] = "-";
+    char path[PATH_MAX_LEN];
+    if (right_partner(fmt[0], fmt[1], sizeof(fmt[1])) &&
+        hs_frame_pattern_parse(fmt[1], &seq->pat[1]) &&
+        hs_frame_pattern_path(a->ref_dir, &seq->pat[1], a->first, path, sizeof(path)) &&
+        file_exists(path)) {
+        seq->count = 2;
+        seq->eye[0] = "left";
+        seq->eye[1] = "right";
+    } else if (strstr(fmt[0], "left")) {
+        seq->eye[0] = "left";
+    }
+    return -1;
+}
+
+int hs_metrics_main(int argc, char **argv)
+{
+    metrics_args a = {.pattern = NULL};
+    int rc = parse_args(argc, argv, &a);
+    if (rc >= 0)
+        return rc;
+    sequences seq;
+    if ((rc = pick_sequences(&a, &seq)) >= 0)
+        return rc;
+    rc = 0;
 
     FILE *csv = NULL;
-    if (csv_path) {
-        csv = fopen(csv_path, "w");
+    if (a.csv_path) {
+        csv = fopen(a.csv_path, "w");
         if (!csv) {
-            fprintf(stderr, "xrsc metrics: error: cannot write %s\n", csv_path);
+            fprintf(stderr, "xrsc metrics: error: cannot write %s\n", a.csv_path);
             return 1;
         }
         fprintf(csv, "frame,relmse,rmse,mse,ssim,cpbd_test,cpbd_ref,cpbd_test_edges,"
-                     "cpbd_ref_edges\n");
+                     "cpbd_ref_edges,eye,below_floor\n");
     }
-    if (!quiet)
-        printf("%6s %12s %12s %9s %7s %7s\n", "frame", "relMSE", "RMSE", "SSIM", "CPBD", "CPBDref");
+    if (!a.quiet)
+        printf("%6s %5s %12s %12s %9s %7s %7s\n", "frame", "eye", "relMSE", "RMSE", "SSIM", "CPBD",
+               "CPBDref");
 
-    double sum_rel = 0.0, sum_rmse = 0.0, sum_ssim = 0.0, sum_ct = 0.0, sum_cr = 0.0;
+    sums s[MAX_SEQ];
+    memset(s, 0, sizeof(s));
     uint32_t count = 0;
-    int rc = 0;
     char ref_path[PATH_MAX_LEN], test_path[PATH_MAX_LEN];
-    for (uint64_t f = first; f <= UINT32_MAX && (max_frames == 0 || count < max_frames); f++) {
-        if (!frame_path(ref_dir, &pat, (uint32_t)f, ref_path, sizeof(ref_path)) ||
-            !frame_path(test_dir, &pat, (uint32_t)f, test_path, sizeof(test_path))) {
-            fprintf(stderr, "xrsc metrics: error: path too long\n");
-            rc = 1;
-            break;
-        }
-        if (!file_exists(ref_path)) {
-            if (count == 0 || max_frames != 0) {
-                fprintf(stderr, "xrsc metrics: error: reference frame %s is missing\n", ref_path);
+    for (uint64_t f = a.first;
+         rc == 0 && f <= UINT32_MAX && (a.max_frames == 0 || count < a.max_frames); f++) {
+        for (uint32_t e = 0; e < seq.count && rc == 0; e++) {
+            if (!hs_frame_pattern_path(a.ref_dir, &seq.pat[e], (uint32_t)f, ref_path,
+                                       sizeof(ref_path)) ||
+                !hs_frame_pattern_path(a.test_dir, &seq.pat[e], (uint32_t)f, test_path,
+                                       sizeof(test_path))) {
+                fprintf(stderr, "xrsc metrics: error: path too long\n");
                 rc = 1;
+                break;
             }
-            break;
+            if (!file_exists(ref_path)) {
+                if (count == 0 || a.max_frames != 0 || e > 0) {
+                    fprintf(stderr, "xrsc metrics: error: reference frame %s is missing\n",
+                            ref_path);
+                    rc = 1;
+                }
+                rc = rc ? rc : -1; /* the end of the sequence */
+                break;
+            }
+            frame_values fv;
+            if ((rc = compare_frame(ref_path, test_path, &a.mo, &fv)) != 0)
+                break;
+            bool below = a.floor_relmse > 0.0 && fv.err.relmse < a.floor_relmse;
+            if (!a.quiet)
+                printf("%6u %5s %12.6g %12.6g %9.6f %7.4f %7.4f%s\n", (uint32_t)f, seq.eye[e],
+                       fv.err.relmse, fv.err.rmse, fv.ssim, fv.cpbd_test.cpbd, fv.cpbd_ref.cpbd,
+                       below ? "  below floor" : "");
+            if (csv)
+                fprintf(csv, "%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%llu,%llu,%s,%d\n", (uint32_t)f,
+                        fv.err.relmse, fv.err.rmse, fv.err.mse, fv.ssim, fv.cpbd_test.cpbd,
+                        fv.cpbd_ref.cpbd, (unsigned long long)fv.cpbd_test.edge_count,
+                        (unsigned long long)fv.cpbd_ref.edge_count, seq.eye[e], below ? 1 : 0);
+            s[e].rel += fv.err.relmse;
+            s[e].rmse += fv.err.rmse;
+            s[e].ssim += fv.ssim;
+            s[e].ct += fv.cpbd_test.cpbd;
+            s[e].cr += fv.cpbd_ref.cpbd;
+            s[e].count++;
+            s[e].below += below ? 1u : 0u;
         }
-        frame_values fv;
-        if ((rc = compare_frame(ref_path, test_path, &mo, &fv)) != 0)
-            break;
-        if (!quiet)
-            printf("%6u %12.6g %12.6g %9.6f %7.4f %7.4f\n", (uint32_t)f, fv.err.relmse, fv.err.rmse,
-                   fv.ssim, fv.cpbd_test.cpbd, fv.cpbd_ref.cpbd);
-        if (csv)
-            fprintf(csv, "%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%llu,%llu\n", (uint32_t)f, fv.err.relmse,
-                    fv.err.rmse, fv.err.mse, fv.ssim, fv.cpbd_test.cpbd, fv.cpbd_ref.cpbd,
-                    (unsigned long long)fv.cpbd_test.edge_count,
-                    (unsigned long long)fv.cpbd_ref.edge_count);
-        sum_rel += fv.err.relmse;
-        sum_rmse += fv.err.rmse;
-        sum_ssim += fv.ssim;
-        sum_ct += fv.cpbd_test.cpbd;
-        sum_cr += fv.cpbd_ref.cpbd;
-        count++;
+        if (rc == 0)
+            count++;
     }
+    if (rc < 0)
+        rc = 0;
     if (csv && fclose(csv) != 0 && rc == 0) {
-        fprintf(stderr, "xrsc metrics: error: cannot write %s\n", csv_path);
+        fprintf(stderr, "xrsc metrics: error: cannot write %s\n", a.csv_path);
         rc = 1;
     }
-    if (rc == 0 && count > 0)
-        printf("%6s %12.6g %12.6g %9.6f %7.4f %7.4f  (%u frames)\n", "mean", sum_rel / count,
-               sum_rmse / count, sum_ssim / count, sum_ct / count, sum_cr / count, count);
+    for (uint32_t e = 0; rc == 0 && e < seq.count; e++) {
+        if (s[e].count > 0)
+            print_mean(seq.eye[e], &s[e]);
+    }
+    if (rc == 0 && a.floor_relmse > 0.0 && !a.quiet)
+        printf("floor: relMSE %.6g (rows below it differ by no more than reference noise)\n",
+               a.floor_relmse);
     return rc;
 }

@@ -82,8 +82,21 @@ static void print_stats(const char *path, const hs_pose_stream *s, double window
     printf("replay: --start %.6f --frames %.0f\n", start_s, ceil(window_s * refresh_hz));
 }
 
+/* The options that take a value, for --opt=value (hs_args_prepare). */
+static const char *const poses_value_options[] = {"--fastest", "--refresh", "--format"};
+
 int hs_poses_main(int argc, char **argv)
 {
+    hs_args args;
+    const hs_args_spec spec = {
+        .cmd = POSES_CMD,
+        .value_options = poses_value_options,
+        .value_count = sizeof(poses_value_options) / sizeof(poses_value_options[0])};
+    int prep = hs_args_prepare(&args, &spec, argc, argv);
+    if (prep)
+        return prep;
+    argc = args.argc;
+    argv = args.argv;
     if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help")) {
         usage(argc < 2 ? stderr : stdout);
         return argc < 2 ? HS_EXIT_BAD_ARGS : 0;

@@ -6,7 +6,9 @@
 #include "hs_replay.h"
 
 #include "hs_args.h"
+#include "hs_file.h"
 #include "hs_image.h"
+#include "hs_outputs.h"
 #include "u_diag.h"
 
 #include <errno.h>
@@ -39,6 +41,7 @@ typedef struct replay_buffers {
     float *color[2];
     uint8_t *ldr[2];
     uint8_t *sbs;
+    hs_autoexposure autoexp; /**< exposure 0: automatic, over the replay's frames */
 } replay_buffers;
 
 static void buffers_free(replay_buffers *b)
@@ -60,12 +63,19 @@ static xrsc_result write_frame(const hs_replay_options *opt, xrsc_renderer *r, u
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "output",
                           "colour output is %zu bytes, expected %u x %u RGBA float",
                           xrsc_renderer_output_size(r, XRSC_OUTPUT_COLOR), w, h);
-    hs_tonemap tm = {.exposure = opt->exposure};
     char path[1200];
     for (int e = 0; e < 2; e++) {
         xrsc_result res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, b->color[e], bytes);
         if (res != XRSC_OK)
             return u_diag_set(diag, res, "", 0, "output", "reading eye %d failed", e);
+    }
+    /* one exposure for both eyes: fixed, or automatic from the stereo frame (hs_image.h) */
+    const float *const eyes[2] = {b->color[0], b->color[1]};
+    hs_tonemap tm = {.exposure = opt->exposure > 0.0f
+                                     ? opt->exposure
+                                     : hs_autoexposure_update(&b->autoexp, eyes, 2, w, h)};
+    for (int e = 0; e < 2; e++) {
+        xrsc_result res;
         hs_tonemap_rgba(&tm, b->color[e], w, h, b->ldr[e]);
         if (opt->write_eyes) {
             snprintf(path, sizeof(path), "%s/frame_%05u_%s.png", opt->out_dir, frame, eye_name[e]);
@@ -221,6 +231,8 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
     xrsc_renderer *r = NULL;
     hs_pose_stream *stream = NULL;
     replay_buffers buf = {0};
+    hs_outputs *outs = NULL; /* --write exr, --video (hs_outputs.h) */
+    hs_out_file csv_file = {0}; /* frames.csv, renamed into place at the end (hs_file.h) */
     FILE *csv = NULL;
     bool csv_header_done = false;
     xrsc_result res;
@@ -298,17 +310,21 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
             goto done;
         char path[1100];
         snprintf(path, sizeof(path), "%s/frames.csv", opt->out_dir);
-        csv = fopen(path, "w");
-        if (!csv) {
-            res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s",
-                             strerror(errno));
+        if ((res = hs_out_open(&csv_file, path, diag)) != XRSC_OK)
             goto done;
-        }
+        csv = csv_file.f;
         fprintf(csv, "frame,display_time_ns,lookup,render_wall_ms,rays");
     }
 
+    if ((res = hs_outputs_open(opt, w, h, NS_PER_S / period_ns, &outs, diag)) != XRSC_OK)
+        goto done;
+
     double started = now_s(), last_print = 0.0;
     for (uint32_t k = 0; k < frames; k++) {
+        if (opt->stop && *opt->stop) { /* Ctrl-C: the frames so far are complete */
+            st->stopped_by = *opt->stop;
+            break;
+        }
         /* Predicted display time of frame k on the simulated clock. */
         int64_t t_ns = start_ns + (int64_t)(k * period_ns + 0.5);
         /* Recorded eye views (librnr) when the stream has them, else the headset's eyes. */
@@ -361,6 +377,8 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
             if ((res = write_frame(opt, r, k, w, h, &buf, diag)) != XRSC_OK)
                 goto done;
         }
+        if ((res = hs_outputs_frame(outs, r, k, diag)) != XRSC_OK)
+            goto done;
         st->frames = k + 1;
         show_progress(opt, k + 1, frames, started, &last_print, k + 1 == frames);
     }
@@ -370,8 +388,16 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
 done:
     if (csv && !csv_header_done)
         fputc('\n', csv); /* the header waits for the first frame's pass names */
-    if (csv && fclose(csv) != 0 && res == XRSC_OK)
-        res = u_diag_set(diag, XRSC_ERROR_IO, opt->out_dir, 0, "", "writing frames.csv failed");
+    if (csv) { /* its rows so far are whole, also after an error */
+        xrsc_result closed = hs_out_close(&csv_file, true, res == XRSC_OK ? diag : NULL);
+        if (res == XRSC_OK)
+            res = closed;
+    }
+    {
+        xrsc_result out_res = hs_outputs_close(&outs, res == XRSC_OK, res == XRSC_OK ? diag : NULL);
+        if (res == XRSC_OK)
+            res = out_res;
+    }
     buffers_free(&buf);
     xrsc_renderer_destroy(&r);
     xrsc_scene_destroy(&scene);

@@ -14,6 +14,7 @@
 #include "hs_pose_stream.h"
 #include "xrsc/xrsc.h"
 
+#include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -45,13 +46,28 @@ typedef struct hs_replay_options {
     bool write_eyes;              /**< frame_NNNNN_left.png / _right.png */
     bool write_sbs;               /**< frame_NNNNN_sbs.png */
     bool write_linear;            /**< frame_NNNNN_left.pfm / _right.pfm (linear HDR) */
-    float exposure;               /**< 0 means 1 */
+    /** frame_NNNNN_left.exr / _right.exr: linear RGB and depth as Z (hs_exr.h), written by
+     *  the program from the renderer's outputs on both paths (hs_outputs.h). */
+    bool write_exr;
+    /** --video FILE: the side-by-side stream (as the _sbs.png) encoded by ffmpeg when it is
+     *  installed (hs_outputs.h); NULL: none. */
+    const char *video_path;
+    float exposure;               /**< tone mapping: > 0 fixed; 0 automatic (hs_image.h) */
     bool progress;                /**< show progress on stderr after a few seconds */
+    /** --preview (OpenXR path only): the runtime's preview window (XRSC_RT_PREVIEW=1), told
+     *  the run's method, blend, R and per-frame timings for its overlay (hs_xr_replay.h). */
+    bool preview;
+    bool preview_autoclose;        /**< --preview-autoclose: close the window when the run ends */
+    const char *preview_reference; /**< --preview-reference DIR: linear frames for its error view */
     /** Optional: called with each frame just before it is rendered (its eye poses and FOVs
      *  in scene space), e.g. for tests; user is passed through. hs_xr_replay_run calls it
      *  after each frame the plugin rendered through OpenXR. */
     void (*on_frame)(void *user, const xrsc_frame *frame);
     void *on_frame_user;
+    /** Optional (NULL: never): a flag a signal handler sets (hs_run_catch_signals); once it is
+     *  non-zero the run finishes the frame it is on, writes its files whole and returns
+     *  XRSC_OK with the frames done so far, the flag's value in stats.stopped_by. */
+    const volatile sig_atomic_t *stop;
 } hs_replay_options;
 
 typedef struct hs_replay_stats {
@@ -64,6 +80,7 @@ typedef struct hs_replay_stats {
     double rays_per_frame;
     uint32_t validation_errors; /**< validation-layer errors over the run (0 when it is off) */
     char device[256];
+    int stopped_by; /**< the signal that stopped the run early (opt.stop), else 0 */
 } hs_replay_stats;
 
 /**

@@ -7,6 +7,8 @@
 #include "hs_xr_replay.h"
 
 #include "hs_args.h"
+#include "hs_outputs.h"
+#include "hs_preview_link.h"
 #include "u_diag.h"
 #include "xrsc/xrsc_xr.h"
 
@@ -84,16 +86,23 @@ static xrsc_result configure_runtime(const hs_replay_options *opt, const hs_pose
     snprintf(buf, sizeof(buf), "%u", session_frames);
     if ((res = set_env("XRSC_RT_FRAMES", buf, diag)) != XRSC_OK)
         return res;
-    bool write = opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear);
+    /* --write exr alone: the runtime writes frames.csv only (the program writes the EXRs). */
+    bool write = opt->out_dir &&
+                 (opt->write_eyes || opt->write_sbs || opt->write_linear || opt->write_exr);
     if ((res = set_env("XRSC_RT_OUT", write ? opt->out_dir : "", diag)) != XRSC_OK)
         return res;
     snprintf(buf, sizeof(buf), "%s%s%s", opt->write_eyes ? "eyes," : "",
              opt->write_sbs ? "sbs," : "", opt->write_linear ? "linear," : "");
     if (buf[0])
         buf[strlen(buf) - 1] = '\0';
+    else
+        snprintf(buf, sizeof(buf), "none");
     if (write && (res = set_env("XRSC_RT_WRITE", buf, diag)) != XRSC_OK)
         return res;
-    snprintf(buf, sizeof(buf), "%.9g", opt->exposure > 0.0f ? (double)opt->exposure : 1.0);
+    if (opt->exposure > 0.0f) /* else automatic (hs_image.h) */
+        snprintf(buf, sizeof(buf), "%.9g", (double)opt->exposure);
+    else
+        snprintf(buf, sizeof(buf), "auto");
     if ((res = set_env("XRSC_RT_EXPOSURE", buf, diag)) != XRSC_OK)
         return res;
     snprintf(buf, sizeof(buf), "%ux%u", w, h);
@@ -113,6 +122,14 @@ static xrsc_result configure_runtime(const hs_replay_options *opt, const hs_pose
         xrsc_headset_default(&hs);
     snprintf(buf, sizeof(buf), "%.9g", (double)hs.ipd_m * 1e3);
     if ((res = set_env("XRSC_RT_IPD_MM", buf, diag)) != XRSC_OK)
+        return res;
+    /* The per-eye FOVs (--headset), so xrLocateViews reports the direct path's frusta. */
+    const double deg = 180.0 / 3.14159265358979323846;
+    snprintf(buf, sizeof(buf), "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g",
+             hs.fov[0].angleLeft * deg, hs.fov[0].angleRight * deg, hs.fov[0].angleUp * deg,
+             hs.fov[0].angleDown * deg, hs.fov[1].angleLeft * deg, hs.fov[1].angleRight * deg,
+             hs.fov[1].angleUp * deg, hs.fov[1].angleDown * deg);
+    if ((res = set_env("XRSC_RT_FOV_DEG", buf, diag)) != XRSC_OK)
         return res;
     /* Round-trips the double, so the runtime's start (int64_t)(s * 1e9) is the direct path's
      * to the nanosecond, and so is the anchored time (frame 0's minus the start). */
@@ -145,7 +162,9 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     xrsc_scene *scene = NULL;
     xrsc_renderer *r = NULL;
     xrsc_xr_session *session = NULL;
+    hs_outputs *outs = NULL; /* --write exr, --video: written here from the renderer */
     char imported[1100] = ""; /* --pose-columns: the canonical copy given to the runtime */
+    hs_preview_link *plink = NULL; /* --preview: the overlay's information (hs_preview_link.h) */
 
     /* The stream is read here too: a bad one is reported with file, line and field before any
      * runtime starts, and its duration gives the frame count. The runtime reads it by format
@@ -220,7 +239,11 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
         goto done;
     if ((res = configure_runtime(opt, stream, w, h, refresh, session_frames, diag)) != XRSC_OK)
         goto done;
+    if ((res = hs_preview_link_open(opt, &plink, diag)) != XRSC_OK)
+        goto done;
     if (opt->out_dir && (res = hs_make_dirs(opt->out_dir, "--out", diag)) != XRSC_OK)
+        goto done;
+    if ((res = hs_outputs_open(opt, w, h, refresh, &outs, diag)) != XRSC_OK)
         goto done;
 
     xrsc_xr_options xo = {.application_name = "xrsc replay", .context = opt->context};
@@ -288,6 +311,10 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
             for (uint32_t p = 0; p < np && p < st->pass_count; p++)
                 st->pass_mean[p].gpu_ms += passes[p].gpu_ms;
             st->rays_per_frame += (double)xrsc_renderer_rays_last_frame(r);
+            hs_preview_link_frame(plink, fi.frame_index, fi.render_ms, passes, np);
+            /* Numbered as the runtime numbers the PNG/PFM files of this frame. */
+            if ((res = hs_outputs_frame(outs, r, fi.frame_index, diag)) != XRSC_OK)
+                goto done;
             st->frames++;
             if (opt->progress && st->frames % 30 == 0)
                 fprintf(stderr, "frame %u/%u\n", st->frames, frames);
@@ -298,8 +325,13 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
             goto done;
         }
         /* The runtime stops after XRSC_RT_FRAMES (its next state change is STOPPING); a
-         * runtime that keeps going past them is asked to end. */
-        if (st->frames > frames && !exit_requested) {
+         * runtime that keeps going past them, or a run stopped by Ctrl-C (opt->stop), asks it
+         * to end: the frame in flight is finished and written, the session ends cleanly. */
+        if (opt->stop && *opt->stop && !st->stopped_by)
+            st->stopped_by = *opt->stop;
+        if (st->stopped_by && fi.status == XRSC_XR_WAITING)
+            break; /* not running: nothing in flight to finish */
+        if ((st->frames > frames || st->stopped_by) && !exit_requested) {
             if ((res = xrsc_xr_session_request_exit(session, diag)) != XRSC_OK)
                 goto done;
             exit_requested = true;
@@ -311,6 +343,13 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     res = XRSC_OK;
 
 done:
+    {
+        xrsc_result out_res = hs_outputs_close(&outs, res == XRSC_OK, res == XRSC_OK ? diag : NULL);
+        if (res == XRSC_OK)
+            res = out_res;
+    }
+    if (res != XRSC_OK || st->stopped_by) /* no waiting for the window after Ctrl-C or errors */
+        hs_preview_link_autoclose(plink);
     xrsc_xr_session_destroy(&session);
     xrsc_renderer_destroy(&r);
     xrsc_scene_destroy(&scene);
@@ -322,6 +361,7 @@ done:
     if (xr_errors > 0)
         U_LOG_W("OpenXR reported %u error messages", xr_errors);
     xrsc_xr_destroy(&xr);
+    hs_preview_link_close(&plink);
     hs_pose_stream_destroy(&stream);
     if (imported[0])
         unlink(imported);

@@ -7,7 +7,8 @@
  * The runtime is configured through its environment variables (host_sim/src/runtime/
  * README.md), set from the replay options before the instance is created: XRSC_RT_POSES,
  * XRSC_RT_FRAMES, XRSC_RT_OUT, XRSC_RT_WRITE, XRSC_RT_EXPOSURE, XRSC_RT_EYE_SIZE,
- * XRSC_RT_REFRESH_HZ, XRSC_RT_IPD_MM (--ipd), XRSC_RT_START_S (--start), XRSC_RT_DEVICE
+ * XRSC_RT_REFRESH_HZ, XRSC_RT_IPD_MM (--ipd), XRSC_RT_FOV_DEG (the headset's per-eye FOVs,
+ * --headset), XRSC_RT_START_S (--start), XRSC_RT_DEVICE
  * (--device, else XRSC_DEVICE: the same selector), and XRSC_RT_PACE=fast unless already set. The runtime
  * writes the frames (PNG/PFM) and frames.csv; the replay reports timing like hs_replay_run.
  *

@@ -6,9 +6,13 @@
  */
 #include "hs_args.h"
 #include "hs_bench.h"
+#include "hs_compare_cmd.h"
+#include "hs_headset.h"
+#include "hs_light_args.h"
 #include "hs_metrics_cmd.h"
 #include "hs_poses_cmd.h"
 #include "hs_replay.h"
+#include "hs_run.h"
 #include "hs_xr_replay.h"
 #include "u_diag.h"
 
@@ -39,8 +43,10 @@ static void usage(FILE *f)
     fprintf(f,
 "usage: xrsc [replay] [options]\n"
 "       xrsc metrics --ref DIR --test DIR [options]   (image metrics; xrsc metrics --help)\n"
+"       xrsc compare A B [options]  (A/B images and metrics of two runs; xrsc compare --help)\n"
 "       xrsc bench [options]        (speed vs. accuracy of methods; xrsc bench --help)\n"
 "       xrsc poses stats [--fastest S] FILE   (pose stream speed; xrsc poses --help)\n"
+"       xrsc version | --version   (program, Vulkan loader and OpenXR versions)\n"
 "\n"
 "Replays a recorded head-pose stream over a glTF 2.0 scene, ray traces both eyes with\n"
 "Vulkan and writes the stereo result: per-eye and side-by-side PNG (tone-mapped), linear\n"
@@ -73,6 +79,7 @@ static void usage(FILE *f)
 "  --resolution WxH    render size per eye            [%dx%d]\n"
 "  --seed N            random seed                    [0]\n"
 "  --env R,G,B         constant environment radiance (default: the scene's)\n"
+HS_LIGHT_USAGE
 "  --device D          cpu | gpu | index | name part  [$XRSC_DEVICE, else a GPU, else lavapipe]\n"
 "  --validation        enable the Vulkan validation layer\n"
 "\n"
@@ -115,19 +122,51 @@ static void usage(FILE *f)
 "  XR_RUNTIME_JSON names, or, when it is unset, on this build's host_sim runtime\n"
 "  (" HS_XR_DEFAULT_MANIFEST_TEXT "); the runtime replays the poses and writes\n"
 "  the frames it is given (--start, --ipd, --device, ... reach it as XRSC_RT_*\n"
-"  variables; host_sim/src/runtime/README.md). XRSC_RT_PREVIEW=1 shows both eyes in a\n"
-"  window. --pose-format other than auto needs --direct unless the runtime detects it.\n"
+"  variables; host_sim/src/runtime/README.md). --pose-format other than auto needs\n"
+"  --direct unless the runtime detects it.\n"
+"  --preview           show the run in the runtime's preview window (as XRSC_RT_PREVIEW=1):\n"
+"                      overlay with frame, time, ms, method, blend, R; keys V/1/2/3 views,\n"
+"                      D depth-compensated stereo difference, E error vs. the reference,\n"
+"                      Left/Right step through recent frames, O overlay, Esc/Q quit; it\n"
+"                      stays open after the last frame until closed (needs DISPLAY)\n"
+"  --preview-reference DIR  linear frames (xrsc replay --write linear) for the E view\n"
+"  --preview-autoclose close the window when the run ends (scripts, tests)\n"
 "  --direct            render in-process without OpenXR (tests, benchmarks)\n"
 "\n"
 "Simulated headset:\n"
+"  --headset NAME      a headset profile: per-eye resolution, refresh rate, IPD and\n"
+"                      asymmetric per-eye FOV (quest3, quest2, index, vision-pro, ...;\n"
+"                      --headset list shows them and their sources); --resolution, --ipd,\n"
+"                      --refresh given too win over the profile's  [a Quest-like default]\n"
+"  --headsets FILE     read the profiles from FILE (format: host_sim/headsets.txt)\n"
 "  --ipd MM            interpupillary distance in mm  [63]\n"
 "  --refresh HZ        display refresh rate           [90]\n"
 "\n"
 "Output:\n"
 "  --out DIR           output folder                  [out/replay]\n"
-"  --write LIST        any of eyes,sbs,linear,none    [eyes,sbs]\n"
-"  --exposure X        tone-mapping exposure          [1]\n"
-"  --quiet             no progress or summary\n"
+"  --write LIST        any of eyes,sbs,linear,exr,none [eyes,sbs]; exr: OpenEXR float\n"
+"                      R,G,B + depth Z (m, 0 = no hit) per eye, frame_NNNNN_left/right.exr\n"
+"  --video FILE        the side-by-side stream as a video through ffmpeg at the refresh\n"
+"                      rate (e.g. out.mp4), when ffmpeg is installed (else a warning)\n"
+"  --exposure X        tone-mapping exposure, or auto: middle grey at the stereo frame's\n"
+"                      log-average luminance, smoothed over frames [auto]\n"
+"  --overwrite         replace the earlier run in --out: its files (frame_*.png/pfm/exr,\n"
+"                      frames.csv, run.json, run.conf) are removed first, others kept;\n"
+"                      without it a folder holding a run is refused (exit 2)\n"
+"  --quiet             errors only: no progress, summary, warnings or runtime info lines\n"
+"  Each run writes run.json into --out (command line, settings, device, version, start\n"
+"  time UTC, status and summary) and run.conf (its settings in --config format). Every\n"
+"  file is written under a temporary name and renamed, so none is ever truncated.\n"
+"  Ctrl-C (SIGINT) or SIGTERM finishes the frame in flight, writes the files and the\n"
+"  summary and exits 130 (SIGINT) or 143 (SIGTERM); a second Ctrl-C ends at once.\n"
+"\n"
+"Command line:\n"
+"  --opt=value         the same as --opt value (every command)\n"
+"  --config FILE       options from FILE, one per line: \"key = value\", \"--key value\" or\n"
+"                      a flag alone; '#' starts a comment, \"...\" quotes a value; options\n"
+"                      after --config override it. xrsc --config RUN/run.conf --out NEW\n"
+"                      repeats a run exactly\n"
+"  --version           versions of xrsc, the Vulkan loader and OpenXR (also xrsc version)\n"
 "  -h, --help          this help\n",
             DEFAULT_SPP, DEFAULT_WIDTH, DEFAULT_HEIGHT);
 }
@@ -154,6 +193,8 @@ static const char *const value_options[] = {
     "--pose-columns", "--pose-time-unit", "--pose-handedness", "--fov",
     "--spp",   "--bounces", "--resolution",  "--seed",  "--env",    "--device",
     "--ipd",   "--refresh", "--out",         "--write", "--exposure",
+    "--headset", "--headsets", "--video", "--preview-reference",
+    "--env-map", "--env-intensity", "--env-rotation", "--sky-turbidity", "--sun-dir",
     "--sc-slots", "--sc-target", "--sc-delta", "--sc-eps0", "--sc-eps1", "--sc-block",
     "--sc-trace", "--sc-reproject", "--sc-shading-cache", "--sc-shade", "--sc-shade-rate",
     "--sc-alpha", "--sc-alpha-fixed", "--blend", "--blend-r", "--taa", "--taa-alpha",
@@ -277,10 +318,132 @@ static int parse_hashcache(const char *a, const char *v, xrsc_hashcache_options 
     return 0;
 }
 
+/* --headset NAME (and --headsets FILE): the profile's resolution, refresh, IPD and per-eye
+ * FOV, except what --resolution, --ipd or --refresh set. Returns -1 to go on, else the exit
+ * code (0 after --headset list). */
+static int apply_headset(const char *name, const char *path, bool size_given, bool ipd_given,
+                         bool refresh_given, hs_replay_options *opt)
+{
+    hs_headset_table table;
+    xrsc_diag diag = {0};
+    char msg[1400];
+    if (hs_headsets_load(path, &table, &diag) != XRSC_OK) {
+        fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
+        return 2;
+    }
+    const hs_headset_profile *p = NULL;
+    int rc = -1;
+    if (name && !strcmp(name, "list")) {
+        hs_headsets_print(&table, stdout);
+        rc = 0;
+    } else if (name && hs_headsets_select(&table, name, &p, &diag) != XRSC_OK) {
+        fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
+        rc = 2;
+    } else if (p) {
+        xrsc_headset hs = p->headset;
+        if (ipd_given)
+            hs.ipd_m = opt->headset.ipd_m;
+        if (refresh_given) {
+            hs.refresh_hz = opt->headset.refresh_hz;
+            bool offered = false;
+            for (uint32_t m = 0; m < p->refresh_mode_count; m++)
+                offered = offered || p->refresh_modes_hz[m] == hs.refresh_hz;
+            if (!offered)
+                U_LOG_W("--refresh %g: %s does not offer this rate (--headset list)",
+                        (double)hs.refresh_hz, p->name);
+        }
+        if (!size_given) {
+            opt->renderer.width = hs.width_px;
+            opt->renderer.height = hs.height_px;
+        }
+        opt->headset = hs;
+    }
+    hs_headsets_free(&table);
+    return rc;
+}
+
+/* The summary of a run (also of one stopped by a signal), on stdout. */
+static void print_summary(const hs_replay_options *opt, const hs_replay_stats *st)
+{
+    printf("device: %s\n", st->device);
+    printf("method: %s, stereo blend: %s", xrsc_method_name(opt->renderer.method),
+           xrsc_blend_name(opt->renderer.blend));
+    if (opt->renderer.blend == XRSC_BLEND_MOMENTS)
+        printf(", R = %g", (double)opt->renderer.blend_r);
+    printf("\n");
+    printf("frames: %u  load %.2f s  total %.2f s\n", st->frames, st->load_s, st->total_s);
+    printf("render wall time per stereo frame: mean %.2f ms, max %.2f ms\n",
+           st->render_ms_mean, st->render_ms_max);
+    for (uint32_t p = 0; p < st->pass_count; p++)
+        printf("  pass %-12s %.3f ms (GPU timestamps, mean)\n", st->pass_mean[p].name,
+               st->pass_mean[p].gpu_ms);
+    if (st->rays_per_frame > 0 && st->render_ms_mean > 0)
+        printf("rays per frame: %.0f  (%.2f Mrays/s of wall time)\n", st->rays_per_frame,
+               st->rays_per_frame / (st->render_ms_mean * 1e3));
+    if (opt->out_dir)
+        printf("output: %s/\n", opt->out_dir);
+}
+
+/* Options that are not settings of a run (run.json, run.conf). */
+static const char *const not_settings[] = {"--quiet", "--overwrite"};
+
+/* Runs the replay with its record: the output folder checked (--overwrite), run.json and
+ * run.conf written before and after, SIGINT/SIGTERM as a clean stop. Returns the exit status:
+ * 0, 1 (failed), 2 (the folder holds a run), 128 + signal (stopped). */
+static int run_recorded(hs_replay_options *opt, bool direct, bool overwrite, bool quiet,
+                        hs_run_info *run)
+{
+    xrsc_diag diag = {0};
+    char msg[1400];
+    if (opt->out_dir) {
+        xrsc_result pr = hs_run_prepare_out(opt->out_dir, overwrite, &diag);
+        if (pr == XRSC_OK)
+            pr = hs_run_write_record(run, NULL, "running", 0, &diag);
+        if (pr != XRSC_OK) {
+            fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
+            return pr == XRSC_ERROR_INVALID_ARGUMENT ? HS_EXIT_BAD_ARGS : 1;
+        }
+    }
+    if (!quiet)
+        fprintf(stderr, "xrsc: replaying %s over %s (%s, %ux%u per eye)\n", opt->poses_path,
+                opt->scene_path, xrsc_method_name(opt->renderer.method), opt->renderer.width,
+                opt->renderer.height);
+    opt->stop = hs_run_catch_signals();
+    hs_replay_stats st;
+    xrsc_result res = direct ? hs_replay_run(opt, &st, &diag) : hs_xr_replay_run(opt, &st, &diag);
+    int rc = res != XRSC_OK ? 1 : st.stopped_by ? hs_run_exit_status(st.stopped_by) : 0;
+    if (res != XRSC_OK)
+        fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
+    if (opt->out_dir) {
+        xrsc_diag rd = {0};
+        const char *status = res != XRSC_OK ? "failed" : st.stopped_by ? "interrupted" : "completed";
+        if (hs_run_write_record(run, &st, status, rc, &rd) != XRSC_OK) {
+            fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&rd, msg, sizeof(msg)));
+            rc = rc ? rc : 1;
+        }
+    }
+    if (!quiet && res == XRSC_OK) {
+        char sig[32];
+        if (st.stopped_by)
+            fprintf(stderr, "xrsc: %s: stopped after %u frames; the files written are whole\n",
+                    hs_run_signal_name(st.stopped_by, sig, sizeof(sig)), st.frames);
+        print_summary(opt, &st);
+    }
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
+    /* xrsc version, and --version anywhere (any command) */
+    for (int k = 1; k < argc; k++)
+        if (!strcmp(argv[k], "--version") || (k == 1 && !strcmp(argv[k], "version"))) {
+            hs_run_print_version(stdout);
+            return 0;
+        }
     if (argc > 1 && strcmp(argv[1], "metrics") == 0)
         return hs_metrics_main(argc - 1, argv + 1);
+    if (argc > 1 && strcmp(argv[1], "compare") == 0)
+        return hs_compare_main(argc - 1, argv + 1);
     if (argc > 1 && strcmp(argv[1], "bench") == 0)
         return hs_bench_main(argc - 1, argv + 1);
     if (argc > 1 && strcmp(argv[1], "poses") == 0)
@@ -302,6 +465,21 @@ int main(int argc, char **argv)
     bool direct = false;       /* --direct: in-process, no OpenXR */
     bool blend_given = false; /* --blend: else default_blend(method) */
     const char *pose_columns = NULL, *pose_time_unit = NULL, *pose_handedness = NULL;
+    const char *headset_name = NULL, *headsets_path = NULL; /* --headset, --headsets */
+    bool size_given = false, ipd_given = false, refresh_given = false; /* win over --headset */
+
+    bool overwrite = false; /* --overwrite: replace an earlier run in --out */
+    /* --opt=value and --config FILE (hs_args_prepare); the loop sees "--opt value" pairs. */
+    hs_run_info run = {.argc = argc, .argv = argv};
+    hs_args args; /* about 140 KiB of stack; argv points into it until the run ends */
+    const hs_args_spec spec = {.cmd = "xrsc", .value_options = value_options,
+                               .value_count = sizeof(value_options) / sizeof(value_options[0]),
+                               .config = true};
+    int prep = hs_args_prepare(&args, &spec, argc, argv);
+    if (prep)
+        return prep;
+    argc = args.argc;
+    argv = args.argv;
 
     int i = 1;
     if (i < argc && strcmp(argv[i], "replay") == 0)
@@ -324,13 +502,26 @@ int main(int argc, char **argv)
             direct = true;
             continue;
         }
+        if (!strcmp(a, "--preview") || !strcmp(a, "--preview-autoclose")) {
+            opt.preview = true;
+            opt.preview_autoclose |= !strcmp(a, "--preview-autoclose");
+            continue;
+        }
         if (!strcmp(a, "--validation")) {
             opt.context.validation = true;
+            continue;
+        }
+        if (!strcmp(a, HS_LIGHT_FLAG_SKY)) {
+            hs_light_parse("xrsc", a, NULL, &opt.scene);
             continue;
         }
         if (!strcmp(a, "--quiet")) {
             quiet = true;
             opt.progress = false;
+            continue;
+        }
+        if (!strcmp(a, "--overwrite")) {
+            overwrite = true;
             continue;
         }
         if (a[0] != '-' || a[1] != '-')
@@ -417,6 +608,7 @@ int main(int argc, char **argv)
                 return bad_arg(a, v, "expected WxH, each 8..8192");
             opt.renderer.width = w;
             opt.renderer.height = h;
+            size_given = true;
         } else if (!strcmp(a, "--seed")) {
             if (!hs_parse_u32(v, &opt.renderer.seed))
                 return bad_arg(a, v, "expected an unsigned integer");
@@ -435,14 +627,25 @@ int main(int argc, char **argv)
             if (!hs_parse_f(v, &d) || d < 0 || d > 200)
                 return bad_arg(a, v, "expected millimetres 0..200");
             opt.headset.ipd_m = (float)(d * 1e-3);
+            ipd_given = true;
         } else if (!strcmp(a, "--refresh")) {
             if (!hs_parse_f(v, &d) || d < 1 || d > 1000)
                 return bad_arg(a, v, "expected 1..1000 Hz");
             opt.headset.refresh_hz = (float)d;
+            refresh_given = true;
+        } else if (!strcmp(a, "--headset")) {
+            headset_name = v;
+        } else if (!strcmp(a, "--headsets")) {
+            headsets_path = v;
+        } else if (!strcmp(a, "--video")) {
+            opt.video_path = v;
         } else if (!strcmp(a, "--out")) {
             opt.out_dir = v;
+        } else if (!strcmp(a, "--preview-reference")) {
+            opt.preview_reference = v;
+            opt.preview = true;
         } else if (!strcmp(a, "--write")) {
-            opt.write_eyes = opt.write_sbs = opt.write_linear = false;
+            opt.write_eyes = opt.write_sbs = opt.write_linear = opt.write_exr = false;
             char list[256];
             snprintf(list, sizeof(list), "%s", v);
             for (char *tok = strtok(list, ","); tok; tok = strtok(NULL, ",")) {
@@ -452,13 +655,22 @@ int main(int argc, char **argv)
                     opt.write_sbs = true;
                 else if (!strcmp(tok, "linear"))
                     opt.write_linear = true;
+                else if (!strcmp(tok, "exr"))
+                    opt.write_exr = true;
                 else if (strcmp(tok, "none") != 0)
-                    return bad_arg(a, v, "expected eyes, sbs, linear or none");
+                    return bad_arg(a, v, "expected eyes, sbs, linear, exr or none");
             }
         } else if (!strcmp(a, "--exposure")) {
-            if (!hs_parse_f(v, &d) || d <= 0)
-                return bad_arg(a, v, "expected a positive number");
-            opt.exposure = (float)d;
+            if (!strcmp(v, "auto"))
+                opt.exposure = 0.0f; /* automatic (hs_image.h) */
+            else if (!hs_parse_f(v, &d) || d <= 0)
+                return bad_arg(a, v, "expected a positive number or auto");
+            else
+                opt.exposure = (float)d;
+        } else if (hs_arg_in(a, hs_light_value_options, hs_light_value_option_count)) {
+            int r = hs_light_parse("xrsc", a, v, &opt.scene);
+            if (r)
+                return r;
         } else if (!strncmp(a, "--sc-", 5)) {
             int r = parse_samplecache(a, v, &opt.renderer.samplecache);
             if (r)
@@ -481,38 +693,45 @@ int main(int argc, char **argv)
         return bad_arg(pose_time_unit ? "--pose-time-unit" : "--pose-handedness", NULL,
                        "needs --pose-columns");
     }
+    if (headset_name || headsets_path) {
+        int r = apply_headset(headset_name, headsets_path, size_given, ipd_given, refresh_given,
+                              &opt);
+        if (r >= 0)
+            return r;
+    }
     if (!blend_given)
         opt.renderer.blend = default_blend(opt.renderer.method);
-    if (!quiet)
-        fprintf(stderr, "xrsc: replaying %s over %s (%s, %ux%u per eye)\n", opt.poses_path,
-                opt.scene_path, xrsc_method_name(opt.renderer.method), opt.renderer.width,
-                opt.renderer.height);
-    hs_replay_stats st;
-    xrsc_diag diag = {0};
-    xrsc_result res = direct ? hs_replay_run(&opt, &st, &diag) : hs_xr_replay_run(&opt, &st, &diag);
-    if (res != XRSC_OK) {
-        char msg[1400];
-        fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
-        return 1;
-    }
-    if (!quiet) {
-        printf("device: %s\n", st.device);
-        printf("method: %s, stereo blend: %s", xrsc_method_name(opt.renderer.method),
-               xrsc_blend_name(opt.renderer.blend));
-        if (opt.renderer.blend == XRSC_BLEND_MOMENTS)
-            printf(", R = %g", (double)opt.renderer.blend_r);
-        printf("\n");
-        printf("frames: %u  load %.2f s  total %.2f s\n", st.frames, st.load_s, st.total_s);
-        printf("render wall time per stereo frame: mean %.2f ms, max %.2f ms\n",
-               st.render_ms_mean, st.render_ms_max);
-        for (uint32_t p = 0; p < st.pass_count; p++)
-            printf("  pass %-12s %.3f ms (GPU timestamps, mean)\n", st.pass_mean[p].name,
-                   st.pass_mean[p].gpu_ms);
-        if (st.rays_per_frame > 0 && st.render_ms_mean > 0)
-            printf("rays per frame: %.0f  (%.2f Mrays/s of wall time)\n", st.rays_per_frame,
-                   st.rays_per_frame / (st.render_ms_mean * 1e3));
-        if (opt.out_dir)
-            printf("output: %s/\n", opt.out_dir);
-    }
-    return 0;
+    if (opt.preview && direct)
+        return bad_arg("--preview", NULL, "the preview window is the OpenXR runtime's: drop --direct");
+    if (quiet) /* errors only, also from the library and the OpenXR runtime (u_diag.h) */
+        setenv("XRSC_LOG", "error", 1);
+    /* run.json / run.conf: the values of the options not given, as they would be typed. */
+    char res_s[32], spp_s[16], ipd_s[32], refresh_s[32];
+    snprintf(res_s, sizeof(res_s), "%ux%u", opt.renderer.width, opt.renderer.height);
+    snprintf(spp_s, sizeof(spp_s), "%u", opt.renderer.spp.samples_per_pixel);
+    snprintf(ipd_s, sizeof(ipd_s), "%g", (double)opt.headset.ipd_m * 1e3);
+    snprintf(refresh_s, sizeof(refresh_s), "%g", (double)opt.headset.refresh_hz);
+    const hs_run_setting defaults[] = {
+        {"--scene", opt.scene_path},    {"--poses", opt.poses_path},
+        {"--pose-format", "auto"},      {"--start", "0"},
+        {"--frames", "0"},              {"--fov", "headset"},
+        {"--method", xrsc_method_name(opt.renderer.method)},
+        {"--blend", xrsc_blend_name(opt.renderer.blend)},
+        {"--blend-r", "0"},             {"--spp", spp_s},
+        {"--resolution", res_s},        {"--seed", "0"},
+        {"--ipd", ipd_s},               {"--refresh", refresh_s},
+        {"--out", opt.out_dir},         {"--write", "eyes,sbs"},
+        {"--exposure", "auto"},
+    };
+    run.args_argc = args.argc;
+    run.args_argv = args.argv;
+    run.value_options = value_options;
+    run.value_count = sizeof(value_options) / sizeof(value_options[0]);
+    run.defaults = defaults;
+    run.default_count = sizeof(defaults) / sizeof(defaults[0]);
+    run.not_settings = not_settings;
+    run.not_settings_count = sizeof(not_settings) / sizeof(not_settings[0]);
+    run.out_dir = opt.out_dir;
+    hs_run_info_start(&run);
+    return run_recorded(&opt, direct, overwrite, quiet, &run);
 }

@@ -110,11 +110,34 @@ expect_run(NAME xr_bad_ipd EXIT 2 STDERR "--ipd" ARGS --ipd 300 --frames 1 --qui
 # answer, XR_ERROR_RUNTIME_FAILURE, would not say what was wrong).
 expect_run(NAME direct_device_not_found EXIT 1
            STDERR "no Vulkan device matches \"nosuch\".*XRSC_ERROR_DEVICE_NOT_FOUND"
-           ARGS --direct --device nosuch --frames 1 --resolution 16x16 --write none --quiet)
+           ARGS --direct --device nosuch --frames 1 --resolution 16x16 --write none --quiet
+                --out "${OUT_DIR}/nodevice_direct")
 expect_run(NAME xr_device_not_found EXIT 1
            STDERR "no Vulkan device matches \"nosuch\".*XRSC_ERROR_DEVICE_NOT_FOUND"
            NOT_STDERR "XR_ERROR_RUNTIME_FAILURE|XRSC_ERROR_VULKAN"
-           ARGS --device nosuch --frames 1 --resolution 16x16 --write none --quiet)
+           ARGS --device nosuch --frames 1 --resolution 16x16 --write none --quiet
+                --out "${OUT_DIR}/nodevice_xr")
+
+# Issue 11 item 6: headset profiles (data: host_sim/headsets.txt) and --write exr.
+expect_run(NAME headset_list EXIT 0 STDOUT "quest3 .*2064x2208.*index .*1440x1600.*vision-pro"
+           ARGS --headset list)
+expect_run(NAME headset_unknown EXIT 2 STDERR "unknown headset 'quest9'.*quest3.*index"
+           ARGS --headset quest9 --frames 1)
+file(WRITE "${OUT_DIR}/broken-headsets.txt" "[x]\ntitle = X\nresolution = 64x\n")
+expect_run(NAME headsets_file_broken EXIT 2
+           STDERR "broken-headsets.txt:3: resolution: .*XRSC_ERROR_BAD_NUMBER"
+           ARGS --headsets "${OUT_DIR}/broken-headsets.txt" --headset x --frames 1)
+expect_run(NAME headset_exr_run EXIT 0 STDOUT "frames: 1"
+           ARGS --direct --headset index --resolution 16x16 --frames 1 --spp 1 --write exr
+                --out "${OUT_DIR}/exrrun")
+expect_file(headset_exr_run_left "${OUT_DIR}/exrrun/frame_00000_left.exr")
+expect_file(headset_exr_run_right "${OUT_DIR}/exrrun/frame_00000_right.exr")
+# --video without ffmpeg (XRSC_FFMPEG names a missing one): a warning, the run succeeds.
+set(ENV{XRSC_FFMPEG} "${OUT_DIR}/no-such-ffmpeg")
+expect_run(NAME video_without_ffmpeg EXIT 0 STDERR "ffmpeg is not installed"
+           ARGS --direct --frames 1 --resolution 16x16 --spp 1 --write none
+                --video "${OUT_DIR}/v.mp4" --out "${OUT_DIR}/vid")
+unset(ENV{XRSC_FFMPEG})
 
 if(failures GREATER 0)
   message(FATAL_ERROR "${failures} failed (output kept in ${OUT_DIR})")

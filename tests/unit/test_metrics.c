@@ -859,8 +859,8 @@ static void test_cli(void)
         double v[2][6] = {{0}};
         CHECK(fgets(line, sizeof(line), f) && !strncmp(line, "frame,relmse,rmse,mse,ssim", 26));
         for (int k = 0; k < 2; k++)
-            CHECK(fscanf(f, "%u,%lf,%lf,%lf,%lf,%lf,%lf,%*u,%*u\n", &frame[k], &v[k][0], &v[k][1],
-                         &v[k][2], &v[k][3], &v[k][4], &v[k][5]) == 7);
+            CHECK(fscanf(f, "%u,%lf,%lf,%lf,%lf,%lf,%lf,%*u,%*u,-,0\n", &frame[k], &v[k][0],
+                         &v[k][1], &v[k][2], &v[k][3], &v[k][4], &v[k][5]) == 7);
         CHECK(fgets(line, sizeof(line), f) == NULL); /* exactly two frames */
         fclose(f);
         CHECK(frame[0] == 0 && frame[1] == 1);

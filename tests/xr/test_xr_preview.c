@@ -4,8 +4,13 @@
  * @brief The runtime's preview window (XRSC_RT_PREVIEW=1) under Xvfb, with Debian's hello_xr
  *        as the application: a screenshot of the X server shows the left and right eyes side
  *        by side, matching the captured PNGs of the same frame; the keys S (swap), D
- *        (difference), N (single step) and Q (exit) do what they say; without the setting
- *        the runtime needs no display, and with it but no display it fails clearly.
+ *        (difference), N (single step) and Q (exit) do what they say (overlay off:
+ *        XRSC_RT_PREVIEW_OVERLAY=0); without the setting the runtime needs no display, and
+ *        with it but no display it fails clearly. With `xrsc replay --preview` (issue 11): the
+ *        overlay's frame number and method read back glyph by glyph in the bitmap font
+ *        (hs_font.h), the depth-compensated stereo difference near zero on a scene at
+ *        infinity and small on the Cornell box, the window staying open after the run with
+ *        stepping back, one-eye and reference-error views, and Ctrl-C while paused.
  *
  * The test starts its own Xvfb (-displayfd picks a free display), so it can look at the
  * screen itself: the screenshot is XGetImage of the root window (what `xwd -root` reads),
@@ -16,6 +21,7 @@
  * bilinear with pixel centres aligned); keys are sent to the window with XSendEvent.
  */
 #include "t_hello_xr.h"
+#include "hs_font.h"
 #include "testing.h"
 
 #include <X11/Xlib.h>
@@ -24,6 +30,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <math.h>
 #include <png.h>
 #include <signal.h>
 #include <stdbool.h>
@@ -35,7 +42,7 @@
 #include <time.h>
 #include <unistd.h>
 
-/* Mirrors hsrt_preview.c: the difference view's gain. */
+/* Mirrors hsrt_preview_view.c: the raw difference view's gain (no depth layer: hello_xr). */
 #define DIFF_GAIN 4
 #define WIN_W 800
 #define WIN_H 400
@@ -521,8 +528,8 @@ static void preview_shows_submitted_frames_side_by_side(void)
     snprintf(hold_env, sizeof(hold_env), "XRSC_RT_PREVIEW_HOLD_FRAME=%d", HOLD_FRAME);
     snprintf(size_env, sizeof(size_env), "XRSC_RT_PREVIEW_SIZE=%dx%d", WIN_W, WIN_H);
     snprintf(eye_env, sizeof(eye_env), "XRSC_RT_EYE_SIZE=%dx%d", EYE_W, EYE_H);
-    const char *env[] = {out_env,  disp_env, "XRSC_RT_PREVIEW=1",  hold_env,
-                         size_env, eye_env,  "XRSC_RT_WRITE=eyes", NULL};
+    const char *env[] = {out_env,  disp_env, "XRSC_RT_PREVIEW=1",  hold_env,  size_env,
+                         eye_env,  "XRSC_RT_WRITE=eyes", "XRSC_RT_PREVIEW_OVERLAY=0", NULL};
     t_child c;
     CHECK(start_hello(env, "keys", &c));
     t_win win = {0};
@@ -602,6 +609,7 @@ static void preview_view_setting_resume_and_escape(void)
                          disp_env,
                          "XRSC_RT_PREVIEW=1",
                          "XRSC_RT_PREVIEW_VIEW=swap",
+                         "XRSC_RT_PREVIEW_OVERLAY=0",
                          "XRSC_RT_PREVIEW_HOLD_FRAME=3",
                          eye_env,
                          "XRSC_RT_WRITE=eyes",
@@ -717,6 +725,514 @@ static void preview_failures_are_clear(void)
     }
 }
 
+
+/* ---- `xrsc replay --preview`: the overlay read back, the stereo difference at infinity ---- */
+
+/* Mirrors hsrt_preview_view.c: overlay text and bar colours, the no-data colour, the stereo
+ * heat map's full scale, and the text scale of a window at least 640 wide. */
+static const uint8_t k_text_rgb[3] = {255, 255, 255}, k_bar_rgb[3] = {20, 20, 20};
+static const uint8_t k_nodata_rgb[3] = {56, 0, 72};
+#define STEREO_SCALE 0.25
+#define OVERLAY_TEXT_SCALE 2u
+#define INF_HOLD_FRAME 3
+#define INF_EYE 128
+/* The far plane of the plugin's depth layer is 1000 m: beyond it is background, at infinity. */
+#define INF_DISTANCE_M 5000.0f
+#define INF_HALF_M 20000.0f
+#define INF_GRID 16
+
+/**
+ * A scene at infinity: a checkerboard of two colours (as albedo, which --method primary shows
+ * without noise, and as emission) 5 km in front of the camera, 16 x 16 squares filling the
+ * headset's view; both eyes see it by direction alone. Written as dir/infinity.gltf with its
+ * buffer inline.
+ */
+static const char *write_infinity_scene(const char *dir)
+{
+    static char path[700];
+    enum { QUADS = INF_GRID * INF_GRID / 2 };
+    float *pos[2];
+    uint16_t *idx = malloc(QUADS * 6 * sizeof(uint16_t));
+    pos[0] = malloc(QUADS * 4 * 3 * sizeof(float));
+    pos[1] = malloc(QUADS * 4 * 3 * sizeof(float));
+    uint32_t nq[2] = {0, 0};
+    const float step = 2.0f * INF_HALF_M / INF_GRID;
+    for (int j = 0; j < INF_GRID; j++) {
+        for (int i = 0; i < INF_GRID; i++) {
+            int m = (i + j) & 1;
+            float x0 = -INF_HALF_M + i * step, y0 = -INF_HALF_M + j * step;
+            float v[4][3] = {{x0, y0, -INF_DISTANCE_M},
+                             {x0 + step, y0, -INF_DISTANCE_M},
+                             {x0 + step, y0 + step, -INF_DISTANCE_M},
+                             {x0, y0 + step, -INF_DISTANCE_M}};
+            memcpy(pos[m] + nq[m] * 12, v, sizeof(v));
+            nq[m]++;
+        }
+    }
+    for (uint32_t q = 0; q < QUADS; q++) {
+        const uint16_t t[6] = {0, 1, 2, 0, 2, 3};
+        for (int k = 0; k < 6; k++)
+            idx[q * 6 + k] = (uint16_t)(q * 4 + t[k]);
+    }
+    size_t pbytes = QUADS * 4 * 3 * sizeof(float), ibytes = QUADS * 6 * sizeof(uint16_t);
+    size_t total = 2 * pbytes + ibytes;
+    uint8_t *buf = malloc(total);
+    memcpy(buf, pos[0], pbytes);
+    memcpy(buf + pbytes, pos[1], pbytes);
+    memcpy(buf + 2 * pbytes, idx, ibytes);
+    char *uri = t_data_uri(buf, total);
+    snprintf(path, sizeof(path), "%s/infinity.gltf", dir);
+    FILE *f = fopen(path, "w");
+    CHECK(f && uri);
+    if (f && uri) {
+        float lo = -INF_HALF_M, hi = INF_HALF_M, z = -INF_DISTANCE_M;
+        fprintf(f,
+                "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0,\n"
+                " \"scenes\": [{\"nodes\": [0, 1, 2]}],\n"
+                " \"nodes\": [{\"mesh\": 0}, {\"mesh\": 1}, {\"camera\": 0}],\n"
+                " \"cameras\": [{\"type\": \"perspective\", \"perspective\": {\"yfov\": 1.5, "
+                "\"znear\": 0.05}}],\n"
+                " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}, \"indices\": "
+                "2, \"material\": 0}]},\n"
+                "            {\"primitives\": [{\"attributes\": {\"POSITION\": 1}, \"indices\": "
+                "2, \"material\": 1}]}],\n"
+                " \"materials\": [\n"
+                "  {\"doubleSided\": true, \"emissiveFactor\": [0.9, 0.5, 0.1], "
+                "\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.9, 0.5, 0.1, 1], "
+                "\"metallicFactor\": 0}},\n"
+                "  {\"doubleSided\": true, \"emissiveFactor\": [0.1, 0.3, 0.9], "
+                "\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.1, 0.3, 0.9, 1], "
+                "\"metallicFactor\": 0}}],\n"
+                " \"accessors\": [\n"
+                "  {\"bufferView\": 0, \"componentType\": 5126, \"count\": %d, \"type\": \"VEC3\", "
+                "\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]},\n"
+                "  {\"bufferView\": 1, \"componentType\": 5126, \"count\": %d, \"type\": \"VEC3\", "
+                "\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]},\n"
+                "  {\"bufferView\": 2, \"componentType\": 5123, \"count\": %d, \"type\": "
+                "\"SCALAR\"}],\n"
+                " \"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": %zu},\n"
+                "   {\"buffer\": 0, \"byteOffset\": %zu, \"byteLength\": %zu},\n"
+                "   {\"buffer\": 0, \"byteOffset\": %zu, \"byteLength\": %zu}],\n"
+                " \"buffers\": [{\"byteLength\": %zu, \"uri\": \"%s\"}]}\n",
+                QUADS * 4, lo, lo, z, hi, hi, z, QUADS * 4, lo, lo, z, hi, hi, z, QUADS * 6,
+                pbytes, pbytes, pbytes, 2 * pbytes, ibytes, total, uri);
+    }
+    if (f)
+        fclose(f);
+    free(uri);
+    free(buf);
+    free(idx);
+    free(pos[0]);
+    free(pos[1]);
+    return path;
+}
+
+/** Starts `xrsc replay ARGS...` (NULL-terminated) with env "NAME=value" entries; log to a file. */
+static bool start_xrsc(const char *const *env, const char *const *args, const char *tag,
+                       t_child *c)
+{
+    snprintf(c->log_path, sizeof(c->log_path), "%s/preview_%s.log", XRSC_TEST_OUT, tag);
+    int in[2];
+    if (pipe(in) != 0)
+        return false;
+    c->pid = fork();
+    if (c->pid == 0) {
+        int fd = open(c->log_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(in[0], 0);
+        dup2(fd, 1);
+        dup2(fd, 2);
+        close(in[1]);
+        setenv("XR_RUNTIME_JSON", XRSC_RUNTIME_JSON, 1);
+        for (const char *const *e = env; *e; e++) {
+            const char *eq = strchr(*e, '=');
+            char name[128];
+            snprintf(name, sizeof(name), "%.*s", (int)(eq - *e), *e);
+            setenv(name, eq + 1, 1);
+        }
+        const char *argv[40] = {"xrsc", "replay"};
+        int n = 2;
+        for (const char *const *a = args; *a && n < 39; a++)
+            argv[n++] = *a;
+        argv[n] = NULL;
+        execv(XRSC_CLI, (char *const *)argv);
+        _exit(127);
+    }
+    close(in[0]);
+    c->stdin_fd = in[1];
+    return c->pid > 0;
+}
+
+static bool same_rgb(const uint8_t *p, const uint8_t c[3])
+{
+    return p[0] == c[0] && p[1] == c[1] && p[2] == c[2];
+}
+
+/**
+ * Finds text drawn with the overlay's font at scale s in rows [y0, y1) of a w-wide RGB shot:
+ * every set glyph pixel the text colour, every unset pixel of the text's box the bar colour
+ * (so a longer word or another number does not match). Returns its x, or -1.
+ */
+static int find_text(const uint8_t *rgb, int w, int y0, int y1, const char *text, uint32_t s)
+{
+    int tw = (int)(strlen(text) * HS_FONT_ADVANCE * s), th = (int)(HS_FONT_H * s);
+    for (int y = y0; y + th <= y1; y++) {
+        for (int x = 0; x + tw <= w; x++) {
+            bool ok = true;
+            for (int gy = 0; gy < th && ok; gy++) {
+                for (int gx = 0; gx < tw && ok; gx++) {
+                    size_t ch = (size_t)gx / (HS_FONT_ADVANCE * s);
+                    uint32_t col = (uint32_t)(gx / (int)s) % HS_FONT_ADVANCE;
+                    bool set = hs_font_pixel(text[ch], col, (uint32_t)(gy / (int)s));
+                    const uint8_t *p = rgb + ((size_t)(y + gy) * w + (size_t)(x + gx)) * 3;
+                    ok = same_rgb(p, set ? k_text_rgb : k_bar_rgb);
+                }
+            }
+            if (ok)
+                return x;
+        }
+    }
+    return -1;
+}
+
+/* The heat-map value (0..1 of full scale) whose colour is nearest to p (hs_heat_colour). */
+static double heat_value(const uint8_t *p)
+{
+    double best = 1e30, v = 0.0;
+    for (int k = 0; k <= 1000; k++) {
+        uint8_t c[3];
+        hs_heat_colour((float)k / 1000.0f, c);
+        double d = 0.0;
+        for (int i = 0; i < 3; i++)
+            d += ((double)c[i] - p[i]) * ((double)c[i] - p[i]);
+        if (d < best) {
+            best = d;
+            v = k / 1000.0;
+        }
+    }
+    return v;
+}
+
+/* Mean over pixels of the RMS over R, G, B of |left - right| of frame `frame`'s PFMs. */
+static double raw_stereo_rms(const char *dir, int frame)
+{
+    char lp[800], rp[800];
+    snprintf(lp, sizeof(lp), "%s/frame_%05d_left.pfm", dir, frame);
+    snprintf(rp, sizeof(rp), "%s/frame_%05d_right.pfm", dir, frame);
+    size_t nl = 0, nr = 0;
+    char *l = t_read_file(lp, &nl), *r = t_read_file(rp, &nr);
+    double mean = -1.0;
+    if (l && r && nl == nr && nl > (size_t)INF_EYE * INF_EYE * 12) {
+        /* same header, then w*h RGB floats at the end of the file */
+        size_t n = (size_t)INF_EYE * INF_EYE;
+        const float *a = (const float *)(l + nl - n * 12), *b = (const float *)(r + nr - n * 12);
+        double s = 0.0;
+        for (size_t i = 0; i < n; i++) {
+            double q = 0.0;
+            for (int c = 0; c < 3; c++)
+                q += ((double)a[i * 3 + c] - b[i * 3 + c]) * ((double)a[i * 3 + c] - b[i * 3 + c]);
+            s += sqrt(q / 3.0);
+        }
+        mean = s / (double)n;
+    }
+    free(l);
+    free(r);
+    return mean;
+}
+
+/* The application's validation layer (--validation / XRSC_VALIDATION=1) and the window's
+ * (XRSC_VALIDATION=1) reported no error in a run's log. */
+static void check_no_validation_errors(const char *log)
+{
+    CHECK_MSG(!strstr(log, "VUID") && !strstr(log, "validation errors") &&
+                  !strstr(log, "validation layer reported"),
+              "%s", log);
+}
+
+/* What the stereo-difference view showed, measured from a screenshot. */
+typedef struct t_stereo {
+    bool shown;
+    double mean_rms; /**< over the compared pixels of the pane, from the heat colours */
+    size_t compared, nodata, side;
+    double raw; /**< mean RMS of |left - right| of the written PFMs */
+} t_stereo;
+
+/* The pane (the square eye fitted between the top bar and the scale strip), below its label. */
+static void measure_stereo_pane(const uint8_t *shot, const t_win *win, t_stereo *st)
+{
+    const uint32_t s = OVERLAY_TEXT_SCALE;
+    const int bar_h = (int)((2 * HS_FONT_LINE + 1) * s), strip_h = (int)((6 + HS_FONT_LINE + 2) * s);
+    const int side = win->h - bar_h - strip_h, x0 = (win->w - side) / 2;
+    const int label_h = (int)((HS_FONT_H + 4) * s);
+    double sum = 0.0;
+    st->side = (size_t)side;
+    for (int y = bar_h + label_h; y < bar_h + side; y++) {
+        for (int x = x0; x < x0 + side; x++) {
+            const uint8_t *p = shot + ((size_t)y * win->w + x) * 3;
+            if (same_rgb(p, k_nodata_rgb)) {
+                st->nodata++;
+            } else if (!same_rgb(p, k_bar_rgb) && !same_rgb(p, k_text_rgb)) {
+                st->compared++; /* black: zero difference */
+                sum += (p[0] | p[1] | p[2]) ? heat_value(p) : 0.0;
+            }
+        }
+    }
+    st->mean_rms = st->compared ? sum / (double)st->compared * STEREO_SCALE : 1.0;
+}
+
+/**
+ * `xrsc replay --preview --method primary` of `scene` held at frame 3 (primary shows albedo:
+ * the same colour from both eyes wherever both see a point): with read_overlay, "FRAME 3" and
+ * "METHOD PRIMARY" are read back from the overlay in the bitmap font (and "FRAME 4" is not
+ * found); then D shows the stereo difference, which is measured; Q ends the run. Validation of
+ * the application and of the window's device reports no error.
+ */
+static void held_stereo_run(const char *dir, const char *scene, bool read_overlay, t_stereo *st)
+{
+    char out[700];
+    snprintf(out, sizeof(out), "%s/run", dir);
+    t_clean_dir(out); /* the run refuses a folder that holds an earlier run */
+    memset(st, 0, sizeof(*st));
+    Display *dpy = open_xvfb_display();
+    if (!dpy)
+        return;
+    char disp_env[64], hold_env[64];
+    snprintf(disp_env, sizeof(disp_env), "DISPLAY=%s", g_display);
+    snprintf(hold_env, sizeof(hold_env), "XRSC_RT_PREVIEW_HOLD_FRAME=%d", INF_HOLD_FRAME);
+    const char *env[] = {disp_env, hold_env, "XRSC_RT_PREVIEW_SIZE=800x400", "XRSC_VALIDATION=1",
+                         NULL};
+    const char *args[] = {"--preview", "--preview-autoclose", "--scene", scene, "--method",
+                          "primary", "--resolution", "128x128", "--frames", "6", "--out", out,
+                          "--write", "linear", "--validation", NULL};
+    t_child c;
+    CHECK(start_xrsc(env, args, "xrsc", &c));
+    t_win win = {0};
+    char want[96];
+    snprintf(want, sizeof(want), "frame %d, paused, left|right", INF_HOLD_FRAME);
+    bool held = wait_title(dpy, want, 120.0, &win, &c);
+    CHECK_MSG(held, "log:\n%s", read_log(&c));
+    if (held && read_overlay) {
+        const uint32_t s = OVERLAY_TEXT_SCALE;
+        const int bar_h = (int)((2 * HS_FONT_LINE + 1) * s);
+        char frame_text[32];
+        snprintf(frame_text, sizeof(frame_text), "FRAME %d ", INF_HOLD_FRAME);
+        int fx = -1, mx = -1;
+        for (int k = 0; k < 100 && (fx < 0 || mx < 0); k++) { /* until the present lands */
+            uint8_t *shot = screenshot(dpy, &win);
+            fx = shot ? find_text(shot, win.w, 0, bar_h, frame_text, s) : -1;
+            mx = shot ? find_text(shot, win.w, 0, bar_h, "METHOD PRIMARY ", s) : -1;
+            free(shot);
+            if (fx < 0 || mx < 0)
+                sleep_s(0.1);
+        }
+        CHECK_MSG(fx >= 0, "'%s' not found in the overlay", frame_text);
+        CHECK_MSG(mx > fx, "'METHOD PRIMARY' not found after the frame number");
+        /* a wrong number is not found: the check can fail */
+        snprintf(frame_text, sizeof(frame_text), "FRAME %d ", INF_HOLD_FRAME + 1);
+        uint8_t *shot = screenshot(dpy, &win);
+        CHECK(shot && find_text(shot, win.w, 0, bar_h, frame_text, s) < 0);
+        free(shot);
+    }
+    if (held) {
+        press(dpy, &win, XK_d);
+        snprintf(want, sizeof(want), "frame %d, paused, stereo difference", INF_HOLD_FRAME);
+        st->shown = wait_title(dpy, want, KEY_TIMEOUT_S, &win, &c);
+        CHECK_MSG(st->shown, "no depth-compensated difference view; log:\n%s", read_log(&c));
+        if (st->shown) {
+            sleep_s(0.5); /* the present lands a moment after the title */
+            uint8_t *shot = screenshot(dpy, &win);
+            if (shot)
+                measure_stereo_pane(shot, &win, st);
+            free(shot);
+            st->raw = raw_stereo_rms(out, INF_HOLD_FRAME);
+        }
+        press(dpy, &win, XK_q);
+    }
+    bool timed_out = false;
+    int code = wait_child(&c, held ? 120.0 : 1.0, &timed_out);
+    const char *log = read_log(&c);
+    CHECK_MSG(!timed_out && code == 0, "exit %d (timed out %d); log:\n%s", code, timed_out, log);
+    check_no_validation_errors(log);
+    XCloseDisplay(dpy);
+    stop_xvfb();
+}
+
+/**
+ * On a scene at infinity the overlay reads "FRAME 3" and "METHOD PRIMARY", and the
+ * depth-compensated stereo difference is near zero where the eyes overlap although the raw
+ * |left - right| is not (the eyes' FOVs are asymmetric: the same direction lies at different
+ * pixels); the part of the left eye that the right eye does not see has no data.
+ */
+static void xrsc_preview_overlay_and_stereo_difference(void)
+{
+    const char *dir = XRSC_TEST_OUT "/preview_xrsc";
+    t_clean_dir(dir);
+    t_stereo st;
+    held_stereo_run(dir, write_infinity_scene(dir), true, &st);
+    if (!st.shown)
+        return;
+    printf("stereo difference at infinity: mean RMS %.5f over %zu pixels (%zu without data); "
+           "raw |L-R| mean RMS %.5f\n",
+           st.mean_rms, st.compared, st.nodata, st.raw);
+    CHECK_MSG(st.nodata > 1000, "the difference pane shows no uncomparable border (%zu)",
+              st.nodata);
+    CHECK_MSG(st.raw > 0.02, "the raw difference %.4f is too small to test anything", st.raw);
+    CHECK_MSG(st.compared > st.side * st.side / 2, "%zu pixels compared", st.compared);
+    CHECK_MSG(st.mean_rms < 0.05 * st.raw && st.mean_rms < 0.02, "compensated %.5f vs raw %.5f",
+              st.mean_rms, st.raw);
+}
+
+/**
+ * The same on the Cornell box, whose walls are near (0.5 to 2 m), end to end: the plugin's
+ * depth layer is read back and decoded, albedo agrees between the eyes once reprojected by
+ * it, so the difference is small and most pixels pass the 5 % depth test. (At 128 pixels the
+ * disparities are a few pixels, so this is no fine check of the decoding itself:
+ * test_xr_preview_view checks it against known depths and a wrong scale.)
+ */
+static void xrsc_preview_stereo_difference_by_depth(void)
+{
+    const char *dir = XRSC_TEST_OUT "/preview_cornell";
+    t_clean_dir(dir);
+    t_stereo st;
+    held_stereo_run(dir, t_source_path("scenes/cornell.gltf"), false, &st);
+    if (!st.shown)
+        return;
+    printf("stereo difference by depth (cornell): mean RMS %.5f over %zu pixels (%zu without "
+           "data); raw |L-R| mean RMS %.5f\n",
+           st.mean_rms, st.compared, st.nodata, st.raw);
+    CHECK_MSG(st.compared > st.side * st.side * 2 / 3, "%zu pixels compared (%zu without data)",
+              st.compared, st.nodata);
+    CHECK_MSG(st.mean_rms < 0.25 * st.raw, "compensated %.5f vs raw %.5f", st.mean_rms, st.raw);
+}
+
+/**
+ * Without --preview-autoclose the window stays open after the run's last frame (the program
+ * waits), steps back through the frames already shown (Left, then Right) with the overlay
+ * naming the frame on screen, switches to one eye (2), shows the error against a reference
+ * run (E: an identical earlier run, so relMSE 0 for both eyes), and Q ends the program.
+ */
+static void xrsc_preview_stays_open_and_steps_back(void)
+{
+    const char *dir = XRSC_TEST_OUT "/preview_end", *out = XRSC_TEST_OUT "/preview_end/run";
+    t_clean_dir(dir);
+    t_clean_dir(out);
+    Display *dpy = open_xvfb_display();
+    if (!dpy)
+        return;
+    char disp_env[64];
+    snprintf(disp_env, sizeof(disp_env), "DISPLAY=%s", g_display);
+    const char *ref = XRSC_TEST_OUT "/preview_end/ref";
+    t_clean_dir(ref);
+    const char *env[] = {disp_env, "XRSC_RT_PREVIEW_SIZE=800x400", NULL};
+    const char *ref_args[] = {"--method", "primary", "--resolution", "64x64", "--frames", "4",
+                              "--out", ref, "--write", "linear", "--quiet", NULL};
+    t_child c;
+    bool timed_out = false;
+    CHECK(start_xrsc(env, ref_args, "end_ref", &c));
+    CHECK_EQ_INT(wait_child(&c, 120.0, &timed_out), 0);
+    const char *args[] = {"--preview", "--preview-reference", ref, "--method", "primary",
+                          "--resolution", "64x64", "--frames", "4", "--out", out, "--write", "none",
+                          "--quiet", NULL};
+    CHECK(start_xrsc(env, args, "end", &c));
+    t_win win = {0};
+    bool ended = wait_title(dpy, ", ended, left|right", 120.0, &win, &c);
+    CHECK_MSG(ended, "log:\n%s", read_log(&c));
+    if (ended) {
+        int last = -1;
+        sscanf(win.title, "xrsc preview: frame %d", &last);
+        CHECK(last >= 2);
+        sleep_s(0.5);
+        CHECK_MSG(child_alive(&c), "the program ended with the window open");
+        const uint32_t s = OVERLAY_TEXT_SCALE;
+        const int bar_h = (int)((2 * HS_FONT_LINE + 1) * s);
+        char want[96], text[32];
+        press(dpy, &win, XK_Left);
+        snprintf(want, sizeof(want), "frame %d, ended, left|right, stepped back", last - 1);
+        bool ok = wait_title(dpy, want, KEY_TIMEOUT_S, &win, &c);
+        CHECK(ok);
+        snprintf(text, sizeof(text), "FRAME %d ", last - 1);
+        int fx = -1;
+        for (int k = 0; ok && k < 50 && fx < 0; k++) {
+            uint8_t *shot = screenshot(dpy, &win);
+            fx = shot ? find_text(shot, win.w, 0, bar_h, text, s) : -1;
+            free(shot);
+            if (fx < 0)
+                sleep_s(0.1);
+        }
+        CHECK_MSG(fx >= 0, "'%s' not in the overlay after stepping back", text);
+        press(dpy, &win, XK_Right);
+        snprintf(want, sizeof(want), "frame %d, ended, left|right", last);
+        CHECK(wait_title(dpy, want, KEY_TIMEOUT_S, &win, &c) && !strstr(win.title, "stepped"));
+        press(dpy, &win, XK_2);
+        snprintf(want, sizeof(want), "frame %d, ended, left eye", last);
+        CHECK(wait_title(dpy, want, KEY_TIMEOUT_S, &win, &c));
+        press(dpy, &win, XK_e);
+        snprintf(want, sizeof(want), "frame %d, ended, reference error", last);
+        ok = wait_title(dpy, want, KEY_TIMEOUT_S, &win, &c);
+        CHECK(ok);
+        int lx = -1, rx = -1;
+        for (int k = 0; ok && k < 50 && (lx < 0 || rx < 0); k++) {
+            uint8_t *shot = screenshot(dpy, &win);
+            lx = shot ? find_text(shot, win.w, 0, win.h, "LEFT VS REF: RELMSE 0", s) : -1;
+            rx = shot ? find_text(shot, win.w, 0, win.h, "RIGHT VS REF: RELMSE 0", s) : -1;
+            /* "0" and not the start of "0.0012": the cell after it is the label's edge */
+            if (shot && lx >= 0 && find_text(shot, win.w, 0, win.h, "LEFT VS REF: RELMSE 0.", s) >= 0)
+                lx = -2;
+            free(shot);
+            if (lx < 0 || rx < 0)
+                sleep_s(0.1);
+        }
+        CHECK_MSG(lx >= 0 && rx >= 0, "relMSE 0 against an identical reference not shown (%d %d)",
+                  lx, rx);
+        press(dpy, &win, XK_q);
+    }
+    int code = wait_child(&c, ended ? 60.0 : 1.0, &timed_out);
+    const char *log = read_log(&c);
+    CHECK_MSG(!timed_out && code == 0, "exit %d (timed out %d); log:\n%s", code, timed_out, log);
+    check_no_validation_errors(log);
+    t_win gone;
+    CHECK(!find_preview(dpy, &gone));
+    XCloseDisplay(dpy);
+    stop_xvfb();
+}
+
+
+/**
+ * Ctrl-C while the window holds the run paused (the frame loop waits in xrWaitFrame, where the
+ * program's own handling of the signal cannot act): the program still stops as Ctrl-C says
+ * (exit 130) and does not wait for the window to be closed.
+ */
+static void xrsc_preview_ctrl_c_while_paused(void)
+{
+    const char *out = XRSC_TEST_OUT "/preview_ctrlc";
+    t_clean_dir(out);
+    Display *dpy = open_xvfb_display();
+    if (!dpy)
+        return;
+    char disp_env[64];
+    snprintf(disp_env, sizeof(disp_env), "DISPLAY=%s", g_display);
+    const char *env[] = {disp_env, "XRSC_RT_PREVIEW_SIZE=400x200", "XRSC_RT_PREVIEW_HOLD_FRAME=2",
+                         NULL};
+    const char *args[] = {"--preview", "--method", "primary", "--resolution", "64x64", "--frames",
+                          "50", "--out", out, "--write", "none", NULL};
+    t_child c;
+    CHECK(start_xrsc(env, args, "ctrlc", &c));
+    t_win win = {0};
+    bool held = wait_title(dpy, "frame 2, paused", 120.0, &win, &c);
+    CHECK_MSG(held, "log:\n%s", read_log(&c));
+    if (held)
+        kill(c.pid, SIGINT);
+    bool timed_out = false;
+    int code = wait_child(&c, held ? 60.0 : 1.0, &timed_out);
+    const char *log = read_log(&c);
+    CHECK_MSG(held && !timed_out && code == 130, "exit %d (timed out %d); log:\n%s", code,
+              timed_out, log);
+    check_no_validation_errors(log);
+    t_win gone;
+    CHECK(!find_preview(dpy, &gone));
+    XCloseDisplay(dpy);
+    stop_xvfb();
+}
+
 int main(void)
 {
     signal(SIGPIPE, SIG_IGN);
@@ -724,6 +1240,10 @@ int main(void)
     RUN(preview_failures_are_clear);
     RUN(preview_shows_submitted_frames_side_by_side);
     RUN(preview_view_setting_resume_and_escape);
+    RUN(xrsc_preview_overlay_and_stereo_difference);
+    RUN(xrsc_preview_stereo_difference_by_depth);
+    RUN(xrsc_preview_stays_open_and_steps_back);
+    RUN(xrsc_preview_ctrl_c_while_paused);
     stop_xvfb();
     return t_finish();
 }

@@ -14,7 +14,8 @@
  * view configurations), hsrt_session.c (session state machine, frame timing, spaces, views,
  * actions), hsrt_vulkan.c (XR_KHR_vulkan_enable/enable2, swapchains, frame read-back),
  * hsrt_capture.c (pixel conversion and writing of captured frames), hsrt_preview.c (the optional
- * GLFW/Vulkan preview window, XRSC_RT_PREVIEW=1).
+ * GLFW/Vulkan preview window, XRSC_RT_PREVIEW=1), hsrt_preview_view.c (its picture: views,
+ * heat maps, overlay).
  *
  * Locking: each instance has one mutex; every entry point that touches an instance or its
  * children takes it (xrWaitFrame drops it while sleeping).
@@ -26,6 +27,7 @@
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
+#include "hs_image.h"
 #include "hs_pose_stream.h"
 #include "xrsc/xrsc_math.h"
 
@@ -66,7 +68,7 @@ typedef struct hsrt_config {
     uint64_t lose_after; /**< 0 = never; else the session is lost after this many frames */
     hsrt_pace pace;
     bool write_eyes, write_sbs, write_linear;
-    float exposure;
+    float exposure;     /**< XRSC_RT_EXPOSURE: > 0 fixed, 0 = "auto" (hs_autoexposure) */
     char device[256];   /**< XRSC_RT_DEVICE, else XRSC_DEVICE: selector of u_device.h, "" = any */
     int64_t start_ns;   /**< XRSC_RT_START_S: stream time of the session's first display time */
     xrsc_headset headset; /**< ipd_m from XRSC_RT_IPD_MM, size, refresh */
@@ -76,6 +78,11 @@ typedef struct hsrt_config {
     int64_t preview_hold_frame;         /**< XRSC_RT_PREVIEW_HOLD_FRAME; -1 = none */
     bool preview_swapped, preview_diff; /**< XRSC_RT_PREVIEW_VIEW: swap / diff at start */
     char preview_device[256];           /**< XRSC_RT_PREVIEW_DEVICE; "" = CPU device first */
+    bool preview_autoclose;  /**< XRSC_RT_PREVIEW_AUTOCLOSE=1: close when the session ends */
+    bool preview_no_overlay; /**< XRSC_RT_PREVIEW_OVERLAY=0: the eyes only, no text */
+    int preview_info_fd;     /**< XRSC_RT_PREVIEW_INFO_FD; -1 = none (hs_preview_link.h) */
+    uint32_t preview_history; /**< XRSC_RT_PREVIEW_HISTORY: frames kept to step back through */
+    char preview_reference[1024]; /**< XRSC_RT_PREVIEW_REFERENCE: linear frames; "" = none */
 } hsrt_config;
 
 typedef struct hsrt_preview hsrt_preview;
@@ -184,6 +191,7 @@ struct hsrt_session {
     uint64_t frames_ended;
     FILE *frames_csv;
     hsrt_preview *preview; /**< NULL unless XRSC_RT_PREVIEW=1 */
+    hs_autoexposure autoexp; /**< cfg.exposure 0: automatic over the captured frames */
 };
 
 struct hsrt_instance {
@@ -279,10 +287,12 @@ typedef struct hsrt_eye_image {
 } hsrt_eye_image;
 /**
  * Reads back the released image of each view of a projection layer (at most 2) into
- * out_eyes; frees nothing on failure beyond what it allocated itself.
+ * out_eyes, and, when out_depth_m is given, each view's depth (XR_KHR_composition_layer_depth)
+ * as metres into out_depth_m[v] (malloc'ed; left NULL for a view without a depth info of its
+ * colour region's size); frees nothing on failure beyond what it allocated itself.
  */
 XrResult hsrt_vk_capture(hsrt_session *s, const XrCompositionLayerProjection *layer,
-                         hsrt_eye_image out_eyes[2]);
+                         hsrt_eye_image out_eyes[2], float *out_depth_m[2]);
 
 /* ---- hsrt_capture.c ---- */
 /** Bytes per texel of a supported swapchain format, 0 for others. */
@@ -299,27 +309,64 @@ extern const uint32_t hsrt_format_count;
 bool hsrt_convert(VkFormat format, const void *texels, uint32_t w, uint32_t h, float exposure,
                   hsrt_eye_image *out);
 void hsrt_eye_image_free(hsrt_eye_image *img);
+/**
+ * Depth texels (D32_SFLOAT or D16_UNORM, w*h) to view-space depth in metres (-z of the eye;
+ * the convention of xrsc_metrics_view.depth_m), 0 for background: the value at the far end
+ * of the range (nothing hit). The mapping is the perspective one the depth info describes:
+ * t = (d - minDepth) / (maxDepth - minDepth), z = nearZ farZ / (farZ - t (farZ - nearZ)), which
+ * covers reversed depth (nearZ > farZ) and an infinite farZ. NULL when out of memory.
+ */
+float *hsrt_depth_to_metres(VkFormat format, const void *texels, uint32_t w, uint32_t h,
+                            const XrCompositionLayerDepthInfoKHR *info);
 /** Writes frame_NNNNN_{left,right}.png/.pfm and _sbs.png as the configuration says. */
 bool hsrt_write_frame(const hsrt_config *cfg, uint64_t frame, hsrt_eye_image eyes[2]);
 
 /* ---- hsrt_preview.c ---- */
+/** Frames the preview keeps to step back through, by default and at most (XRSC_RT_PREVIEW_HISTORY). */
+#define HSRT_PREVIEW_HISTORY_DEFAULT 32u
+#define HSRT_PREVIEW_HISTORY_MAX 1024u
+/** The history never holds more than this many bytes of pixels: the oldest frames go first. */
+#define HSRT_PREVIEW_HISTORY_BYTES (512ull << 20)
+
 /** What the preview window starts with (from hsrt_config). */
 typedef struct hsrt_preview_options {
     uint32_t width, height; /**< window size in screen coordinates */
     int64_t hold_frame;     /**< pause once this frame is submitted; -1 = never */
     bool swapped, diff;     /**< initial view */
     char device[256];       /**< Vulkan device for the window: cpu, gpu, index, name part, "" */
+    bool autoclose;         /**< close when the session ends (else stay open until closed) */
+    bool no_overlay;        /**< start without the text overlay */
+    int info_fd;            /**< the overlay's information channel (hs_preview_link.h); -1 none */
+    uint32_t history;       /**< frames kept to step back through (0: the default) */
+    char reference[1024];   /**< folder of linear reference frames; "" = none */
 } hsrt_preview_options;
+
+/** One submitted frame as the preview keeps it. */
+typedef struct hsrt_preview_frame {
+    uint64_t frame;         /**< the runtime's frame number (that of the files it writes) */
+    int64_t stream_time_ns; /**< the pose stream's time at the frame's display time */
+    hsrt_eye_image eyes[2];
+    float *depth_m[2]; /**< view depth per pixel, 0 background; NULL without a depth layer */
+    XrPosef pose[2];   /**< the views' poses in the layer's space */
+    XrFovf fov[2];
+} hsrt_preview_frame;
+/** Frees a frame's pixels and zeroes it; accepts NULL (in hsrt_capture.c). */
+void hsrt_preview_frame_free(hsrt_preview_frame *f);
+
 /**
  * Opens the preview window on a thread of its own and waits until it is up. *out stays NULL
  * (with XR_SUCCESS) when another session of the process already shows one. Fails with an
  * error logged when the window cannot open (no X server, no Vulkan device that presents).
  */
 XrResult hsrt_preview_create(const hsrt_preview_options *opt, hsrt_preview **out);
-/** Closes the window and joins its thread; accepts NULL and sets *p to NULL. */
+/**
+ * Closes the window and joins its thread; accepts NULL and sets *p to NULL. Unless the options
+ * say autoclose (or the window already asked to exit), it first waits until the user closes
+ * the window, which says so (the end of a run stays on screen).
+ */
 void hsrt_preview_destroy(hsrt_preview **p);
-/** Hands over frame `frame`'s eyes (their buffers are taken; eyes[] is zeroed). */
-void hsrt_preview_submit(hsrt_preview *p, uint64_t frame, hsrt_eye_image eyes[2]);
+/** Hands over a frame (its buffers are taken; *frame is zeroed). */
+void hsrt_preview_submit(hsrt_preview *p, hsrt_preview_frame *frame);
 /**
  * Blocks while the preview is paused (until resumed, a single step, an exit request or the
  * window closing); returns the nanoseconds it blocked. Call without the instance's lock.

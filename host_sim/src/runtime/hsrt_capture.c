@@ -8,6 +8,7 @@
 
 #include "hs_image.h"
 #include "u_diag.h"
+#include "u_half.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -43,27 +44,6 @@ uint32_t hsrt_format_size(VkFormat format)
 bool hsrt_format_is_depth(VkFormat format)
 {
     return format == VK_FORMAT_D32_SFLOAT || format == VK_FORMAT_D16_UNORM;
-}
-
-static float half_to_float(uint16_t h)
-{
-    uint32_t sign = (uint32_t)(h >> 15) << 31, exp = (h >> 10) & 0x1f, man = h & 0x3ff;
-    uint32_t bits;
-    if (exp == 0) {
-        if (!man) {
-            bits = sign;
-        } else { /* subnormal */
-            float f = ldexpf((float)man, -24);
-            return sign ? -f : f;
-        }
-    } else if (exp == 31) {
-        bits = sign | 0x7f800000u | (man << 13);
-    } else {
-        bits = sign | ((exp + 112) << 23) | (man << 13);
-    }
-    float f;
-    memcpy(&f, &bits, sizeof(f));
-    return f;
 }
 
 static float srgb_to_linear(float c)
@@ -136,7 +116,7 @@ bool hsrt_convert(VkFormat format, const void *texels, uint32_t w, uint32_t h, f
             if (format == VK_FORMAT_R16G16B16A16_SFLOAT) {
                 uint16_t hv;
                 memcpy(&hv, b + i * 2, 2);
-                out->rgba[i] = half_to_float(hv);
+                out->rgba[i] = u_half_to_float(hv);
             } else {
                 memcpy(&out->rgba[i], b + i * 4, 4);
             }
@@ -198,4 +178,46 @@ bool hsrt_write_frame(const hsrt_config *cfg, uint64_t frame, hsrt_eye_image eye
         free(sbs);
     }
     return ok;
+}
+
+/* Depth within this fraction of the far end of the depth range is background (the plugin and
+ * most applications clear to, or clamp at, the far end where nothing was hit). */
+#define HSRT_DEPTH_FAR_FRACTION 1e-6
+
+float *hsrt_depth_to_metres(VkFormat format, const void *texels, uint32_t w, uint32_t h,
+                            const XrCompositionLayerDepthInfoKHR *info)
+{
+    if (!info || !hsrt_format_is_depth(format))
+        return NULL;
+    size_t n = (size_t)w * h;
+    float *out = malloc(n * sizeof(float));
+    if (!out)
+        return NULL;
+    double lo = info->minDepth, range = (double)info->maxDepth - info->minDepth;
+    double zn = info->nearZ, zf = info->farZ;
+    bool far_is_max = !(zn > zf); /* the depth value at the far end: maxDepth, or minDepth */
+    for (size_t i = 0; i < n; i++) {
+        double d = format == VK_FORMAT_D32_SFLOAT ? (double)((const float *)texels)[i]
+                                                  : ((const uint16_t *)texels)[i] / 65535.0;
+        double t = range > 0.0 ? (d - lo) / range : 0.0;
+        double to_far = far_is_max ? 1.0 - t : t;
+        if (!(to_far > HSRT_DEPTH_FAR_FRACTION) || !isfinite(t)) {
+            out[i] = 0.0f;
+            continue;
+        }
+        double z = isinf(zf) ? zn / (1.0 - t) : zn * zf / (zf - t * (zf - zn));
+        out[i] = z > 0.0 && isfinite(z) ? (float)z : 0.0f;
+    }
+    return out;
+}
+
+void hsrt_preview_frame_free(hsrt_preview_frame *f)
+{
+    if (!f)
+        return;
+    for (int e = 0; e < 2; e++) {
+        hsrt_eye_image_free(&f->eyes[e]);
+        free(f->depth_m[e]);
+    }
+    memset(f, 0, sizeof(*f));
 }

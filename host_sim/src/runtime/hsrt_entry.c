@@ -178,6 +178,55 @@ static bool parse_u64(const char *s, uint64_t *out)
     return true;
 }
 
+/** A 0/off or 1/on setting; false for anything else. */
+static bool parse_switch(const char *v, bool *out)
+{
+    if (!strcmp(v, "0") || !strcmp(v, "off"))
+        *out = false;
+    else if (!strcmp(v, "1") || !strcmp(v, "on"))
+        *out = true;
+    else
+        return false;
+    return true;
+}
+
+/** The preview's overlay, history, reference and end-of-run settings (README.md). */
+static XrResult preview_overlay_config_from_env(hsrt_config *cfg)
+{
+    const char *fn = "xrCreateInstance";
+    bool on = true;
+    uint64_t n = 0;
+    cfg->preview_info_fd = -1;
+    cfg->preview_history = HSRT_PREVIEW_HISTORY_DEFAULT;
+    const char *v = getenv("XRSC_RT_PREVIEW_AUTOCLOSE");
+    if (v && *v && !parse_switch(v, &cfg->preview_autoclose))
+        return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, fn,
+                         "XRSC_RT_PREVIEW_AUTOCLOSE='%s' is neither 1/on nor 0/off", v);
+    v = getenv("XRSC_RT_PREVIEW_OVERLAY");
+    if (v && *v && !parse_switch(v, &on))
+        return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, fn,
+                         "XRSC_RT_PREVIEW_OVERLAY='%s' is neither 1/on nor 0/off", v);
+    cfg->preview_no_overlay = !on;
+    v = getenv("XRSC_RT_PREVIEW_INFO_FD");
+    if (v && *v) {
+        if (!parse_u64(v, &n) || n > INT32_MAX)
+            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, fn,
+                             "XRSC_RT_PREVIEW_INFO_FD='%s' is not a file descriptor", v);
+        cfg->preview_info_fd = (int)n;
+    }
+    v = getenv("XRSC_RT_PREVIEW_HISTORY");
+    if (v && *v) {
+        if (!parse_u64(v, &n) || n < 1 || n > HSRT_PREVIEW_HISTORY_MAX)
+            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, fn,
+                             "XRSC_RT_PREVIEW_HISTORY='%s' is not 1..%u", v,
+                             HSRT_PREVIEW_HISTORY_MAX);
+        cfg->preview_history = (uint32_t)n;
+    }
+    v = getenv("XRSC_RT_PREVIEW_REFERENCE");
+    snprintf(cfg->preview_reference, sizeof(cfg->preview_reference), "%s", v ? v : "");
+    return XR_SUCCESS;
+}
+
 /** The preview window's settings (hsrt_preview.c); headless unless XRSC_RT_PREVIEW=1. */
 static XrResult preview_config_from_env(hsrt_config *cfg)
 {
@@ -221,7 +270,30 @@ static XrResult preview_config_from_env(hsrt_config *cfg)
     }
     v = getenv("XRSC_RT_PREVIEW_DEVICE");
     snprintf(cfg->preview_device, sizeof(cfg->preview_device), "%s", v ? v : "");
-    return XR_SUCCESS;
+    return preview_overlay_config_from_env(cfg);
+}
+
+/* XRSC_RT_FOV_DEG: 8 angles in degrees, the left eye's left, right, up, down, then the right
+ * eye's (XrFovf's convention: left and down negative), each within +-89.9. */
+static bool parse_fov_deg(const char *v, XrFovf out[2])
+{
+    double a[8];
+    const double rad = 3.14159265358979323846 / 180.0;
+    for (int i = 0; i < 8; i++) {
+        char *end = NULL;
+        a[i] = strtod(v, &end);
+        if (end == v || !(fabs(a[i]) < 89.9) || *end != (i < 7 ? ',' : '\0'))
+            return false;
+        v = end + (i < 7);
+    }
+    for (int e = 0; e < 2; e++) {
+        const double *f = a + 4 * e;
+        if (!(f[0] < f[1]) || !(f[3] < f[2]))
+            return false;
+        out[e] = (XrFovf){(float)(f[0] * rad), (float)(f[1] * rad), (float)(f[2] * rad),
+                          (float)(f[3] * rad)};
+    }
+    return true;
 }
 
 static XrResult config_from_env(hsrt_config *cfg)
@@ -272,12 +344,14 @@ static XrResult config_from_env(hsrt_config *cfg)
     }
     v = getenv("XRSC_RT_EXPOSURE");
     cfg->exposure = 1.0f;
-    if (v && *v) {
+    if (v && !strcmp(v, "auto")) {
+        cfg->exposure = 0.0f; /* automatic (hs_autoexposure, hsrt_vk_capture) */
+    } else if (v && *v) {
         char *end = NULL;
         double e = strtod(v, &end);
         if (*end || !(e > 0.0) || !isfinite(e))
             return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
-                             "XRSC_RT_EXPOSURE='%s' is not a positive number", v);
+                             "XRSC_RT_EXPOSURE='%s' is not a positive number or auto", v);
         cfg->exposure = (float)e;
     }
     v = getenv("XRSC_RT_EYE_SIZE");
@@ -308,6 +382,13 @@ static XrResult config_from_env(hsrt_config *cfg)
                              "XRSC_RT_IPD_MM='%s' is not millimetres in 0..200", v);
         cfg->headset.ipd_m = (float)(mm * 1e-3);
     }
+    v = getenv("XRSC_RT_FOV_DEG");
+    if (v && *v && !parse_fov_deg(v, cfg->headset.fov))
+        return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
+                         "XRSC_RT_FOV_DEG='%s' is not 8 angles in degrees (left eye's left, "
+                         "right, up, down, then the right eye's; left < right, down < up, "
+                         "each within +-89.9)",
+                         v);
     v = getenv("XRSC_RT_START_S");
     if (v && *v) {
         char *end = NULL;

@@ -1,188 +1,77 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file hsrt_preview.c
- * @brief The optional preview window (XRSC_RT_PREVIEW=1): the submitted eyes side by side in
- *        a GLFW window presented through a Vulkan swapchain, with keys for pause, single
- *        step, swapping the eyes, a stereo-difference view and exit.
+ * @brief The optional preview window (XRSC_RT_PREVIEW=1, `xrsc replay --preview`): the
+ *        submitted eyes in a GLFW window presented through a Vulkan swapchain, with an overlay
+ *        (frame, stream time, ms, method, blend, R), views (side by side, one eye, the
+ *        depth-compensated stereo difference, the error against a reference), stepping back
+ *        through recent frames, pause, single step and exit.
  *
  * Design. The window has a Vulkan instance, device and swapchain of its own, owned by one
  * thread of its own; it never touches the application's VkInstance or VkDevice. The frames
  * it shows are the ones xrEndFrame already reads back to host memory (hsrt_vk_capture, the
- * same display-referred sRGB bytes the PNGs hold): the thread scales them into a host-visible
- * buffer at the window's size and copies that buffer into the acquired swapchain image
- * (vkCmdCopyBufferToImage, so the swapchain only needs TRANSFER_DST usage; no pipeline, no
- * shaders). Why not present on the application's device: the application created it, so the
- * surface and swapchain extensions would have to be forced into its create infos
+ * same display-referred sRGB bytes the PNGs hold, their linear values, and the depth of a
+ * depth layer): the thread composes the picture on the CPU (hsrt_preview_view.c) into a
+ * host-visible buffer at the window's size and copies that buffer into the acquired swapchain
+ * image (vkCmdCopyBufferToImage, so the swapchain only needs TRANSFER_DST usage; no pipeline,
+ * no shaders). Why not present on the application's device: the application created it, so
+ * the surface and swapchain extensions would have to be forced into its create infos
  * (xrCreateVulkanInstanceKHR could, XR_KHR_vulkan_enable could not), presenting would share
  * its queue, and a device that cannot present to the display (NVIDIA under Xvfb) would lose
  * the preview. A separate device needs none of that; it defaults to the CPU device (lavapipe)
  * when that can present, because the work is one copy and a CPU device presents to any X
  * server. XRSC_RT_PREVIEW_DEVICE picks another (cpu, gpu, an index or part of a name).
  *
+ * Overlay information. OpenXR carries no method names or timings, so the application may
+ * send them on a pipe whose read end XRSC_RT_PREVIEW_INFO_FD names (hs_preview_link.h: lines
+ * "run method=M blend=B r=R" and "frame N ms=X pass=ms ..."); the preview thread reads it
+ * without blocking and keeps the last HSRT_PREVIEW_INFO_SLOTS frames' lines.
+ *
  * Threads. The preview thread alone calls GLFW (glfwInit to glfwTerminate) and its Vulkan
  * objects. The application's threads meet it only through this struct's mutex: xrEndFrame
- * hands over a frame (hsrt_preview_submit; a frame not yet shown is replaced), xrWaitFrame
+ * hands over a frame (hsrt_preview_submit: queued, then moved into the history, so stepping
+ * back shows every frame of the last XRSC_RT_PREVIEW_HISTORY, shown or not), xrWaitFrame
  * blocks while paused (hsrt_preview_wait), and both take a pending exit request
  * (hsrt_preview_take_exit). The preview thread never takes the instance's lock, so a session
- * can be destroyed (joining the thread) while holding it. GLFW's state is process-wide: one
- * preview at a time per process (a second session meanwhile runs without one), and an
- * application that uses GLFW itself must not enable the preview.
+ * can be destroyed (joining the thread, after the window is closed unless autoclose) while
+ * holding it. GLFW's state is process-wide: one preview at a time per process (a second
+ * session meanwhile runs without one), and an application that uses GLFW itself must not
+ * enable the preview.
  *
- * Keys: P or Space pause/resume; N or Right while paused lets one frame through (while
- * running it pauses); S swaps the eyes; D toggles the difference view |left - right| x4;
- * Esc, Q or closing the window requests exit (the session walks down to STOPPING, as
- * xrRequestExitSession). The title shows the frame on screen, the state and the view.
+ * Keys: P or Space pause/resume; N or Right while paused lets one frame through (while running
+ * it pauses; while stepped back it steps forward); B or Left steps back through the history
+ * (pausing); V cycles the views, 1 side by side, 2 left eye, 3 right eye, D the stereo
+ * difference, E the reference error; S swaps the eyes; O the overlay; Esc, Q or closing the
+ * window requests exit (the session walks down to STOPPING, as xrRequestExitSession). The
+ * title shows the frame on screen, the state and the view.
  */
 #include "hsrt.h"
+#include "hsrt_preview_view.h"
 
+#include "hs_image.h"
 #include "u_diag.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #if HSRT_HAVE_GLFW
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #endif
 
-/** The difference view's gain: |left - right| of the 8-bit display values, times this. */
-#define HSRT_PREVIEW_DIFF_GAIN 4
 /** How long the preview thread sleeps in glfwWaitEventsTimeout between housekeeping. */
 #define HSRT_PREVIEW_POLL_S 0.1
 /** How long one draw waits for a swapchain image, so that closing never hangs on it. */
 #define HSRT_PREVIEW_ACQUIRE_TIMEOUT_NS 250000000ull
-
-#if HSRT_HAVE_GLFW
-/* ---- composition (CPU; also what the test replicates) ---- */
-
-typedef struct pv_rect {
-    int32_t x, y;
-    uint32_t w, h;
-} pv_rect;
-
-/** The largest rect of a src_w x src_h image's aspect centred in a pane. */
-static pv_rect fit_rect(uint32_t src_w, uint32_t src_h, int32_t px, int32_t py, uint32_t pw,
-                        uint32_t ph)
-{
-    double s = fmin((double)pw / src_w, (double)ph / src_h);
-    pv_rect r;
-    r.w = (uint32_t)lround(src_w * s);
-    r.h = (uint32_t)lround(src_h * s);
-    r.w = r.w < 1 ? 1 : (r.w > pw ? pw : r.w);
-    r.h = r.h < 1 ? 1 : (r.h > ph ? ph : r.h);
-    r.x = px + (int32_t)(pw - r.w) / 2;
-    r.y = py + (int32_t)(ph - r.h) / 2;
-    return r;
-}
-
-/** Bilinear taps along one axis: destination pixel d of n maps to source (d+0.5)*src/n-0.5. */
-typedef struct pv_tap {
-    uint32_t i0, i1;
-    float f;
-} pv_tap;
-
-static void make_taps(uint32_t src, uint32_t n, pv_tap *taps)
-{
-    for (uint32_t d = 0; d < n; d++) {
-        float s = ((float)d + 0.5f) * (float)src / (float)n - 0.5f;
-        if (s < 0.0f)
-            s = 0.0f;
-        if (s > (float)(src - 1))
-            s = (float)(src - 1);
-        uint32_t i0 = (uint32_t)s;
-        taps[d].i0 = i0;
-        taps[d].i1 = i0 + 1 < src ? i0 + 1 : i0;
-        taps[d].f = s - (float)i0;
-    }
-}
-
-static float bilerp(const hsrt_eye_image *img, const pv_tap *tx, const pv_tap *ty, int c)
-{
-    const uint8_t *p = img->rgb;
-    size_t w = img->w;
-    float a = p[(ty->i0 * w + tx->i0) * 3 + c], b = p[(ty->i0 * w + tx->i1) * 3 + c];
-    float d = p[(ty->i1 * w + tx->i0) * 3 + c], e = p[(ty->i1 * w + tx->i1) * 3 + c];
-    float top = a + (b - a) * tx->f, bot = d + (e - d) * tx->f;
-    return top + (bot - top) * ty->f;
-}
-
-static uint8_t to_u8(float v)
-{
-    return v <= 0.0f ? 0 : v >= 255.0f ? 255 : (uint8_t)lrintf(v);
-}
-
-/**
- * Draws `a` (and `b` for the difference view) bilinearly scaled into rect r of a w x h
- * 4-byte image (`bgra` orders the bytes B,G,R,A, else R,G,B,A).
- */
-static bool draw_pane(const hsrt_eye_image *a, const hsrt_eye_image *b, pv_rect r, uint8_t *out,
-                      uint32_t w, uint32_t h, bool bgra)
-{
-    pv_tap *tx[2] = {malloc(r.w * sizeof(pv_tap)), malloc(r.w * sizeof(pv_tap))};
-    pv_tap *ty[2] = {malloc(r.h * sizeof(pv_tap)), malloc(r.h * sizeof(pv_tap))};
-    bool ok = tx[0] && tx[1] && ty[0] && ty[1];
-    if (ok) {
-        make_taps(a->w, r.w, tx[0]);
-        make_taps(a->h, r.h, ty[0]);
-        if (b) {
-            make_taps(b->w, r.w, tx[1]);
-            make_taps(b->h, r.h, ty[1]);
-        }
-        for (uint32_t y = 0; y < r.h; y++) {
-            int32_t oy = r.y + (int32_t)y;
-            if (oy < 0 || (uint32_t)oy >= h)
-                continue;
-            for (uint32_t x = 0; x < r.w; x++) {
-                int32_t ox = r.x + (int32_t)x;
-                if (ox < 0 || (uint32_t)ox >= w)
-                    continue;
-                uint8_t rgb[3];
-                for (int c = 0; c < 3; c++) {
-                    float v = bilerp(a, &tx[0][x], &ty[0][y], c);
-                    if (b)
-                        v = fabsf(v - bilerp(b, &tx[1][x], &ty[1][y], c)) * HSRT_PREVIEW_DIFF_GAIN;
-                    rgb[c] = to_u8(v);
-                }
-                uint8_t *o = out + ((size_t)oy * w + (size_t)ox) * 4;
-                o[0] = bgra ? rgb[2] : rgb[0];
-                o[1] = rgb[1];
-                o[2] = bgra ? rgb[0] : rgb[2];
-                o[3] = 255;
-            }
-        }
-    }
-    for (int i = 0; i < 2; i++) {
-        free(tx[i]);
-        free(ty[i]);
-    }
-    return ok;
-}
-
-/**
- * The window's picture: side by side (left eye on the left half, or swapped), each eye fitted
- * into its half; or the difference view fitted into the whole window. Black elsewhere.
- */
-static bool compose(const hsrt_eye_image eyes[2], bool swapped, bool diff, uint8_t *out, uint32_t w,
-                    uint32_t h, bool bgra)
-{
-    memset(out, 0, (size_t)w * h * 4);
-    for (size_t i = 0; i < (size_t)w * h; i++)
-        out[i * 4 + 3] = 255;
-    if (!eyes[0].rgb || !eyes[1].rgb)
-        return true;
-    if (diff)
-        return draw_pane(&eyes[0], &eyes[1], fit_rect(eyes[0].w, eyes[0].h, 0, 0, w, h), out, w, h,
-                         bgra);
-    uint32_t half = w / 2;
-    const hsrt_eye_image *l = &eyes[swapped ? 1 : 0], *r = &eyes[swapped ? 0 : 1];
-    return draw_pane(l, NULL, fit_rect(l->w, l->h, 0, 0, half, h), out, w, h, bgra) &&
-           draw_pane(r, NULL, fit_rect(r->w, r->h, (int32_t)half, 0, w - half, h), out, w, h, bgra);
-}
-
-#endif /* HSRT_HAVE_GLFW: composition */
+/** Frames whose overlay lines are kept (a ring indexed by frame number). */
+#define HSRT_PREVIEW_INFO_SLOTS 256u
+/** Longest line of the information channel; longer ones are dropped. */
+#define HSRT_PREVIEW_INFO_LINE 1100u
 
 /* ---- the shared part: frames handed over, pause, exit ---- */
 
@@ -191,23 +80,37 @@ struct hsrt_preview {
     pthread_t thread;
     bool thread_started;
     pthread_mutex_t lock;
-    pthread_cond_t cond; /**< startup finished; pause, step or exit changed */
+    pthread_cond_t cond; /**< startup finished; pause, step, exit or the run's end changed */
     /* under lock */
     bool ready, failed, quit;
     bool broken; /**< presenting failed: never pause again, so the frame loop cannot hang */
-    bool paused, swapped, diff;
-    bool exit_requested; /**< by a key or the window; stays set */
-    bool exit_pending;   /**< not yet taken by the session */
-    uint32_t steps;      /**< single steps granted while paused */
-    bool has_pending;
-    uint64_t pending_frame;
-    hsrt_eye_image pending[2];
+    bool paused, swapped, overlay;
+    hsrt_view view;
+    uint32_t back;             /**< frames behind the newest of the history on screen */
+    bool ended;                /**< the session has ended; the window waits to be closed */
+    bool autoclose;            /**< opt.autoclose, or asked for on the information channel */
+    bool exit_requested;       /**< by a key or the window; stays set */
+    bool exit_pending;         /**< not yet taken by the session */
+    uint32_t steps;            /**< single steps granted while paused */
+    hsrt_preview_frame *queue; /**< handed over, not yet in the history: q_count from q_first */
+    uint32_t q_first, q_count;
+    size_t q_bytes;
     /* preview thread only */
-    hsrt_eye_image shown[2];
-    uint64_t shown_frame;
-    bool has_shown;
+    hsrt_preview_frame *ring; /**< the history: ring_count frames from ring_first, oldest first */
+    uint32_t ring_first, ring_count;
+    size_t ring_bytes;
+    hsrt_preview_run_info run;
+    hsrt_preview_frame_info info[HSRT_PREVIEW_INFO_SLOTS];
+    uint64_t info_frame[HSRT_PREVIEW_INFO_SLOTS];
+    char line[HSRT_PREVIEW_INFO_LINE];
+    size_t line_len;
+    bool line_overflow;
+    hsrt_eye_image reference[2]; /**< of reference_frame, rgba only */
+    int64_t reference_frame;     /**< -1: none loaded */
+    bool reference_ok;
+    hsrt_view_cache diff_cache; /**< the last stereo difference computed */
     bool dirty;
-    char title[160];
+    char title[192];
 #if HSRT_HAVE_GLFW
     GLFWwindow *win;
     struct {
@@ -243,22 +146,37 @@ struct hsrt_preview {
 static pthread_mutex_t g_preview_owner_lock = PTHREAD_MUTEX_INITIALIZER;
 static bool g_preview_owned;
 
-void hsrt_preview_submit(hsrt_preview *p, uint64_t frame, hsrt_eye_image eyes[2])
+/** Bytes of a frame's pixels (sRGB, linear RGBA and depth of both eyes). */
+static size_t frame_bytes(const hsrt_preview_frame *f)
+{
+    size_t b = 0;
+    for (int e = 0; e < 2; e++)
+        b += (size_t)f->eyes[e].w * f->eyes[e].h * (3 + 4 * sizeof(float) + sizeof(float));
+    return b;
+}
+
+void hsrt_preview_submit(hsrt_preview *p, hsrt_preview_frame *frame)
 {
     pthread_mutex_lock(&p->lock);
-    for (int e = 0; e < 2; e++) {
-        hsrt_eye_image_free(&p->pending[e]);
-        p->pending[e] = eyes[e];
-        memset(&eyes[e], 0, sizeof(eyes[e]));
+    uint32_t cap = p->opt.history;
+    size_t bytes = frame_bytes(frame);
+    /* A window that fell behind (by a history, or its bytes) loses the oldest frames. */
+    while (p->q_count && (p->q_count == cap || p->q_bytes + bytes > HSRT_PREVIEW_HISTORY_BYTES)) {
+        p->q_bytes -= frame_bytes(&p->queue[p->q_first]);
+        hsrt_preview_frame_free(&p->queue[p->q_first]);
+        p->q_first = (p->q_first + 1) % cap;
+        p->q_count--;
     }
-    p->has_pending = true;
-    p->pending_frame = frame;
-    if (p->opt.hold_frame >= 0 && frame == (uint64_t)p->opt.hold_frame && !p->exit_requested &&
+    uint64_t n = frame->frame;
+    p->queue[(p->q_first + p->q_count++) % cap] = *frame;
+    p->q_bytes += bytes;
+    memset(frame, 0, sizeof(*frame));
+    if (p->opt.hold_frame >= 0 && n == (uint64_t)p->opt.hold_frame && !p->exit_requested &&
         !p->broken) {
         p->paused = true;
         p->steps = 0;
         U_LOG_I("runtime: preview: holding at frame %llu (XRSC_RT_PREVIEW_HOLD_FRAME)",
-                (unsigned long long)frame);
+                (unsigned long long)n);
     }
 #if HSRT_HAVE_GLFW
     if (!p->quit)
@@ -289,6 +207,145 @@ bool hsrt_preview_take_exit(hsrt_preview *p)
 }
 
 #if HSRT_HAVE_GLFW
+
+/* ---- the history and the overlay's information (preview thread) ---- */
+
+static hsrt_preview_frame *ring_at(hsrt_preview *p, uint32_t back)
+{
+    if (back >= p->ring_count)
+        return NULL;
+    uint32_t cap = p->opt.history;
+    return &p->ring[(p->ring_first + p->ring_count - 1 - back) % cap];
+}
+
+/** Takes a frame into the history, dropping the oldest past the count or byte limit. */
+static void ring_push(hsrt_preview *p, hsrt_preview_frame *f)
+{
+    uint32_t cap = p->opt.history;
+    size_t bytes = frame_bytes(f);
+    while (p->ring_count &&
+           (p->ring_count == cap || p->ring_bytes + bytes > HSRT_PREVIEW_HISTORY_BYTES)) {
+        hsrt_preview_frame *old = &p->ring[p->ring_first];
+        p->ring_bytes -= frame_bytes(old);
+        hsrt_preview_frame_free(old);
+        p->ring_first = (p->ring_first + 1) % cap;
+        p->ring_count--;
+    }
+    p->ring[(p->ring_first + p->ring_count) % cap] = *f;
+    memset(f, 0, sizeof(*f));
+    p->ring_count++;
+    p->ring_bytes += bytes;
+}
+
+/** One line of the information channel (hs_preview_link.h); unknown words are skipped. */
+static void parse_info_line(hsrt_preview *p, char *line)
+{
+    char *save = NULL, *w = strtok_r(line, " ", &save);
+    if (!w)
+        return;
+    if (!strcmp(w, "run")) {
+        hsrt_preview_run_info r = {.has = true};
+        while ((w = strtok_r(NULL, " ", &save))) {
+            if (!strncmp(w, "method=", 7))
+                snprintf(r.method, sizeof(r.method), "%s", w + 7);
+            else if (!strncmp(w, "blend=", 6))
+                snprintf(r.blend, sizeof(r.blend), "%s", w + 6);
+            else if (!strncmp(w, "r=", 2))
+                r.r = strtod(w + 2, NULL);
+        }
+        p->run = r;
+        p->dirty = true;
+        return;
+    }
+    if (!strcmp(w, "autoclose") || !strcmp(w, "stop")) {
+        pthread_mutex_lock(&p->lock);
+        p->autoclose = true;
+        if (!strcmp(w, "stop")) { /* the application was interrupted: never hold it */
+            p->paused = false;
+            p->opt.hold_frame = -1;
+        }
+        pthread_cond_broadcast(&p->cond);
+        pthread_mutex_unlock(&p->lock);
+        p->dirty = true;
+        return;
+    }
+    if (strcmp(w, "frame") || !(w = strtok_r(NULL, " ", &save)))
+        return;
+    uint64_t frame = strtoull(w, NULL, 10);
+    hsrt_preview_frame_info fi = {.has = true};
+    while ((w = strtok_r(NULL, " ", &save))) {
+        char *eq = strchr(w, '=');
+        if (!eq)
+            continue;
+        *eq = '\0';
+        if (!strcmp(w, "ms")) {
+            fi.ms = strtod(eq + 1, NULL);
+        } else if (fi.pass_count < HSRT_PREVIEW_MAX_PASSES) {
+            snprintf(fi.pass_name[fi.pass_count], sizeof(fi.pass_name[0]), "%s", w);
+            fi.pass_ms[fi.pass_count++] = strtod(eq + 1, NULL);
+        }
+    }
+    p->info[frame % HSRT_PREVIEW_INFO_SLOTS] = fi;
+    p->info_frame[frame % HSRT_PREVIEW_INFO_SLOTS] = frame;
+    p->dirty = true; /* the frame on screen may be this one */
+}
+
+/** Reads what the information channel has (never blocks). */
+static void read_info(hsrt_preview *p)
+{
+    if (p->opt.info_fd < 0)
+        return;
+    char buf[4096];
+    ssize_t n;
+    while ((n = read(p->opt.info_fd, buf, sizeof(buf))) > 0) {
+        for (ssize_t i = 0; i < n; i++) {
+            if (buf[i] != '\n') {
+                if (p->line_len + 1 < sizeof(p->line))
+                    p->line[p->line_len++] = buf[i];
+                else
+                    p->line_overflow = true;
+                continue;
+            }
+            p->line[p->line_len] = '\0';
+            if (!p->line_overflow)
+                parse_info_line(p, p->line);
+            p->line_len = 0;
+            p->line_overflow = false;
+        }
+    }
+}
+
+static const hsrt_preview_frame_info *info_of(const hsrt_preview *p, uint64_t frame)
+{
+    uint32_t k = (uint32_t)(frame % HSRT_PREVIEW_INFO_SLOTS);
+    return p->info[k].has && p->info_frame[k] == frame ? &p->info[k] : NULL;
+}
+
+/** The reference frames of `f`'s number (loaded once per number); NULL if there are none. */
+static const hsrt_eye_image *reference_of(hsrt_preview *p, const hsrt_preview_frame *f)
+{
+    if (!p->opt.reference[0] || !f)
+        return NULL;
+    if (p->reference_frame != (int64_t)f->frame) {
+        p->reference_frame = (int64_t)f->frame;
+        p->reference_ok = true;
+        for (int e = 0; e < 2; e++) {
+            hsrt_eye_image_free(&p->reference[e]);
+            char path[1200];
+            snprintf(path, sizeof(path), "%s/frame_%05llu_%s.pfm", p->opt.reference,
+                     (unsigned long long)f->frame, e ? "right" : "left");
+            xrsc_diag d = {0};
+            hsrt_eye_image *r = &p->reference[e];
+            p->reference_ok = p->reference_ok &&
+                              hs_read_pfm(path, &r->rgba, &r->w, &r->h, &d) == XRSC_OK &&
+                              r->w == f->eyes[e].w && r->h == f->eyes[e].h;
+        }
+        if (!p->reference_ok)
+            U_LOG_W("runtime: preview: no reference frame %llu of the eyes' size in %s",
+                    (unsigned long long)f->frame, p->opt.reference);
+    }
+    return p->reference_ok ? p->reference : NULL;
+}
 
 /* ---- the preview thread: GLFW and Vulkan ---- */
 
@@ -693,7 +750,7 @@ static bool ensure_staging(hsrt_preview *p, VkDeviceSize size)
 }
 
 /** Composes the current picture and presents it; false on a Vulkan failure. */
-static bool draw(hsrt_preview *p, bool swapped, bool diff)
+static bool draw(hsrt_preview *p, const hsrt_preview_frame *f, const hsrt_view_state *vs)
 {
     for (int attempt = 0; attempt < 2; attempt++) {
         if (!p->vk.swapchain && !create_swapchain(p))
@@ -726,7 +783,7 @@ static bool draw(hsrt_preview *p, bool swapped, bool diff)
             return false;
         bool bgra =
             p->vk.format == VK_FORMAT_B8G8R8A8_UNORM || p->vk.format == VK_FORMAT_B8G8R8A8_SRGB;
-        if (!compose(p->shown, swapped, diff, p->vk.staging_map, w, h, bgra)) {
+        if (!hsrt_view_compose(f, vs, p->vk.staging_map, w, h, bgra)) {
             U_LOG_E("runtime: preview: out of memory composing the picture");
             return false;
         }
@@ -838,6 +895,38 @@ static void request_exit_locked(hsrt_preview *p)
     pthread_cond_broadcast(&p->cond);
 }
 
+/** The view keys (under the lock); false for other keys. */
+static bool view_key(hsrt_preview *p, int key)
+{
+    switch (key) {
+    case GLFW_KEY_S:
+        p->swapped = !p->swapped;
+        break;
+    case GLFW_KEY_D:
+        p->view = p->view == HSRT_VIEW_STEREO_DIFF ? HSRT_VIEW_SBS : HSRT_VIEW_STEREO_DIFF;
+        break;
+    case GLFW_KEY_E:
+        p->view = p->view == HSRT_VIEW_REF_ERROR ? HSRT_VIEW_SBS : HSRT_VIEW_REF_ERROR;
+        break;
+    case GLFW_KEY_V:
+        p->view = (hsrt_view)((p->view + 1) % HSRT_VIEW_COUNT);
+        break;
+    case GLFW_KEY_1:
+    case GLFW_KEY_2:
+    case GLFW_KEY_3:
+        p->view = key == GLFW_KEY_1   ? HSRT_VIEW_SBS
+                  : key == GLFW_KEY_2 ? HSRT_VIEW_LEFT
+                                      : HSRT_VIEW_RIGHT;
+        break;
+    case GLFW_KEY_O:
+        p->overlay = !p->overlay;
+        break;
+    default:
+        return false;
+    }
+    return true;
+}
+
 static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
 {
     (void)scancode;
@@ -852,30 +941,35 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
         if (action == GLFW_PRESS) {
             p->paused = !p->paused;
             p->steps = 0;
+            if (!p->paused)
+                p->back = 0;
         }
         break;
     case GLFW_KEY_N:
     case GLFW_KEY_RIGHT:
-        if (p->paused)
+        if (p->back)
+            p->back--;
+        else if (p->paused)
             p->steps++;
         else
             p->paused = true;
         break;
-    case GLFW_KEY_S:
-        if (action == GLFW_PRESS)
-            p->swapped = !p->swapped;
-        break;
-    case GLFW_KEY_D:
-        if (action == GLFW_PRESS)
-            p->diff = !p->diff;
+    case GLFW_KEY_B:
+    case GLFW_KEY_LEFT:
+        if (p->back + 1 < p->ring_count) /* ring_count: this thread's own */
+            p->back++;
+        p->paused = true;
         break;
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q:
         request_exit_locked(p);
         break;
     default:
-        pthread_mutex_unlock(&p->lock);
-        return;
+        if (action != GLFW_PRESS || !view_key(p, key)) {
+            pthread_mutex_unlock(&p->lock);
+            return;
+        }
+        break;
     }
     p->dirty = true;
     pthread_cond_broadcast(&p->cond);
@@ -929,6 +1023,65 @@ static bool thread_init(hsrt_preview *p)
     return pick_device(p) && create_device(p) && create_swapchain(p);
 }
 
+/** A snapshot of what the loop draws, taken under the lock. */
+typedef struct pv_snapshot {
+    bool paused, swapped, overlay, exiting, ended;
+    hsrt_view view;
+    uint32_t back;
+} pv_snapshot;
+
+static const char *state_name(const pv_snapshot *s)
+{
+    return s->ended ? "ended" : s->exiting ? "exiting" : s->paused ? "paused" : "running";
+}
+
+/* Moves the handed-over frames into the history; a viewer stepped back keeps its frame. */
+static void take_pending_locked(hsrt_preview *p)
+{
+    for (; p->q_count; p->q_count--) {
+        p->q_bytes -= frame_bytes(&p->queue[p->q_first]);
+        ring_push(p, &p->queue[p->q_first]);
+        p->q_first = (p->q_first + 1) % p->opt.history;
+        if (p->back && p->back + 1 < p->ring_count)
+            p->back++;
+        else if (p->back)
+            p->back = p->ring_count - 1;
+        p->dirty = true;
+    }
+}
+
+/* Draws the snapshot and sets the title; false when presenting failed. */
+static bool present(hsrt_preview *p, const pv_snapshot *s)
+{
+    const hsrt_preview_frame *f = ring_at(p, s->back);
+    hsrt_view_state vs = {.view = s->view,
+                          .swapped = s->swapped,
+                          .overlay = s->overlay,
+                          .state = state_name(s),
+                          .back = s->back,
+                          .run = &p->run,
+                          .info = f ? info_of(p, f->frame) : NULL,
+                          .has_reference = p->opt.reference[0] != '\0',
+                          .cache = &p->diff_cache};
+    if (s->view == HSRT_VIEW_REF_ERROR)
+        vs.reference = reference_of(p, f);
+    if (!draw(p, f, &vs))
+        return false;
+    /* The title names what is on screen now (tests read it to know when to look). */
+    char title[sizeof(p->title)];
+    if (f)
+        snprintf(title, sizeof(title), "xrsc preview: frame %llu, %s, %s%s",
+                 (unsigned long long)f->frame, vs.state, hsrt_view_name(f, &vs),
+                 s->back ? ", stepped back" : "");
+    else
+        snprintf(title, sizeof(title), "xrsc preview: waiting for a frame");
+    if (strcmp(title, p->title)) {
+        snprintf(p->title, sizeof(p->title), "%s", title);
+        glfwSetWindowTitle(p->win, p->title);
+    }
+    return true;
+}
+
 static void *preview_thread(void *arg)
 {
     hsrt_preview *p = arg;
@@ -939,9 +1092,10 @@ static void *preview_thread(void *arg)
     pthread_cond_broadcast(&p->cond);
     pthread_mutex_unlock(&p->lock);
     p->dirty = true;
-    bool last_paused = false, last_swapped = false, last_diff = false, last_exit = false;
+    pv_snapshot last = {0};
     while (ok) {
         glfwWaitEventsTimeout(HSRT_PREVIEW_POLL_S);
+        read_info(p);
         pthread_mutex_lock(&p->lock);
         if (glfwWindowShouldClose(p->win)) {
             glfwSetWindowShouldClose(p->win, GLFW_FALSE);
@@ -951,31 +1105,17 @@ static void *preview_thread(void *arg)
             pthread_mutex_unlock(&p->lock);
             break;
         }
-        if (p->has_pending) {
-            for (int e = 0; e < 2; e++) {
-                hsrt_eye_image_free(&p->shown[e]);
-                p->shown[e] = p->pending[e];
-                memset(&p->pending[e], 0, sizeof(p->pending[e]));
-            }
-            p->shown_frame = p->pending_frame;
-            p->has_shown = true;
-            p->has_pending = false;
-            p->dirty = true;
-        }
-        bool paused = p->paused, swapped = p->swapped, diff = p->diff;
-        bool exiting = p->exit_requested;
+        take_pending_locked(p);
+        pv_snapshot s = {p->paused, p->swapped, p->overlay, p->exit_requested,
+                         p->ended,  p->view,    p->back};
         pthread_mutex_unlock(&p->lock);
-        if (paused != last_paused || swapped != last_swapped || diff != last_diff ||
-            exiting != last_exit)
+        if (memcmp(&s, &last, sizeof(s)))
             p->dirty = true;
-        last_paused = paused;
-        last_swapped = swapped;
-        last_diff = diff;
-        last_exit = exiting;
+        last = s;
         if (!p->dirty)
             continue;
         p->dirty = false;
-        if (!draw(p, swapped, diff)) {
+        if (!present(p, &s)) {
             U_LOG_E("runtime: preview: presenting failed; the window stops updating");
             pthread_mutex_lock(&p->lock);
             p->broken = true;
@@ -983,23 +1123,6 @@ static void *preview_thread(void *arg)
             pthread_cond_broadcast(&p->cond);
             pthread_mutex_unlock(&p->lock);
             break;
-        }
-        /* The title names what is on screen now (tests read it to know when to look). */
-        char title[sizeof(p->title)];
-        if (p->has_shown)
-            snprintf(title, sizeof(title), "xrsc preview: frame %llu, %s, %s",
-                     (unsigned long long)p->shown_frame,
-                     exiting  ? "exiting"
-                     : paused ? "paused"
-                              : "running",
-                     diff      ? "difference x4"
-                     : swapped ? "right|left"
-                               : "left|right");
-        else
-            snprintf(title, sizeof(title), "xrsc preview: waiting for a frame");
-        if (strcmp(title, p->title)) {
-            snprintf(p->title, sizeof(p->title), "%s", title);
-            glfwSetWindowTitle(p->win, p->title);
         }
     }
     /* Wait for quit if presenting failed, so the session's calls keep working. */
@@ -1017,6 +1140,13 @@ static void *preview_thread(void *arg)
 }
 
 #endif /* HSRT_HAVE_GLFW */
+
+static void release_owner(void)
+{
+    pthread_mutex_lock(&g_preview_owner_lock);
+    g_preview_owned = false;
+    pthread_mutex_unlock(&g_preview_owner_lock);
+}
 
 XrResult hsrt_preview_create(const hsrt_preview_options *opt, hsrt_preview **out)
 {
@@ -1037,15 +1167,32 @@ XrResult hsrt_preview_create(const hsrt_preview_options *opt, hsrt_preview **out
         return XR_SUCCESS;
     }
     hsrt_preview *p = calloc(1, sizeof(*p));
-    if (!p) {
-        pthread_mutex_lock(&g_preview_owner_lock);
-        g_preview_owned = false;
-        pthread_mutex_unlock(&g_preview_owner_lock);
+    uint32_t history = opt->history ? opt->history : HSRT_PREVIEW_HISTORY_DEFAULT;
+    hsrt_preview_frame *ring = calloc(history, sizeof(*ring));
+    hsrt_preview_frame *queue = calloc(history, sizeof(*queue));
+    if (!p || !ring || !queue) {
+        free(p);
+        free(ring);
+        free(queue);
+        release_owner();
         return hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "preview");
     }
     p->opt = *opt;
+    p->opt.history = history;
+    p->ring = ring;
+    p->queue = queue;
     p->swapped = opt->swapped;
-    p->diff = opt->diff;
+    p->view = opt->diff ? HSRT_VIEW_STEREO_DIFF : HSRT_VIEW_SBS;
+    p->overlay = !opt->no_overlay;
+    p->autoclose = opt->autoclose;
+    p->reference_frame = -1;
+    /* Never block on the channel: the application's end may stay open and quiet. */
+    if (opt->info_fd >= 0 &&
+        fcntl(opt->info_fd, F_SETFL, fcntl(opt->info_fd, F_GETFL) | O_NONBLOCK) != 0) {
+        U_LOG_W("runtime: preview: XRSC_RT_PREVIEW_INFO_FD %d: %s; no overlay information",
+                opt->info_fd, strerror(errno));
+        p->opt.info_fd = -1;
+    }
     pthread_mutex_init(&p->lock, NULL);
     pthread_cond_init(&p->cond, NULL);
     int err = pthread_create(&p->thread, NULL, preview_thread, p);
@@ -1065,12 +1212,31 @@ XrResult hsrt_preview_create(const hsrt_preview_options *opt, hsrt_preview **out
                          "the preview window could not be opened (errors above); unset "
                          "XRSC_RT_PREVIEW to run headless");
     }
-    U_LOG_I("runtime: preview: window %ux%u (P/Space pause, N/Right step, S swap, D difference, "
-            "Esc/Q exit)",
+    U_LOG_I("runtime: preview: window %ux%u (P/Space pause, N/Right step, B/Left back, V/1/2/3 "
+            "views, D stereo difference, E reference error, S swap, O overlay, Esc/Q exit)",
             opt->width, opt->height);
     *out = p;
     return XR_SUCCESS;
 #endif
+}
+
+/* The end of the run stays on screen until the window is closed (unless autoclose). */
+static void wait_until_closed(hsrt_preview *p)
+{
+    pthread_mutex_lock(&p->lock);
+    if (p->ready && !p->autoclose && !p->exit_requested && !p->broken) {
+        p->ended = true;
+        p->paused = false;
+        U_LOG_I("runtime: preview: the session has ended; the window stays open until it is "
+                "closed (Esc, Q or its close button; XRSC_RT_PREVIEW_AUTOCLOSE=1 or "
+                "--preview-autoclose close it at once)");
+#if HSRT_HAVE_GLFW
+        glfwPostEmptyEvent();
+#endif
+        while (!p->exit_requested && !p->broken && !p->autoclose)
+            pthread_cond_wait(&p->cond, &p->lock);
+    }
+    pthread_mutex_unlock(&p->lock);
 }
 
 void hsrt_preview_destroy(hsrt_preview **pp)
@@ -1080,6 +1246,7 @@ void hsrt_preview_destroy(hsrt_preview **pp)
     hsrt_preview *p = *pp;
     *pp = NULL;
     if (p->thread_started) {
+        wait_until_closed(p);
         pthread_mutex_lock(&p->lock);
         p->quit = true;
 #if HSRT_HAVE_GLFW
@@ -1092,12 +1259,15 @@ void hsrt_preview_destroy(hsrt_preview **pp)
         pthread_mutex_destroy(&p->lock);
         pthread_cond_destroy(&p->cond);
     }
-    for (int e = 0; e < 2; e++) {
-        hsrt_eye_image_free(&p->pending[e]);
-        hsrt_eye_image_free(&p->shown[e]);
+    for (uint32_t k = 0; p->ring && k < p->opt.history; k++) {
+        hsrt_preview_frame_free(&p->ring[k]);
+        hsrt_preview_frame_free(&p->queue[k]);
     }
+    free(p->queue);
+    for (int e = 0; e < 2; e++)
+        hsrt_eye_image_free(&p->reference[e]);
+    hsrt_view_cache_free(&p->diff_cache);
+    free(p->ring);
     free(p);
-    pthread_mutex_lock(&g_preview_owner_lock);
-    g_preview_owned = false;
-    pthread_mutex_unlock(&g_preview_owner_lock);
+    release_owner();
 }

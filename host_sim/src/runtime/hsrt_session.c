@@ -137,8 +137,13 @@ static XrResult preview_open(hsrt_session *s)
                                 .height = cfg->preview_h,
                                 .hold_frame = cfg->preview_hold_frame,
                                 .swapped = cfg->preview_swapped,
-                                .diff = cfg->preview_diff};
+                                .diff = cfg->preview_diff,
+                                .autoclose = cfg->preview_autoclose,
+                                .no_overlay = cfg->preview_no_overlay,
+                                .info_fd = cfg->preview_info_fd,
+                                .history = cfg->preview_history};
     snprintf(opt.device, sizeof(opt.device), "%s", cfg->preview_device);
+    snprintf(opt.reference, sizeof(opt.reference), "%s", cfg->preview_reference);
     if (!opt.width || !opt.height) {
         opt.width = 1280;
         double h = 640.0 * cfg->headset.height_px / cfg->headset.width_px;
@@ -681,18 +686,27 @@ static XrResult check_layer(hsrt_session *s, const XrCompositionLayerBaseHeader 
     return XR_SUCCESS;
 }
 
-/** Reads the layer's views back; writes them (XRSC_RT_OUT) and hands them to the preview. */
-static void capture_frame(hsrt_session *s, const XrCompositionLayerProjection *layer, bool write)
+/**
+ * Reads the layer's views back; writes them (XRSC_RT_OUT) and hands them to the preview, with
+ * their depth (when the layer has it) and cameras for its stereo-difference view.
+ */
+static void capture_frame(hsrt_session *s, const XrCompositionLayerProjection *layer,
+                          XrTime display_time, bool write)
 {
-    hsrt_eye_image eyes[2] = {{0}};
-    XrResult r = hsrt_vk_capture(s, layer, eyes);
-    if (XR_SUCCEEDED(r) && write && !hsrt_write_frame(&s->instance->cfg, s->frames_ended, eyes))
+    hsrt_preview_frame f = {.frame = s->frames_ended};
+    XrResult r = hsrt_vk_capture(s, layer, f.eyes, s->preview ? f.depth_m : NULL);
+    if (XR_SUCCEEDED(r) && write && !hsrt_write_frame(&s->instance->cfg, s->frames_ended, f.eyes))
         U_LOG_E("runtime: xrEndFrame: frame %llu could not be written",
                 (unsigned long long)s->frames_ended);
-    if (XR_SUCCEEDED(r) && s->preview)
-        hsrt_preview_submit(s->preview, s->frames_ended, eyes); /* takes the pixels */
-    hsrt_eye_image_free(&eyes[0]);
-    hsrt_eye_image_free(&eyes[1]);
+    if (XR_SUCCEEDED(r) && s->preview) {
+        f.stream_time_ns = hsrt_stream_time(s, display_time);
+        for (int v = 0; v < 2; v++) {
+            f.pose[v] = layer->views[v].pose;
+            f.fov[v] = layer->views[v].fov;
+        }
+        hsrt_preview_submit(s->preview, &f); /* takes the pixels */
+    }
+    hsrt_preview_frame_free(&f);
 }
 
 static XrResult XRAPI_CALL hsrt_xrEndFrame(XrSession session, const XrFrameEndInfo *frameEndInfo)
@@ -732,7 +746,7 @@ static XrResult XRAPI_CALL hsrt_xrEndFrame(XrSession session, const XrFrameEndIn
     const hsrt_config *cfg = &s->instance->cfg;
     bool write = cfg->out_dir[0] && (cfg->write_eyes || cfg->write_sbs || cfg->write_linear);
     if (proj && (write || s->preview))
-        capture_frame(s, proj, write);
+        capture_frame(s, proj, frameEndInfo->displayTime, write);
     if (s->frames_csv) {
         XrPosef h = hsrt_head_pose(s, frameEndInfo->displayTime);
         fprintf(s->frames_csv, "%llu,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%u\n",

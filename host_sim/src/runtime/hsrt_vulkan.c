@@ -815,61 +815,114 @@ static XrResult ensure_readback(hsrt_vk *vk, VkDeviceSize size, const char *fn)
     return XR_SUCCESS;
 }
 
+/** The depth info chained to a projection view, NULL if none. */
+static const XrCompositionLayerDepthInfoKHR *depth_info(const XrCompositionLayerProjectionView *pv)
+{
+    for (const XrBaseInStructure *n = pv->next; n; n = n->next) {
+        if (n->type == XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR)
+            return (const XrCompositionLayerDepthInfoKHR *)n;
+    }
+    return NULL;
+}
+
+/** One image region copied to the read-back buffer. */
+typedef struct capture_copy {
+    const XrSwapchainSubImage *si;
+    hsrt_swapchain *sc;
+    VkImageAspectFlags aspect;
+    VkDeviceSize offset;
+} capture_copy;
+
+static void record_copy(hsrt_vk *vk, const capture_copy *c)
+{
+    VkImage img = c->sc->images[c->sc->last_released];
+    VkImageSubresourceRange range = {c->aspect, 0, 1, c->si->imageArrayIndex, 1};
+    VkImageMemoryBarrier to_src = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                                   .srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT,
+                                   .dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT,
+                                   .oldLayout = c->sc->layout,
+                                   .newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                   .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                   .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                   .image = img,
+                                   .subresourceRange = range};
+    vk->CmdPipelineBarrier(vk->cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                           VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL, 1, &to_src);
+    VkBufferImageCopy copy = {
+        .bufferOffset = c->offset,
+        .imageSubresource = {c->aspect, 0, c->si->imageArrayIndex, 1},
+        .imageOffset = {c->si->imageRect.offset.x, c->si->imageRect.offset.y, 0},
+        .imageExtent = {(uint32_t)c->si->imageRect.extent.width,
+                        (uint32_t)c->si->imageRect.extent.height, 1}};
+    vk->CmdCopyImageToBuffer(vk->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, vk->readback, 1,
+                             &copy);
+    VkImageMemoryBarrier back = to_src;
+    back.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    back.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    back.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    back.newLayout = c->sc->layout;
+    vk->CmdPipelineBarrier(vk->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                           VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, NULL, 0, NULL, 1, &back);
+}
+
+/* The copies of a capture: the two colour views, then (out_depth_m given) each view's depth
+ * when its depth info names a depth swapchain region of the colour region's size. */
+static uint32_t plan_copies(const XrCompositionLayerProjection *layer, bool want_depth,
+                            capture_copy out[4], int out_depth_index[2], VkDeviceSize *out_total)
+{
+    uint32_t n = 0;
+    VkDeviceSize total = 0;
+    for (int pass = 0; pass < (want_depth ? 2 : 1); pass++) {
+        for (int v = 0; v < 2; v++) {
+            const XrCompositionLayerProjectionView *pv = &layer->views[v];
+            const XrSwapchainSubImage *si = &pv->subImage;
+            if (pass == 1) {
+                out_depth_index[v] = -1;
+                const XrCompositionLayerDepthInfoKHR *d = depth_info(pv);
+                if (!d || d->subImage.imageRect.extent.width != si->imageRect.extent.width ||
+                    d->subImage.imageRect.extent.height != si->imageRect.extent.height)
+                    continue;
+                si = &d->subImage;
+                out_depth_index[v] = (int)n;
+            }
+            hsrt_swapchain *sc = swapchain_of(si->swapchain);
+            VkFormat f = (VkFormat)sc->info.format;
+            out[n] = (capture_copy){si, sc,
+                                    hsrt_format_is_depth(f) ? VK_IMAGE_ASPECT_DEPTH_BIT
+                                                            : VK_IMAGE_ASPECT_COLOR_BIT,
+                                    total};
+            total += (VkDeviceSize)si->imageRect.extent.width * si->imageRect.extent.height *
+                     hsrt_format_size(f);
+            total = (total + 15) & ~(VkDeviceSize)15;
+            n++;
+        }
+    }
+    *out_total = total;
+    return n;
+}
+
 XrResult hsrt_vk_capture(hsrt_session *s, const XrCompositionLayerProjection *layer,
-                         hsrt_eye_image out_eyes[2])
+                         hsrt_eye_image out_eyes[2], float *out_depth_m[2])
 {
     const char *fn = "xrEndFrame (capture)";
     hsrt_vk *vk = &s->vk;
-    VkDeviceSize offsets[2], total = 0;
     for (int v = 0; v < 2; v++) {
-        const XrSwapchainSubImage *si = &layer->views[v].subImage;
-        hsrt_swapchain *sc = swapchain_of(si->swapchain);
-        VkFormat f = (VkFormat)sc->info.format;
-        if (hsrt_format_is_depth(f))
+        hsrt_swapchain *sc = swapchain_of(layer->views[v].subImage.swapchain);
+        if (hsrt_format_is_depth((VkFormat)sc->info.format))
             return hsrt_fail(XR_ERROR_LAYER_INVALID, fn, "view %d shows a depth swapchain", v);
-        offsets[v] = total;
-        total += (VkDeviceSize)si->imageRect.extent.width * si->imageRect.extent.height *
-                 hsrt_format_size(f);
-        total = (total + 15) & ~(VkDeviceSize)15;
     }
+    capture_copy copies[4];
+    int depth_index[2] = {-1, -1};
+    VkDeviceSize total = 0;
+    uint32_t n = plan_copies(layer, out_depth_m != NULL, copies, depth_index, &total);
     XrResult r = ensure_readback(vk, total, fn);
     if (XR_FAILED(r))
         return r;
     VkResult vr = begin_cmd(vk);
     if (vr != VK_SUCCESS)
         return VK_FAIL(fn, "vkBeginCommandBuffer", vr);
-    for (int v = 0; v < 2; v++) {
-        const XrSwapchainSubImage *si = &layer->views[v].subImage;
-        hsrt_swapchain *sc = swapchain_of(si->swapchain);
-        VkImage img = sc->images[sc->last_released];
-        VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, si->imageArrayIndex, 1};
-        VkImageMemoryBarrier to_src = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-                                       .srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT,
-                                       .dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT,
-                                       .oldLayout = sc->layout,
-                                       .newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                       .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                       .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                       .image = img,
-                                       .subresourceRange = range};
-        vk->CmdPipelineBarrier(vk->cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                               VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL, 1, &to_src);
-        VkBufferImageCopy copy = {
-            .bufferOffset = offsets[v],
-            .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, si->imageArrayIndex, 1},
-            .imageOffset = {si->imageRect.offset.x, si->imageRect.offset.y, 0},
-            .imageExtent = {(uint32_t)si->imageRect.extent.width,
-                            (uint32_t)si->imageRect.extent.height, 1}};
-        vk->CmdCopyImageToBuffer(vk->cmd, img, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, vk->readback,
-                                 1, &copy);
-        VkImageMemoryBarrier back = to_src;
-        back.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-        back.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-        back.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-        back.newLayout = sc->layout;
-        vk->CmdPipelineBarrier(vk->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                               VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, NULL, 0, NULL, 1, &back);
-    }
+    for (uint32_t i = 0; i < n; i++)
+        record_copy(vk, &copies[i]);
     VkBufferMemoryBarrier host = {.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER,
                                   .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
                                   .dstAccessMask = VK_ACCESS_HOST_READ_BIT,
@@ -889,13 +942,31 @@ XrResult hsrt_vk_capture(hsrt_session *s, const XrCompositionLayerProjection *la
                               .size = VK_WHOLE_SIZE};
     vk->InvalidateMappedMemoryRanges(vk->device, 1, &mr);
     for (int v = 0; v < 2; v++) {
-        const XrSwapchainSubImage *si = &layer->views[v].subImage;
-        hsrt_swapchain *sc = swapchain_of(si->swapchain);
-        if (!hsrt_convert((VkFormat)sc->info.format, (const uint8_t *)vk->readback_map + offsets[v],
-                          (uint32_t)si->imageRect.extent.width,
-                          (uint32_t)si->imageRect.extent.height, s->instance->cfg.exposure,
+        const capture_copy *c = &copies[v];
+        if (!hsrt_convert((VkFormat)c->sc->info.format,
+                          (const uint8_t *)vk->readback_map + c->offset,
+                          (uint32_t)c->si->imageRect.extent.width,
+                          (uint32_t)c->si->imageRect.extent.height, s->instance->cfg.exposure,
                           &out_eyes[v]))
             return hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "converting view %d", v);
+        if (!out_depth_m || depth_index[v] < 0)
+            continue;
+        const capture_copy *d = &copies[depth_index[v]];
+        out_depth_m[v] = hsrt_depth_to_metres(
+            (VkFormat)d->sc->info.format, (const uint8_t *)vk->readback_map + d->offset,
+            (uint32_t)d->si->imageRect.extent.width, (uint32_t)d->si->imageRect.extent.height,
+            depth_info(&layer->views[v]));
+    }
+    /* automatic exposure of linear (float) swapchains: one exposure for the stereo frame */
+    VkFormat f0 = (VkFormat)copies[0].sc->info.format;
+    bool linear = f0 == VK_FORMAT_R16G16B16A16_SFLOAT || f0 == VK_FORMAT_R32G32B32A32_SFLOAT;
+    if (s->instance->cfg.exposure <= 0.0f && linear && out_eyes[0].w == out_eyes[1].w &&
+        out_eyes[0].h == out_eyes[1].h) {
+        const float *const rgba[2] = {out_eyes[0].rgba, out_eyes[1].rgba};
+        hs_tonemap tm = {.exposure = hs_autoexposure_update(&s->autoexp, rgba, 2,
+                                                            out_eyes[0].w, out_eyes[0].h)};
+        for (int v = 0; v < 2; v++)
+            hs_tonemap_rgba(&tm, out_eyes[v].rgba, out_eyes[v].w, out_eyes[v].h, out_eyes[v].rgb);
     }
     return XR_SUCCESS;
 }

@@ -56,13 +56,34 @@ uint32_t xrsc_context_validation_errors(const xrsc_context *ctx);
 
 /**
  * Scene options. environment: see sc_load_options (constant environment radiance override
- * when env_set). keep_triangle_order: skip the Morton sort of each mesh's triangles done
- * before the BLAS build (for benchmarks of its effect; primitive ids then follow the file).
+ * when env_set; without it and without extras.xrsc_environment a scene with no directional
+ * light gets a grey environment of 1, emissive materials notwithstanding).
+ * keep_triangle_order: skip the Morton sort of each mesh's triangles done before the BLAS
+ * build (for benchmarks of its effect; primitive ids then follow the file).
+ * Environment map and sky (these replace the constant environment; env_map_path wins):
+ * - env_map_path: an equirectangular Radiance .hdr (centre of the image = -Z, top = +Y),
+ *   importance-sampled by luminance; env_intensity scales it (or the sky's sun and sky;
+ *   0 means 1);
+ *   env_rotation_deg turns it (or the sky) about +Y, counter-clockwise seen from above.
+ * - sky: the Preetham sun and sky (seed 000 §5.1); sky_turbidity (0 means 3, range 1.7..10);
+ *   sun_direction (towards the sun, y >= 0) when sun_direction_set, else the file's
+ *   directional light's, else (0.5, 0.707, 0.5) normalised. The sky's sun is a disk of
+ *   0.53 degrees that replaces the file's directional light.
+ * - env_no_importance: for tests and benchmarks, the map is reached by escaping BSDF rays
+ *   only (no next-event estimation of it).
  */
 typedef struct xrsc_scene_options {
     bool env_set;
     float environment[3];
     bool keep_triangle_order;
+    const char *env_map_path;
+    float env_intensity;
+    float env_rotation_deg;
+    bool sky;
+    float sky_turbidity;
+    bool sun_direction_set;
+    float sun_direction[3];
+    bool env_no_importance;
 } xrsc_scene_options;
 
 typedef struct xrsc_scene_info {

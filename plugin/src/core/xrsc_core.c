@@ -113,6 +113,14 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
         lo.env_set = options->env_set;
         memcpy(lo.environment, options->environment, sizeof(lo.environment));
         lo.keep_triangle_order = options->keep_triangle_order;
+        lo.env_map_path = options->env_map_path;
+        lo.env_intensity = options->env_intensity;
+        lo.env_rotation_deg = options->env_rotation_deg;
+        lo.sky = options->sky;
+        lo.sky_turbidity = options->sky_turbidity;
+        lo.sun_direction_set = options->sun_direction_set;
+        memcpy(lo.sun_direction, options->sun_direction, sizeof(lo.sun_direction));
+        lo.env_no_importance = options->env_no_importance;
     }
     xrsc_result res = sc_scene_load(path, &lo, &s->cpu, out_diag);
     if (res != XRSC_OK)

@@ -32,6 +32,7 @@ typedef struct gpu_accel {
 
 struct gpu_scene {
     gpu_buffer vertices, indices, instances, materials, emitters;
+    gpu_buffer env_map; /**< float[]: XS_ENV_* layout of xrsc_shared.h (4 zeros without a map) */
     gpu_image *textures;
     uint32_t texture_count;
     gpu_image white;
@@ -254,6 +255,29 @@ done:
     free(emissive);
     free(base);
     free(em);
+    return res;
+}
+
+/** The environment map and its cdfs packed as XS_ENV_* says (sc_env.h builds them). */
+static xrsc_result upload_env_map(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                  xrsc_diag *diag)
+{
+    const sc_env_map *m = &scene->env_map;
+    uint32_t n = m->width * m->height, h = m->height;
+    size_t floats = n ? XS_ENV_FLOATS(n, h) : 4u;
+    float *data = calloc(floats, sizeof(float));
+    if (!data)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "environment",
+                          "out of memory");
+    if (n) {
+        memcpy(data, m->texels, (size_t)n * 4 * sizeof(float));
+        memcpy(data + XS_ENV_MARGINAL(n), m->marginal_cdf, (size_t)h * sizeof(float));
+        memcpy(data + XS_ENV_CONDITIONAL(n, h), m->conditional_cdf, (size_t)n * sizeof(float));
+    }
+    xrsc_result res = gpu_buffer_create_with_data(ctx, data, floats * sizeof(float),
+                                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                                  &gs->env_map, diag);
+    free(data);
     return res;
 }
 
@@ -566,6 +590,7 @@ xrsc_result gpu_scene_create(gpu_context *ctx, const sc_scene *scene, gpu_scene 
     if ((res = upload_geometry(ctx, gs, scene, diag)) != XRSC_OK ||
         (res = upload_materials(ctx, gs, scene, diag)) != XRSC_OK ||
         (res = upload_emitters(ctx, gs, scene, diag)) != XRSC_OK ||
+        (res = upload_env_map(ctx, gs, scene, diag)) != XRSC_OK ||
         (res = upload_textures(ctx, gs, scene, diag)) != XRSC_OK)
         goto fail;
     res = gpu_buffer_create_with_data(ctx, gs->host_instances,
@@ -616,6 +641,7 @@ void gpu_scene_destroy(gpu_context *ctx, gpu_scene **pgs)
     gpu_buffer_destroy(ctx, &gs->instances);
     gpu_buffer_destroy(ctx, &gs->materials);
     gpu_buffer_destroy(ctx, &gs->emitters);
+    gpu_buffer_destroy(ctx, &gs->env_map);
     free(gs->host_instances);
     free(gs);
     *pgs = NULL;
@@ -720,6 +746,7 @@ void gpu_scene_write_descriptors(gpu_context *ctx, const gpu_scene *gs, gpu_desc
     gpu_descriptors_write_buffer(ctx, d, XS_BIND_INSTANCES, &gs->instances);
     gpu_descriptors_write_buffer(ctx, d, XS_BIND_MATERIALS, &gs->materials);
     gpu_descriptors_write_buffer(ctx, d, XS_BIND_EMITTERS, &gs->emitters);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_ENV_MAP, &gs->env_map);
     gpu_descriptors_write_textures(ctx, d, XS_BIND_TEXTURES, gs->textures, gs->texture_count,
                                    &gs->white, gs->sampler);
 }

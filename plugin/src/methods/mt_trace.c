@@ -128,7 +128,14 @@ void mt_trace_frame_constants(const mt_trace *t, const xrsc_frame *frame, xs_fra
             (xs_vec4){s->sun.direction[0], s->sun.direction[1], s->sun.direction[2], 1.0f};
         xf->sun_radiance =
             (xs_vec4){s->sun.radiance[0], s->sun.radiance[1], s->sun.radiance[2], 0.0f};
+        /* a disk sun (the sky's): its cone, xs_env.glsl; 0 keeps the delta light */
+        if (s->sun.angular_radius_rad > 0.0f)
+            xf->sun_cos_max = (float)cos((double)s->sun.angular_radius_rad);
     }
+    xf->env_width = s->env_map.width;
+    xf->env_height = s->env_map.height;
+    xf->env_sampling = s->env_map.sampling ? 1u : 0u;
+    xf->env_rotation = s->env_rotation_rad;
     xf->width = t->env.width;
     xf->height = t->env.height;
     xf->frame_index = frame->frame_index;

@@ -9,6 +9,7 @@
  * one warning per load.
  */
 #include "sc_gltf.h"
+#include "sc_hdr.h"
 #include "sc_scene.h"
 #include "sc_xform.h"
 #include "u_diag.h"
@@ -1118,6 +1119,66 @@ static void warn_if_no_light(sc_build *b)
     s->warning_count++;
 }
 
+/** The sky of --sky: bakes the Preetham map and replaces the file's sun with the sky's disk
+ *  sun (direction: the option, else the file's sun, else SC_DEFAULT_SUN_DIRECTION). */
+static xrsc_result set_sky(sc_build *b, float **out_rgb)
+{
+    sc_scene *s = b->s;
+    static const float default_sun[3] = SC_DEFAULT_SUN_DIRECTION;
+    sc_sky_options so = {.turbidity = b->opt->sky_turbidity};
+    const float *dir = b->opt->sun_direction_set ? b->opt->sun_direction
+                       : s->sun.present         ? s->sun.direction
+                                                : default_sun;
+    memcpy(so.sun_direction, dir, sizeof so.sun_direction);
+    normalize3(so.sun_direction, default_sun);
+    float e_sun[3];
+    xrsc_result r = sc_sky_bake(&so, out_rgb, e_sun, b->diag);
+    if (r != XRSC_OK) return r;
+    s->sun.present = true;
+    memcpy(s->sun.direction, so.sun_direction, sizeof s->sun.direction);
+    memcpy(s->sun.radiance, e_sun, sizeof s->sun.radiance);
+    s->sun.angular_radius_rad = SC_SUN_ANGULAR_RADIUS_RAD;
+    return XRSC_OK;
+}
+
+/** Environment: a map (--env-map, else --sky) or the constant of sc_load_options. */
+static xrsc_result set_environment(sc_build *b, int32_t scene_index)
+{
+    sc_scene *s = b->s;
+    const sc_gltf_doc *d = b->doc;
+    const sc_load_options *o = b->opt;
+    if (o->env_map_path || o->sky) {
+        sc_hdr_image img = {0};
+        float *sky = NULL;
+        xrsc_result r = o->env_map_path ? sc_hdr_load(o->env_map_path, &img, b->diag)
+                                        : set_sky(b, &sky);
+        if (r == XRSC_OK) {
+            float k = o->env_intensity > 0.0f ? o->env_intensity : 1.0f;
+            if (sky) /* the sky's sun with its sky */
+                for (int c = 0; c < 3; c++) s->sun.radiance[c] *= k;
+            r = sky ? sc_env_map_build(sky, SC_SKY_WIDTH, SC_SKY_HEIGHT, k, &s->env_map, b->diag)
+                    : sc_env_map_build(img.rgb, img.width, img.height, k, &s->env_map, b->diag);
+        }
+        free(sky);
+        sc_hdr_image_free(&img);
+        if (r != XRSC_OK) return r;
+        if (o->env_no_importance) s->env_map.sampling = false;
+        s->env_rotation_rad = o->env_rotation_deg * (float)(3.14159265358979323846 / 180.0);
+        memcpy(s->environment, s->env_map.mean_radiance, sizeof s->environment);
+    } else if (o->env_set) {
+        memcpy(s->environment, o->environment, sizeof s->environment);
+    } else if (scene_index >= 0 && d->scenes[scene_index].has_environment) {
+        memcpy(s->environment, d->scenes[scene_index].environment, sizeof s->environment);
+    } else {
+        /* No environment given: a neutral grey unless a directional light is the scene's
+         * lighting. Emissive materials do not count (a glTF model's emissive details expect
+         * image-based lighting around them: issue 11). */
+        float grey = s->sun.present ? 0.0f : SC_DEFAULT_ENVIRONMENT;
+        s->environment[0] = s->environment[1] = s->environment[2] = grey;
+    }
+    return XRSC_OK;
+}
+
 static xrsc_result build_scene(sc_build *b)
 {
     sc_gltf_doc *d = b->doc;
@@ -1187,16 +1248,7 @@ static xrsc_result build_scene(sc_build *b)
         s->camera_aspect_ratio = cam->aspect_ratio > 0.0f ? cam->aspect_ratio : 0.0f;
     }
 
-    if (b->opt->env_set) {
-        memcpy(s->environment, b->opt->environment, sizeof s->environment);
-    } else if (scene_index >= 0 && d->scenes[scene_index].has_environment) {
-        memcpy(s->environment, d->scenes[scene_index].environment, sizeof s->environment);
-    } else {
-        bool any_emissive = false;
-        for (uint32_t i = 0; i < s->material_count; i++) any_emissive |= emits(&s->materials[i]);
-        float grey = (!s->sun.present && !any_emissive) ? 1.0f : 0.0f;
-        s->environment[0] = s->environment[1] = s->environment[2] = grey;
-    }
+    if ((r = set_environment(b, scene_index)) != XRSC_OK) return r;
     warn_if_no_light(b);
     return XRSC_OK;
 }
@@ -1334,6 +1386,7 @@ void sc_scene_destroy(sc_scene **pscene)
     free(s->instances);
     free(s->emitters);
     free(s->channels);
+    sc_env_map_free(&s->env_map);
     free(s);
     *pscene = NULL;
 }

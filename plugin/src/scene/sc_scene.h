@@ -11,6 +11,7 @@
  */
 #pragma once
 
+#include "sc_env.h"
 #include "xrsc/result.h"
 
 #include <stdbool.h>
@@ -22,6 +23,12 @@ extern "C" {
 #endif
 
 #define SC_NO_TEXTURE UINT32_MAX
+/** Default environment radiance of a scene without a directional light and without
+ *  extras.xrsc_environment (grey). */
+#define SC_DEFAULT_ENVIRONMENT 1.0f
+/** Sun of --sky when neither the option nor the file gives one: 45 degrees up, behind the
+ *  default viewpoint's right shoulder (x, y, z before normalisation). */
+#define SC_DEFAULT_SUN_DIRECTION {0.5f, 0.70710678f, 0.5f}
 
 typedef struct sc_vertex {
     float position[3];
@@ -114,6 +121,9 @@ typedef struct sc_sun {
     bool present;
     float direction[3]; /**< unit, pointing FROM the scene TOWARDS the sun (world space) */
     float radiance[3];  /**< irradiance on a surface facing the sun: color x intensity */
+    /** 0: a delta light (glTF directional); else a disk of this angular radius (the sky's
+     *  sun), importance-sampled as a cone and seen by rays that escape towards it. */
+    float angular_radius_rad;
 } sc_sun;
 
 typedef struct sc_scene {
@@ -129,7 +139,12 @@ typedef struct sc_scene {
     sc_anim_channel *channels; uint32_t channel_count;
     float animation_duration_s; /**< max key time over all channels, 0 when static */
     sc_sun sun;
-    float environment[3]; /**< constant environment radiance (see sc_load_options) */
+    float environment[3]; /**< constant environment radiance (see sc_load_options); with a
+                           *   map: the map's mean radiance, for passes that do not read it */
+    /** Environment map (--env-map or the baked sky): width 0 when the environment is the
+     *  constant above. Rotation about +Y in radians (sc_env.h). */
+    sc_env_map env_map;
+    float env_rotation_rad;
     /** Viewpoint: the first perspective camera's node when has_camera; otherwise, looking
      *  down -Z from (cx, cy, max_z + 1.2 * max(half_x, half_y)) of the world bounds. */
     bool has_camera;
@@ -146,11 +161,25 @@ typedef struct sc_scene {
 /**
  * Load options. Zero means the documented default.
  * environment: when env_set is false, the scene's `extras.xrsc_environment` [r,g,b] if present,
- * else 1.0 grey when the scene has no sun and no emissive material, else 0.
+ * else SC_DEFAULT_ENVIRONMENT grey when the scene has no directional light (emissive
+ * triangles notwithstanding: glTF models without lights expect image-based lighting), else 0.
+ * env_map_path (a Radiance .hdr, equirectangular) or sky replace the constant environment;
+ * env_map_path wins over sky.
  */
 typedef struct sc_load_options {
     bool env_set;
     float environment[3];
+    const char *env_map_path; /**< NULL: none */
+    float env_intensity;      /**< scales the map (the sky: sun and sky); 0 means 1 */
+    float env_rotation_deg;   /**< turns the map (or sky) about +Y, counter-clockwise from above */
+    /** The Preetham sun and sky (sc_env.h): the sky becomes the environment map and the sun a
+     *  disk light that replaces the file's directional light. */
+    bool sky;
+    float sky_turbidity;      /**< 0 means SC_SKY_DEFAULT_TURBIDITY */
+    bool sun_direction_set;   /**< else the file's sun direction, else SC_DEFAULT_SUN_DIRECTION */
+    float sun_direction[3];   /**< towards the sun; normalised on load */
+    /** For tests and benchmarks: no light samples of the map (escaping BSDF rays only). */
+    bool env_no_importance;
     /** Keep the file's triangle order (skip the Morton sort); for tests and benchmarks. */
     bool keep_triangle_order;
 } sc_load_options;

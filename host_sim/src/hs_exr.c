@@ -1,0 +1,254 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_exr.c
+ * @brief OpenEXR writer and reader (hs_exr.h) on OpenEXRCore's chunk encode/decode pipelines.
+ */
+#include "hs_exr.h"
+
+#include "hs_file.h"
+#include "u_diag.h"
+
+#include <openexr.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/** Largest side hs_read_exr accepts (as hs_read_pfm). */
+#define EXR_MAX_SIDE 65536
+
+/** The library's last error message for one context (its error handler's user data). */
+typedef struct exr_msg {
+    char text[512];
+} exr_msg;
+
+static void on_exr_error(exr_const_context_t ctxt, exr_result_t code, const char *msg)
+{
+    void *ud = NULL;
+    if (exr_get_user_data(ctxt, &ud) == EXR_ERR_SUCCESS && ud)
+        snprintf(((exr_msg *)ud)->text, sizeof(((exr_msg *)ud)->text), "%s (%s)", msg ? msg : "",
+                 exr_get_error_code_as_string(code));
+}
+
+static xrsc_result exr_fail(xrsc_diag *diag, xrsc_result code, const char *path, const char *what,
+                            exr_result_t rv, const exr_msg *msg)
+{
+    return u_diag_set(diag, code, path, 0, "exr", "%s: %s", what,
+                      msg->text[0] ? msg->text : exr_get_default_error_message(rv));
+}
+
+/** One channel's source (write) or destination (read) in the caller's interleaved layout. */
+typedef struct exr_plane {
+    const char *name;
+    uint8_t *base;        /**< first pixel of row 0 */
+    int32_t pixel_stride; /**< bytes */
+    int32_t line_stride;  /**< bytes */
+} exr_plane;
+
+static const exr_plane *find_plane(const exr_plane *p, int n, const char *name)
+{
+    for (int i = 0; i < n; i++)
+        if (p[i].base && strcmp(p[i].name, name) == 0)
+            return &p[i];
+    return NULL;
+}
+
+/* Points each channel of a chunk at its rows in the caller's buffers (start row y0). */
+static void bind_channels(exr_coding_channel_info_t *ch, int16_t count, const exr_plane *planes,
+                          int nplanes, int32_t y0, bool encode)
+{
+    for (int16_t c = 0; c < count; c++) {
+        const exr_plane *p = find_plane(planes, nplanes, ch[c].channel_name);
+        ch[c].user_bytes_per_element = 4;
+        ch[c].user_data_type = EXR_PIXEL_FLOAT;
+        ch[c].user_pixel_stride = p ? p->pixel_stride : 4;
+        ch[c].user_line_stride = p ? p->line_stride : 0;
+        uint8_t *row = p ? p->base + (size_t)y0 * (size_t)p->line_stride : NULL;
+        if (encode)
+            ch[c].encode_from_ptr = row;
+        else
+            ch[c].decode_to_ptr = row;
+    }
+}
+
+static exr_result_t write_chunks(exr_context_t ctx, uint32_t h, const exr_plane *planes,
+                                 int nplanes)
+{
+    int32_t lines = 0;
+    exr_result_t rv = exr_get_scanlines_per_chunk(ctx, 0, &lines);
+    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+    bool started = false;
+    for (int32_t y = 0; rv == EXR_ERR_SUCCESS && y < (int32_t)h; y += lines) {
+        exr_chunk_info_t ci;
+        rv = exr_write_scanline_chunk_info(ctx, 0, y, &ci);
+        if (rv == EXR_ERR_SUCCESS)
+            rv = started ? exr_encoding_update(ctx, 0, &ci, &enc)
+                         : exr_encoding_initialize(ctx, 0, &ci, &enc);
+        if (rv != EXR_ERR_SUCCESS)
+            break;
+        started = true;
+        bind_channels(enc.channels, enc.channel_count, planes, nplanes, ci.start_y, true);
+        rv = exr_encoding_choose_default_routines(ctx, 0, &enc);
+        if (rv == EXR_ERR_SUCCESS)
+            rv = exr_encoding_run(ctx, 0, &enc);
+    }
+    if (started)
+        exr_encoding_destroy(ctx, &enc);
+    return rv;
+}
+
+xrsc_result hs_write_exr(const char *path, const float *rgba, const float *depth, uint32_t w,
+                         uint32_t h, xrsc_diag *diag)
+{
+    if (!path || !rgba || w == 0 || h == 0 || w > EXR_MAX_SIDE || h > EXR_MAX_SIDE)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0, "exr",
+                          "no image, or a side outside 1..%d", EXR_MAX_SIDE);
+    /* Written as PATH.tmp and renamed into place (hs_file.h), like the PNG and PFM files. */
+    char tmp[HS_OUT_PATH_MAX + sizeof(HS_TEMP_SUFFIX)];
+    if (!hs_temp_path(path, tmp, sizeof(tmp)))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path, 0, "exr", "path too long");
+    exr_msg msg = {{0}};
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = on_exr_error;
+    init.user_data = &msg;
+    exr_context_t ctx = NULL;
+    /* "Directly" to the temporary name: the library deletes it itself when writing fails. */
+    exr_result_t rv = exr_start_write(&ctx, tmp, EXR_WRITE_FILE_DIRECTLY, &init);
+    if (rv != EXR_ERR_SUCCESS)
+        return exr_fail(diag, XRSC_ERROR_IO, path, "cannot create", rv, &msg);
+    int part = 0;
+    rv = exr_add_part(ctx, "rgbz", EXR_STORAGE_SCANLINE, &part);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_initialize_required_attr_simple(ctx, part, (int32_t)w, (int32_t)h,
+                                                 EXR_COMPRESSION_ZIP);
+    /* Linear radiance and metric depth: neither is perceptually encoded. */
+    static const char *const names[4] = {"R", "G", "B", "Z"};
+    for (int c = 0; c < (depth ? 4 : 3) && rv == EXR_ERR_SUCCESS; c++)
+        rv = exr_add_channel(ctx, part, names[c], EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR, 1, 1);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_write_header(ctx);
+    if (rv == EXR_ERR_SUCCESS) {
+        const int32_t rgba_px = 4 * sizeof(float), rgba_line = (int32_t)w * rgba_px;
+        exr_plane planes[4] = {
+            {"R", (uint8_t *)(uintptr_t)(rgba + 0), rgba_px, rgba_line},
+            {"G", (uint8_t *)(uintptr_t)(rgba + 1), rgba_px, rgba_line},
+            {"B", (uint8_t *)(uintptr_t)(rgba + 2), rgba_px, rgba_line},
+            {"Z", (uint8_t *)(uintptr_t)depth, sizeof(float), (int32_t)(w * sizeof(float))},
+        };
+        rv = write_chunks(ctx, h, planes, 4);
+    }
+    if (rv != EXR_ERR_SUCCESS) {
+        xrsc_result res = exr_fail(diag, XRSC_ERROR_IO, path, "writing failed", rv, &msg);
+        exr_finish(&ctx); /* removes the temporary file; path is left as it was */
+        remove(tmp);
+        return res;
+    }
+    rv = exr_finish(&ctx);
+    if (rv != EXR_ERR_SUCCESS) {
+        remove(tmp);
+        return exr_fail(diag, XRSC_ERROR_IO, path, "finishing failed", rv, &msg);
+    }
+    return hs_out_rename(tmp, path, diag);
+}
+
+static exr_result_t read_chunks(exr_context_t ctx, const exr_attr_box2i_t *dw,
+                                const exr_plane *planes, int nplanes)
+{
+    int32_t lines = 0;
+    exr_result_t rv = exr_get_scanlines_per_chunk(ctx, 0, &lines);
+    exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+    bool started = false;
+    for (int32_t y = dw->min.y; rv == EXR_ERR_SUCCESS && y <= dw->max.y; y += lines) {
+        exr_chunk_info_t ci;
+        rv = exr_read_scanline_chunk_info(ctx, 0, y, &ci);
+        if (rv == EXR_ERR_SUCCESS)
+            rv = started ? exr_decoding_update(ctx, 0, &ci, &dec)
+                         : exr_decoding_initialize(ctx, 0, &ci, &dec);
+        if (rv != EXR_ERR_SUCCESS)
+            break;
+        started = true;
+        bind_channels(dec.channels, dec.channel_count, planes, nplanes, ci.start_y - dw->min.y,
+                      false);
+        rv = exr_decoding_choose_default_routines(ctx, 0, &dec);
+        if (rv == EXR_ERR_SUCCESS)
+            rv = exr_decoding_run(ctx, 0, &dec);
+    }
+    if (started)
+        exr_decoding_destroy(ctx, &dec);
+    return rv;
+}
+
+static bool has_channel(const exr_attr_chlist_t *cl, const char *name)
+{
+    for (int i = 0; i < cl->num_channels; i++)
+        if (strcmp(cl->entries[i].name.str, name) == 0)
+            return true;
+    return false;
+}
+
+xrsc_result hs_read_exr(const char *path, float **out_rgba, float **out_depth, uint32_t *out_w,
+                        uint32_t *out_h, xrsc_diag *diag)
+{
+    *out_rgba = NULL;
+    if (out_depth)
+        *out_depth = NULL;
+    exr_msg msg = {{0}};
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = on_exr_error;
+    init.user_data = &msg;
+    exr_context_t ctx = NULL;
+    exr_result_t rv = exr_start_read(&ctx, path, &init);
+    if (rv != EXR_ERR_SUCCESS) {
+        xrsc_result code = rv == EXR_ERR_FILE_ACCESS ? XRSC_ERROR_IO : XRSC_ERROR_BAD_HEADER;
+        exr_finish(&ctx);
+        return exr_fail(diag, code, path, "not a readable EXR", rv, &msg);
+    }
+    exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
+    exr_attr_box2i_t dw;
+    memset(&dw, 0, sizeof(dw));
+    dw.max.x = dw.max.y = -1; /* empty unless the header says otherwise */
+    const exr_attr_chlist_t *cl = NULL;
+    exr_get_storage(ctx, 0, &storage);
+    exr_get_data_window(ctx, 0, &dw);
+    exr_get_channels(ctx, 0, &cl);
+    int64_t w = (int64_t)dw.max.x - dw.min.x + 1, h = (int64_t)dw.max.y - dw.min.y + 1;
+    if (storage != EXR_STORAGE_SCANLINE || !cl || w < 1 || h < 1 || w > EXR_MAX_SIDE ||
+        h > EXR_MAX_SIDE) {
+        exr_finish(&ctx);
+        return u_diag_set(diag, XRSC_ERROR_BAD_HEADER, path, 0, "exr",
+                          "only scanline EXRs with sides 1..%d are read", EXR_MAX_SIDE);
+    }
+    size_t n = (size_t)w * (size_t)h;
+    float *rgba = calloc(n * 4, sizeof(float));
+    float *depth = out_depth && has_channel(cl, "Z") ? malloc(n * sizeof(float)) : NULL;
+    if (!rgba || (out_depth && has_channel(cl, "Z") && !depth)) {
+        free(rgba);
+        free(depth);
+        exr_finish(&ctx);
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "exr", "out of memory");
+    }
+    if (!has_channel(cl, "A"))
+        for (size_t i = 0; i < n; i++)
+            rgba[i * 4 + 3] = 1.0f;
+    const int32_t px = 4 * sizeof(float), line = (int32_t)w * px;
+    exr_plane planes[5] = {
+        {"R", (uint8_t *)(rgba + 0), px, line},
+        {"G", (uint8_t *)(rgba + 1), px, line},
+        {"B", (uint8_t *)(rgba + 2), px, line},
+        {"A", (uint8_t *)(rgba + 3), px, line},
+        {"Z", (uint8_t *)depth, sizeof(float), (int32_t)(w * sizeof(float))},
+    };
+    rv = read_chunks(ctx, &dw, planes, 5);
+    exr_finish(&ctx);
+    if (rv != EXR_ERR_SUCCESS) {
+        free(rgba);
+        free(depth);
+        return exr_fail(diag, XRSC_ERROR_IO, path, "reading failed", rv, &msg);
+    }
+    *out_rgba = rgba;
+    if (out_depth)
+        *out_depth = depth;
+    *out_w = (uint32_t)w;
+    *out_h = (uint32_t)h;
+    return XRSC_OK;
+}

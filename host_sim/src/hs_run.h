@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file hs_run.h
+ * @brief What `xrsc replay` keeps around a run: Ctrl-C/SIGTERM as a clean stop, an output
+ *        folder that never mixes two runs, and the run's record (run.json, run.conf), so a
+ *        replay can be repeated exactly (`xrsc --config DIR/run.conf --out NEW`).
+ */
+#pragma once
+
+#include "hs_replay.h"
+
+#include <signal.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** The record's files in the output folder. */
+#define HS_RUN_JSON "run.json"
+#define HS_RUN_CONF "run.conf"
+
+/**
+ * Installs handlers of SIGINT and SIGTERM (sigaction, SA_RESTART, one-shot: a second Ctrl-C
+ * ends the process at once) that only store the signal's number in a volatile sig_atomic_t,
+ * the one process-wide variable of the program. Returns it, for hs_replay_options.stop.
+ */
+const volatile sig_atomic_t *hs_run_catch_signals(void);
+
+/** The exit status of a run stopped by signal sig: 128 + sig (SIGINT 130, SIGTERM 143). */
+int hs_run_exit_status(int sig);
+
+/** "SIGINT", "SIGTERM" or "signal N". */
+const char *hs_run_signal_name(int sig, char *buf, size_t size);
+
+/**
+ * Makes the output folder ready (mkdir -p). A folder holding files of an earlier run (those
+ * this program writes: frame_NNNNN_*.png/.pfm/.exr, frames.csv, run.json, run.conf, and their
+ * .tmp leftovers) is refused with XRSC_ERROR_INVALID_ARGUMENT (field "--out", naming one of
+ * them and their count) unless overwrite, which removes exactly those files first; any other
+ * file is left alone and does not count.
+ */
+xrsc_result hs_run_prepare_out(const char *dir, bool overwrite, xrsc_diag *diag);
+
+/** An option's value when it is not given: the program's default, as it would be typed. */
+typedef struct hs_run_setting {
+    const char *key;   /**< "--resolution" */
+    const char *value; /**< "256x256" */
+} hs_run_setting;
+
+/** Everything the record says besides the run's statistics. */
+typedef struct hs_run_info {
+    int argc; /**< the command line as typed */
+    char *const *argv;
+    int args_argc; /**< after hs_args_prepare (config files expanded, --x=y split) */
+    char *const *args_argv;
+    const char *const *value_options; /**< the command's options that take a value */
+    size_t value_count;
+    const hs_run_setting *defaults; /**< values of options not given (program defaults) */
+    size_t default_count;
+    /** Options that change nothing in the result (--quiet, --overwrite): not settings. */
+    const char *const *not_settings;
+    size_t not_settings_count;
+    const char *out_dir;
+    char start_utc[32]; /**< ISO 8601, e.g. 2026-11-25T06:40:00Z (hs_run_info_start) */
+} hs_run_info;
+
+/** Sets info->start_utc to the current time. */
+void hs_run_info_start(hs_run_info *info);
+
+/**
+ * Writes run.json and run.conf into info->out_dir, each whole (hs_file.h). run.json: program
+ * and version, the command line as typed and as parsed, the settings (every option given, by
+ * its last value, and the defaults of those not given; flags given are true; options left to
+ * the library's defaults are listed under "library_defaults"), the device, the start time, the
+ * status ("running", "completed", "interrupted", "failed"), exit code, signal, and with st the
+ * run's summary. run.conf: the same settings in --config format (out commented out).
+ * status "running" is written before the run (st NULL), the rest after it.
+ */
+xrsc_result hs_run_write_record(const hs_run_info *info, const hs_replay_stats *st,
+                                const char *status, int exit_code, xrsc_diag *diag);
+
+/** Prints the program's version and the Vulkan/OpenXR versions it uses (xrsc --version). */
+void hs_run_print_version(FILE *f);
+
+#ifdef __cplusplus
+}
+#endif
