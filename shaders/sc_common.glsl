@@ -295,6 +295,38 @@ void sc_count_importance(uint eye, float w)
     atomicMax(sc_stats[si].w_max, floatBitsToUint(w));
 }
 
+/** Variance-guided shading: the relative variance of one observation in pixel pix of copy c
+ *  (xs_sc_pixel_variance) from its samples `cand` (visible surface samples) that have been
+ *  shaded (c_s > 0). */
+float sc_pixel_variance(uint c, uint pix, uint cand)
+{
+    float k = 0.0, sc = 0.0, scl = 0.0, scl2 = 0.0;
+    for (uint b = cand; b != 0u; b &= b - 1u) {
+        vec4 r = sc_rad_load(sc_rad_at(c, uint(findLSB(b)), pix));
+        if (!(r.w > 0.0))
+            continue;
+        float l = dot(r.rgb, vec3(0.2126, 0.7152, 0.0722));
+        k += 1.0;
+        sc += r.w;
+        scl += r.w * l;
+        scl2 += r.w * l * l;
+    }
+    return xs_sc_pixel_variance(k, sc, scl, scl2);
+}
+
+/** The visible surface samples of pixel pix in copy c (background samples need no shading). */
+uint sc_shade_candidates(uint c, uint pix)
+{
+    uint m = sc_mask[sc_mask_at(c, pix)];
+    uint cand = 0u;
+    for (uint bits = sc_vis(m) & sc_occ(m) & sc_all_slots(); bits != 0u; bits &= bits - 1u) {
+        uint s = uint(findLSB(bits));
+        if (!sc_is_background(sc_fh[sc_slot_at(c, s, pix)]))
+            cand |= sc_obit(s);
+    }
+    return cand;
+}
+
 /** i-th set bit at or after `start` (cyclically), or -1 when bits is 0: round robin. */
 int sc_round_robin(uint bits, uint start)
 {

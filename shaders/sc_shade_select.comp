@@ -7,7 +7,10 @@
  * Candidates are the visible surface samples (background samples need no shading).
  * - uniform: one candidate per pixel, round robin over the slots (§3.3);
  * - adaptive: one candidate of one pixel per block x block block as base rate (as in
- *   sc_trace_mask.comp), plus a share of all candidates chosen by importance w = 1 / (1 + c_s):
+ *   sc_trace_mask.comp), plus a share of all candidates chosen by importance w = 1 / (1 + c_s)
+ *   (adaptive-variance: w = the relative variance of the sample's mean, v / (1 + c_s), v from
+ *   the spread of the pixel's samples, xs_sc_pixel_variance; histogram from
+ *   sc_shade_importance.comp):
  *   the budget B = shade_rate * width * height - (base-rate shadings) is met by walking the
  *   histogram of this frame (counted during reprojection and tracing into XS_SC_BUCKETS
  *   logarithmic buckets between the previous frame's w_min and w_max) from the most important
@@ -42,13 +45,7 @@ void main()
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
     uint cur = scp.cur;
-    uint m = sc_mask[sc_mask_at(cur, pix)];
-    uint cand = 0u;
-    for (uint bits = sc_vis(m) & sc_occ(m) & sc_all_slots(); bits != 0u; bits &= bits - 1u) {
-        uint s = uint(findLSB(bits));
-        if (!sc_is_background(sc_fh[sc_slot_at(cur, s, pix)]))
-            cand |= sc_obit(s);
-    }
+    uint cand = sc_shade_candidates(cur, pix);
     uint start = (frame.frame_index + SC_SHADE_RR_OFFSET) % scp.slots;
     int rr = sc_round_robin(cand, start);
     uint one = rr >= 0 ? sc_obit(uint(rr)) : 0u;
@@ -82,9 +79,12 @@ void main()
         float w_min, w_max;
         bool bounded = sc_prev_bounds(eye, w_min, w_max);
         xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_SHADE_STREAM, frame.seed);
+        bool by_variance = scp.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE;
+        float v = by_variance ? sc_pixel_variance(cur, pix, cand) : 0.0;
         for (uint cb = cand; cb != 0u; cb &= cb - 1u) {
             uint s = uint(findLSB(cb));
-            float w = xs_sc_importance(sc_rad_load(sc_rad_at(cur, s, pix)).w);
+            float c_s = sc_rad_load(sc_rad_at(cur, s, pix)).w;
+            float w = by_variance ? xs_sc_variance_importance(v, c_s) : xs_sc_importance(c_s);
             int bucket = bounded ? int(xs_sc_bucket(w, w_min, w_max)) : int(XS_SC_BUCKETS) - 1;
             float u = xs_rng_next(rng);
             if (bucket > k || (bucket == k && u < p))

@@ -126,6 +126,44 @@ XS_SCM_FN xs_float xs_sc_importance(xs_float c)
     return 1.0f / (1.0f + c);
 }
 
+/* Variance-guided shading (XS_SC_SHADE_ADAPTIVE_VARIANCE). A pixel's visible surface samples
+ * see nearly the same radiance, so the spread of their means L_s estimates the variance of one
+ * observation: each L_s averages c_s of them, Var(L_s) = sigma^2 / c_s, so c_s (l_s - m)^2
+ * has expectation sigma^2 (l = luminance, m the count-weighted mean). Relative to m^2, as
+ * relMSE weighs errors. The estimate is shrunk towards XS_SC_VAR_PRIOR (the relative
+ * variance of a single 1-sample estimate in a path-traced scene, order 1) as if the prior were
+ * XS_SC_VAR_PRIOR_WEIGHT more degrees of freedom: a pixel whose few samples happen to agree
+ * (all dark: no light path found yet) is not taken for converged and left unshaded, and a pixel
+ * with fewer than two observed samples gets the prior. XS_SC_VAR_FLOOR keeps every importance
+ * > 0 (log buckets). */
+#define XS_SC_VAR_PRIOR 1.0f
+#define XS_SC_VAR_PRIOR_WEIGHT 1.0f
+#define XS_SC_VAR_FLOOR 1e-4f
+#define XS_SC_VAR_MEAN_MIN 1e-4f
+
+/** The relative variance of one observation from a pixel's sums over its k observed samples:
+ *  sc = sum c_s, scl = sum c_s l_s, scl2 = sum c_s l_s^2. */
+XS_SCM_FN xs_float xs_sc_pixel_variance(xs_float k, xs_float sc, xs_float scl, xs_float scl2)
+{
+    xs_float rel = 0.0f, dof = 0.0f;
+    if (k >= 2.0f && sc > 0.0f) {
+        xs_float m = scl / sc;
+        xs_float spread = scl2 - sc * m * m; /* sum c_s (l_s - m)^2 */
+        spread = spread > 0.0f ? spread : 0.0f;
+        xs_float mm = m * m > XS_SC_VAR_MEAN_MIN ? m * m : XS_SC_VAR_MEAN_MIN;
+        rel = spread / mm;
+        dof = k - 1.0f;
+    }
+    return (rel + XS_SC_VAR_PRIOR * XS_SC_VAR_PRIOR_WEIGHT) / (dof + XS_SC_VAR_PRIOR_WEIGHT);
+}
+
+/** Variance-guided importance of a sample with count c in a pixel of relative variance v:
+ *  the relative variance of its mean after one more observation, (v + floor) / (1 + c). */
+XS_SCM_FN xs_float xs_sc_variance_importance(xs_float v, xs_float c)
+{
+    return (v + XS_SC_VAR_FLOOR) / (1.0f + c);
+}
+
 /**
  * §3.5: bucket 0..XS_SC_BUCKETS-1 of importance w among XS_SC_BUCKETS logarithmically sized
  * buckets spanning [w_min, w_max] (the previous frame's bounds); the top bucket holds the most

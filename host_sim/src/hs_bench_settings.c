@@ -105,8 +105,10 @@ static const char *set_shade(xrsc_renderer_options *o, const char *v)
         o->samplecache.shade = XRSC_SC_SHADE_UNIFORM;
     else if (!strcmp(v, "adaptive"))
         o->samplecache.shade = XRSC_SC_SHADE_ADAPTIVE;
+    else if (!strcmp(v, "adaptive-variance"))
+        o->samplecache.shade = XRSC_SC_SHADE_ADAPTIVE_VARIANCE;
     else
-        return "uniform, adaptive";
+        return "uniform, adaptive, adaptive-variance";
     return NULL;
 }
 
@@ -257,7 +259,7 @@ static const bench_key keys[] = {
     {"eps1", M_SC | M_ISRT | M_HY, set_eps1, "e1", "edge test epsilon (Eq. 2) [0.005]"},
     {"block", M_SC | M_ISRT | M_HY, set_block, "blk", "base-rate block size [4]"},
     {"shading_cache", M_SC | M_ISRT, set_shading_cache, "shc", "on | off [on]"},
-    {"shade", M_SC | M_ISRT, set_shade, "shade", "uniform | adaptive [uniform]"},
+    {"shade", M_SC | M_ISRT, set_shade, "shade", "uniform | adaptive | adaptive-variance [uniform]"},
     {"shade_rate", M_SC | M_ISRT, set_shade_rate, "rate", "adaptive shading rate, percent [100]"},
     {"alpha", M_SC | M_ISRT, set_alpha, "alpha", "clamped | fixed [clamped]"},
     {"alpha_fixed", M_SC | M_ISRT, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},

@@ -93,7 +93,8 @@ HS_LIGHT_USAGE
 "  --sc-trace T        single | multi | adaptive      [adaptive]\n"
 "  --sc-reproject R    1pass | 2pass                  [1pass]\n"
 "  --sc-shading-cache  on | off                       [on]\n"
-"  --sc-shade S        uniform | adaptive             [uniform]\n"
+"  --sc-shade S        uniform | adaptive | adaptive-variance (importance = the\n"
+"                      relative variance of each sample's mean)   [uniform]\n"
 "  --sc-shade-rate P   adaptive shading rate, percent of the pixels [100]\n"
 "  --sc-alpha A        clamped | fixed (temporal blend, App. C) [clamped]\n"
 "  --sc-alpha-fixed X  alpha of --sc-alpha fixed      [0.1]\n"
@@ -269,8 +270,10 @@ static int parse_samplecache(const char *a, const char *v, xrsc_samplecache_opti
             sc->shade = XRSC_SC_SHADE_UNIFORM;
         else if (!strcmp(v, "adaptive"))
             sc->shade = XRSC_SC_SHADE_ADAPTIVE;
+        else if (!strcmp(v, "adaptive-variance"))
+            sc->shade = XRSC_SC_SHADE_ADAPTIVE_VARIANCE;
         else
-            return bad_arg(a, v, "expected uniform or adaptive");
+            return bad_arg(a, v, "expected uniform, adaptive or adaptive-variance");
     } else if (!strcmp(a, "--sc-alpha")) {
         if (!strcmp(v, "clamped"))
             sc->alpha = XRSC_SC_ALPHA_CLAMPED;

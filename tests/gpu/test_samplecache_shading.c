@@ -19,6 +19,10 @@
  *   * low c_s is preferred: the mean pre-shading c_s of the shaded samples is below the mean of
  *     all candidates (rates < 100 %), and samples with c_s = 0 are shaded at least as often as
  *     those with the highest c_s.
+ * - test_variance_rate: the same with variance-guided importance (adaptive-variance, rates 25 %
+ *   and 50 %): w = xs_sc_variance_importance(v, c_s), v the pixel's relative variance from its
+ *   candidates' pre-shading records (xs_sc_pixel_variance); exact rule, count, and the shaded
+ *   samples' mean importance above all candidates'.
  * - test_convergence: scenes/cornell.gltf, 2 x 48 x 48, defaults, a still view, public API:
  *   relMSE (xrsc_metrics_error) of the colour against an `spp` reference of T_REF_SPP samples
  *   per pixel falls: relMSE(frame 32) < 0.5 relMSE(frame 4), and relMSE(frame 32) <
@@ -73,11 +77,15 @@ typedef struct t_shade_stats {
     double c_sum_shaded, c_sum_all;
     uint32_t n_shaded, n_all;
     uint32_t c0_all, c0_shaded, chi_all, chi_shaded; /* c = 0 and c >= the highest seen */
+    double v_sum_all, v_shaded; /* sums of the importance of all candidates, of shaded ones */
 } t_shade_stats;
 
-/** Pre-shading c_s of a sample: the previous frame's c_s of the same first hit, else 0. */
-static float prev_count(const mt_sc_snapshot *prev, const uint32_t fh[4], uint32_t pix)
+/** Pre-shading L_s, c_s of a sample: the previous frame's record of the same first hit, else
+ *  0 (a new sample). */
+static void prev_record(const mt_sc_snapshot *prev, const uint32_t fh[4], uint32_t pix,
+                        float out[4])
 {
+    memset(out, 0, 16);
     uint32_t w = prev->width, h = prev->height;
     int x0 = (int)(pix % w), y0 = (int)(pix / w);
     /* a still view: the sample was in this pixel or (at a border) a neighbour */
@@ -88,10 +96,28 @@ static float prev_count(const mt_sc_snapshot *prev, const uint32_t fh[4], uint32
                 continue;
             uint32_t p = (uint32_t)y * w + (uint32_t)x;
             for (uint32_t s = 0; s < prev->slots; s++)
-                if ((tsc_occ(prev, p) >> s & 1u) && !memcmp(tsc_fh(prev, s, p), fh, 16))
-                    return tsc_rad(prev, s, p)[3];
+                if ((tsc_occ(prev, p) >> s & 1u) && !memcmp(tsc_fh(prev, s, p), fh, 16)) {
+                    memcpy(out, tsc_rad(prev, s, p), 16);
+                    return;
+                }
         }
-    return 0.0f;
+}
+
+/** sc_pixel_variance: the pixel's relative variance from its candidates' pre-shading records
+ *  (in slot order, as the shader sums them). */
+static float pixel_variance(const float rec[][4], uint32_t cand, uint32_t n)
+{
+    float k = 0.0f, sc = 0.0f, scl = 0.0f, scl2 = 0.0f;
+    for (uint32_t s = 0; s < n; s++) {
+        if (!(cand >> s & 1u) || !(rec[s][3] > 0.0f))
+            continue;
+        float l = rec[s][0] * 0.2126f + rec[s][1] * 0.7152f + rec[s][2] * 0.0722f;
+        k += 1.0f;
+        sc += rec[s][3];
+        scl += rec[s][3] * l;
+        scl2 += rec[s][3] * l * l;
+    }
+    return xs_sc_pixel_variance(k, sc, scl, scl2);
 }
 
 static void check_selection(const mt_sc_snapshot *prev, const mt_sc_snapshot *cur, uint32_t eye,
@@ -134,12 +160,20 @@ static void check_selection(const mt_sc_snapshot *prev, const mt_sc_snapshot *cu
                 (frame_index + xs_hash_c(xs_hash_c(x / b + eye + 1u) + y / b)) % (b * b);
             uint32_t base_bit = (local == pick && rr >= 0) ? 1u << rr : 0u;
             st->base += base_bit != 0u;
+            /* the samples' pre-shading records: previous frame's, found by first hit */
+            float rec[XS_SC_MAX_SLOTS][4];
+            for (uint32_t s = 0; s < n; s++)
+                if (cand >> s & 1u)
+                    prev_record(prev, tsc_fh(cur, s, pix), pix, rec[s]);
+            bool by_variance = o->shade == XRSC_SC_SHADE_ADAPTIVE_VARIANCE;
+            float v = by_variance ? pixel_variance(rec, cand, n) : 0.0f;
             for (uint32_t s = 0; s < n; s++) {
                 if (!(cand >> s & 1u))
                     continue;
-                /* the sample's pre-shading c_s: previous frame's, found by first hit */
-                float c = prev_count(prev, tsc_fh(cur, s, pix), pix);
-                float wi = xs_sc_importance(c);
+                float c = rec[s][3];
+                float wi = by_variance ? xs_sc_variance_importance(v, c) : xs_sc_importance(c);
+                st->v_sum_all += wi;
+                st->v_shaded += (shaded >> s & 1u) ? wi : 0.0;
                 int bucket = bounded ? (int)xs_sc_bucket(wi, w_min, w_max) : (int)XS_SC_BUCKETS - 1;
                 double prob = (base_bit >> s & 1u) ? 1.0 : bucket > k ? 1.0 : bucket == k ? p : 0.0;
                 bool sh = shaded >> s & 1u;
@@ -168,9 +202,9 @@ static void check_selection(const mt_sc_snapshot *prev, const mt_sc_snapshot *cu
         }
 }
 
-static void run_rate(float rate)
+static void run_rate(float rate, xrsc_sc_shade mode)
 {
-    xrsc_samplecache_options o = {.shade = XRSC_SC_SHADE_ADAPTIVE, .shade_rate = rate};
+    xrsc_samplecache_options o = {.shade = mode, .shade_rate = rate};
     tsc_rig rig;
     if (!tsc_open(&rig, t_source_path("scenes/cornell.gltf"), T_W, T_H, &o)) {
         tsc_close(&rig);
@@ -231,6 +265,8 @@ static void run_rate(float rate)
             total.c0_shaded += st.c0_shaded;
             total.chi_all += st.chi_all;
             total.chi_shaded += st.chi_shaded;
+            total.v_sum_all += st.v_sum_all;
+            total.v_shaded += st.v_shaded;
         }
         for (uint32_t e = 0; e < 2; e++) {
             mt_sc_snapshot_free(&prev[e]);
@@ -243,21 +279,29 @@ static void run_rate(float rate)
     double mean_all = total.n_all ? total.c_sum_all / total.n_all : 0.0;
     double p0 = total.c0_all ? (double)total.c0_shaded / total.c0_all : 0.0;
     double phi = total.chi_all ? (double)total.chi_shaded / total.chi_all : 0.0;
-    printf("  rate %3.0f %%: %.1f shaded per frame (nominal %.0f, expected %.1f, sigma %.1f), "
+    double w_shaded = total.n_shaded ? total.v_shaded / total.n_shaded : 0.0;
+    double w_all = total.n_all ? total.v_sum_all / total.n_all : 0.0;
+    printf("  %s rate %3.0f %%: %.1f shaded per frame (nominal %.0f, expected %.1f, sigma %.1f), "
            "%.1f base-rate; mean c_s shaded %.2f vs all %.2f; P(shade | c=0) %.2f, "
-           "P(shade | c max) %.2f\n",
-           rate * 100.0, total.observed / frames, rate * px, total.expected / frames,
+           "P(shade | c max) %.2f; mean importance shaded %.4g vs all %.4g\n",
+           mode == XRSC_SC_SHADE_ADAPTIVE ? "adaptive" : "adaptive-variance", rate * 100.0,
+           total.observed / frames, rate * px, total.expected / frames,
            sqrt(total.variance / frames), (double)total.base / frames, mean_shaded, mean_all, p0,
-           phi);
+           phi, w_shaded, w_all);
     CHECK_EQ_INT(total.impossible, 0);
     CHECK_EQ_INT(total.missed_certain, 0);
     CHECK_EQ_INT(bad_frames, 0);
     CHECK_EQ_INT(rate_bad, 0);
     CHECK(total.n_shaded > 0);
-    if (rate < 1.0f)
-        CHECK_MSG(mean_shaded < mean_all, "mean c_s of shaded %.3f >= of all %.3f", mean_shaded,
-                  mean_all);
-    CHECK_MSG(p0 >= phi, "P(shade | c=0) %.3f < P(shade | c max) %.3f", p0, phi);
+    if (rate < 1.0f) {
+        CHECK_MSG(w_shaded > w_all, "mean importance of shaded %.4g <= of all %.4g", w_shaded,
+                  w_all);
+        if (mode == XRSC_SC_SHADE_ADAPTIVE)
+            CHECK_MSG(mean_shaded < mean_all, "mean c_s of shaded %.3f >= of all %.3f",
+                      mean_shaded, mean_all);
+    }
+    if (mode == XRSC_SC_SHADE_ADAPTIVE)
+        CHECK_MSG(p0 >= phi, "P(shade | c=0) %.3f < P(shade | c max) %.3f", p0, phi);
 done:
     for (uint32_t e = 0; e < 2; e++) {
         mt_sc_snapshot_free(&prev[e]);
@@ -268,9 +312,18 @@ done:
 
 static void test_adaptive_rate(void)
 {
-    run_rate(0.25f);
-    run_rate(0.5f);
-    run_rate(1.0f);
+    run_rate(0.25f, XRSC_SC_SHADE_ADAPTIVE);
+    run_rate(0.5f, XRSC_SC_SHADE_ADAPTIVE);
+    run_rate(1.0f, XRSC_SC_SHADE_ADAPTIVE);
+}
+
+/* Variance-guided importance (issue 12): the same C twin with w = v / (1 + c_s), v from the
+ * pixel's pre-shading records (sc_pixel_variance): the choice follows the rule exactly, the
+ * count the rate, and the shaded samples have the higher importance. */
+static void test_variance_rate(void)
+{
+    run_rate(0.25f, XRSC_SC_SHADE_ADAPTIVE_VARIANCE);
+    run_rate(0.5f, XRSC_SC_SHADE_ADAPTIVE_VARIANCE);
 }
 
 /* ---- convergence to the path-traced reference ---- */
@@ -326,6 +379,7 @@ static void test_bytes_per_pixel(void)
 int main(void)
 {
     RUN(test_adaptive_rate);
+    RUN(test_variance_rate);
     RUN(test_convergence);
     RUN(test_bytes_per_pixel);
     return t_finish();

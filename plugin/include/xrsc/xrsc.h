@@ -194,6 +194,9 @@ typedef enum xrsc_sc_shade {
     XRSC_SC_SHADE_DEFAULT = 0, /**< uniform */
     XRSC_SC_SHADE_UNIFORM,     /**< one visible sample per pixel, round robin */
     XRSC_SC_SHADE_ADAPTIVE,    /**< base rate + importance 1/(1+c_s) histogram at shade_rate */
+    /** as adaptive, with importance = the estimated relative variance of each sample's mean,
+     *  v_pixel / (1 + c_s) (xs_sc_variance_importance; issue 12, seed 000 §6's future work) */
+    XRSC_SC_SHADE_ADAPTIVE_VARIANCE,
 } xrsc_sc_shade;
 /** Temporal blend factor of the shading cache (seed 000 App. C). */
 typedef enum xrsc_sc_alpha {

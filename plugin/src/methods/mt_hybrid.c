@@ -104,7 +104,7 @@ xrsc_result mt_hybrid_create(const mt_env *env, const xrsc_samplecache_options *
     xrsc_samplecache_options so = {0};
     if (sc)
         so = *sc;
-    if (so.shade == XRSC_SC_SHADE_ADAPTIVE)
+    if (so.shade == XRSC_SC_SHADE_ADAPTIVE || so.shade == XRSC_SC_SHADE_ADAPTIVE_VARIANCE)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "shade",
                           "hybrid shades uniformly (adaptive shading needs per-sample counts)");
     if (hc && hc->max_bounces)

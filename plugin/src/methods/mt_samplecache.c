@@ -21,7 +21,8 @@ _Static_assert(XS_SC_TRACE_SINGLE == XRSC_SC_TRACE_SINGLE - 1 &&
                    XS_SC_TRACE_ADAPTIVE == XRSC_SC_TRACE_ADAPTIVE - 1,
                "trace modes: public value - 1");
 _Static_assert(XS_SC_SHADE_UNIFORM == XRSC_SC_SHADE_UNIFORM - 1 &&
-                   XS_SC_SHADE_ADAPTIVE == XRSC_SC_SHADE_ADAPTIVE - 1,
+                   XS_SC_SHADE_ADAPTIVE == XRSC_SC_SHADE_ADAPTIVE - 1 &&
+                   XS_SC_SHADE_ADAPTIVE_VARIANCE == XRSC_SC_SHADE_ADAPTIVE_VARIANCE - 1,
                "shading modes: public value - 1");
 _Static_assert(XS_SC_ALPHA_CLAMPED == XRSC_SC_ALPHA_CLAMPED - 1 &&
                    XS_SC_ALPHA_FIXED == XRSC_SC_ALPHA_FIXED - 1,
@@ -39,11 +40,13 @@ enum {
     PROG_DENSITY,
     PROG_SHADE_SELECT,
     PROG_RECONSTRUCT,
+    PROG_SHADE_IMPORTANCE,
     PROG_COUNT
 };
 static const char *const prog_shader[PROG_COUNT] = {
-    "sc_reproject.comp", "sc_copy.comp",         "sc_trace_mask.comp",
-    "sc_density.comp",   "sc_shade_select.comp", "sc_reconstruct.comp",
+    "sc_reproject.comp",    "sc_copy.comp",         "sc_trace_mask.comp",
+    "sc_density.comp",      "sc_shade_select.comp", "sc_reconstruct.comp",
+    "sc_shade_importance.comp",
 };
 
 /* The cache bindings (set 1 of the ray-tracing programs). */
@@ -104,7 +107,7 @@ static uint32_t shade_capacity(const xrsc_samplecache_options *o, uint32_t w, ui
 {
     double px = 2.0 * w * h;
     double per_pixel = 1.0;
-    if (o->shade == XRSC_SC_SHADE_ADAPTIVE)
+    if (o->shade == XRSC_SC_SHADE_ADAPTIVE || o->shade == XRSC_SC_SHADE_ADAPTIVE_VARIANCE)
         per_pixel = o->shade_rate * MT_SC_SHADE_HEADROOM + 1.0 / ((double)o->block * o->block);
     if (per_pixel > o->slots)
         per_pixel = o->slots;
@@ -287,6 +290,10 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_SHADE);
     cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0);
     gpu_cmd_barrier_all(cmd);
+    if (s->p.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE) { /* this frame's histogram */
+        dispatch(cmd, s, PROG_SHADE_IMPORTANCE);
+        gpu_cmd_barrier_all(cmd);
+    }
     dispatch(cmd, s, PROG_SHADE_SELECT);
     gpu_cmd_barrier_all(cmd);
     cmd_trace_list(ctx, cmd, &s->shade, w, s->p.shade_capacity);
@@ -437,7 +444,7 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
     if (o.n_target < 1.0f || o.delta < 0.0f || o.eps0 < 0.0f || o.eps1 < 0.0f ||
         o.shade_rate < 0.0f || !(o.alpha_fixed > 0.0f && o.alpha_fixed <= 1.0f) ||
         o.trace > XRSC_SC_TRACE_ADAPTIVE || o.reproject > XRSC_SC_REPROJECT_2PASS ||
-        o.shade > XRSC_SC_SHADE_ADAPTIVE || o.alpha > XRSC_SC_ALPHA_FIXED)
+        o.shade > XRSC_SC_SHADE_ADAPTIVE_VARIANCE || o.alpha > XRSC_SC_ALPHA_FIXED)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "samplecache",
                           "option out of range");
 
