@@ -169,12 +169,6 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     /* The stream is read here too: a bad one is reported with file, line and field before any
      * runtime starts, and its duration gives the frame count. The runtime reads it by format
      * detection, so a forced format must be the one detected. */
-    if (opt->fov_scene) {
-        res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--fov",
-                         "--fov scene needs --direct (the OpenXR runtime reports the "
-                         "headset's FOV)");
-        goto done;
-    }
     /* --pose-columns: the runtime reads the canonical format, so it gets a converted copy. */
     hs_replay_options conv = *opt;
     if (opt->pose_columns.count > 0) {
@@ -235,6 +229,27 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
         frames = session_frames - 1;
     }
 
+    /* --fov scene: the glTF camera's yfov and aspect for both eyes, read from the file before
+     * the runtime starts and given to it as the headset's FOV (XRSC_RT_FOV_DEG), so that
+     * xrLocateViews reports the frusta the direct path renders */
+    hs_replay_options scene_fov_opt;
+    if (opt->fov_scene) {
+        xrsc_scene_info si;
+        XrFovf f;
+        if ((res = xrsc_scene_inspect(opt->scene_path, &si, diag)) != XRSC_OK)
+            goto done;
+        if (!hs_scene_fov(&si, w, h, &f)) {
+            res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->scene_path, 0, "--fov",
+                             "--fov scene: the scene has no perspective camera with a yfov");
+            goto done;
+        }
+        static const xrsc_headset zero_fov_hs;
+        scene_fov_opt = *opt;
+        if (memcmp(&scene_fov_opt.headset, &zero_fov_hs, sizeof(zero_fov_hs)) == 0)
+            xrsc_headset_default(&scene_fov_opt.headset);
+        scene_fov_opt.headset.fov[0] = scene_fov_opt.headset.fov[1] = f;
+        opt = &scene_fov_opt;
+    }
     if ((res = choose_runtime(diag)) != XRSC_OK)
         goto done;
     if ((res = configure_runtime(opt, stream, w, h, refresh, session_frames, diag)) != XRSC_OK)

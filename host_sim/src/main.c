@@ -66,7 +66,7 @@ static void usage(FILE *f)
 "                      is placed at the scene's viewpoint)\n"
 "  --start S           start S seconds into the stream (past its end: an error) [0]\n"
 "  --fov F             headset | scene: scene = both eyes use the glTF camera's yfov and\n"
-"                      aspect ratio (needs --direct) [headset]\n"
+"                      aspect ratio (both paths) [headset]\n"
 "  --frame             place the viewpoint so the scene's bounds fill the view (default:\n"
 "                      the glTF camera, else in front of the bounds looking down -Z)\n"
 "  --frames N          render N frames (0 = until the stream ends) [0]\n"

@@ -139,6 +139,39 @@ expect_run(NAME video_without_ffmpeg EXIT 0 STDERR "ffmpeg is not installed"
                 --video "${OUT_DIR}/v.mp4" --out "${OUT_DIR}/vid")
 unset(ENV{XRSC_FFMPEG})
 
+# --fov scene through OpenXR: the glTF camera's FOV reaches the runtime (XRSC_RT_FOV_DEG), so
+# its frame 1 equals the direct path's pixel for pixel (`primary`: no noise); with the
+# headset's FOV it does not (the check can fail).
+foreach(run direct xr xrheadset)
+  set(args --method primary --frames 2 --resolution 16x12 --write linear --quiet
+           --out "${OUT_DIR}/fov_${run}")
+  if(run STREQUAL "direct")
+    list(APPEND args --direct --fov scene)
+  elseif(run STREQUAL "xr")
+    list(APPEND args --fov scene)
+  endif()
+  expect_run(NAME fov_scene_${run} EXIT 0 ARGS ${args})
+endforeach()
+foreach(eye left right)
+  set(f frame_00001_${eye}.pfm)
+  if(EXISTS "${OUT_DIR}/fov_direct/${f}" AND EXISTS "${OUT_DIR}/fov_xr/${f}" AND
+     EXISTS "${OUT_DIR}/fov_xrheadset/${f}")
+    file(SHA256 "${OUT_DIR}/fov_direct/${f}" h_direct)
+    file(SHA256 "${OUT_DIR}/fov_xr/${f}" h_xr)
+    file(SHA256 "${OUT_DIR}/fov_xrheadset/${f}" h_headset)
+    if(h_direct STREQUAL h_xr AND NOT h_headset STREQUAL h_xr)
+      message("[ ok ] fov_scene_same_frames_${eye}")
+    else()
+      message("FAIL fov_scene_same_frames_${eye}: direct ${h_direct}, OpenXR ${h_xr}, "
+              "OpenXR with the headset's FOV ${h_headset}")
+      math(EXPR failures "${failures} + 1")
+    endif()
+  else()
+    message("FAIL fov_scene_same_frames_${eye}: frames missing")
+    math(EXPR failures "${failures} + 1")
+  endif()
+endforeach()
+
 if(failures GREATER 0)
   message(FATAL_ERROR "${failures} failed (output kept in ${OUT_DIR})")
 endif()

@@ -104,6 +104,9 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
                             xrsc_diag *out_diag);
 void xrsc_scene_destroy(xrsc_scene **scene);
 void xrsc_scene_get_info(const xrsc_scene *scene, xrsc_scene_info *out_info);
+/** The info of a glTF 2.0 file read on the CPU alone (no context, nothing uploaded;
+ *  blas_build_ms 0): e.g. its camera, before a headset's views are configured. */
+xrsc_result xrsc_scene_inspect(const char *path, xrsc_scene_info *out_info, xrsc_diag *out_diag);
 /**
  * Per-instance flags for the region metrics (xrsc_metrics.h, XRSC_INSTANCE_FLAG_*): OBJECT for
  * animated instances, SPECULAR for material factors (metallic >= 0.5 or transmission > 0) with

@@ -94,6 +94,8 @@ uint32_t xrsc_context_validation_errors(const xrsc_context *ctx)
 
 /* ---- scenes ---- */
 
+static void scene_info_fill(const sc_scene *c, xrsc_scene_info *info);
+
 xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
                             const xrsc_scene_options *options, xrsc_scene **out_scene,
                             xrsc_diag *out_diag)
@@ -133,8 +135,19 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
     s->animated = s->animated && s->cpu->animation_duration_s > 0.0f;
     s->time_ns = 0; /* sc_scene_load evaluates at time 0 */
 
-    xrsc_scene_info *info = &s->info;
-    const sc_scene *c = s->cpu;
+    scene_info_fill(s->cpu, &s->info);
+    s->info.blas_build_ms = gpu_scene_blas_build_ms(s->gpu);
+    *out_scene = s;
+    return XRSC_OK;
+fail:
+    xrsc_scene_destroy(&s);
+    return res;
+}
+
+/** The scene's xrsc_scene_info from its CPU copy (all but blas_build_ms). */
+static void scene_info_fill(const sc_scene *c, xrsc_scene_info *info)
+{
+    memset(info, 0, sizeof(*info));
     info->triangle_count = c->triangle_count;
     info->instance_count = c->instance_count;
     info->material_count = c->material_count;
@@ -150,11 +163,19 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
                         c->viewpoint_orientation[2], c->viewpoint_orientation[3]};
     memcpy(info->bounds_min, c->bounds_min, sizeof(info->bounds_min));
     memcpy(info->bounds_max, c->bounds_max, sizeof(info->bounds_max));
-    info->blas_build_ms = gpu_scene_blas_build_ms(s->gpu);
-    *out_scene = s;
-    return XRSC_OK;
-fail:
-    xrsc_scene_destroy(&s);
+}
+
+xrsc_result xrsc_scene_inspect(const char *path, xrsc_scene_info *out_info, xrsc_diag *out_diag)
+{
+    if (!path || !out_info)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0,
+                          path ? "out_info" : "path", "NULL");
+    sc_load_options lo = {0};
+    sc_scene *c = NULL;
+    xrsc_result res = sc_scene_load(path, &lo, &c, out_diag);
+    if (res == XRSC_OK)
+        scene_info_fill(c, out_info);
+    sc_scene_destroy(&c);
     return res;
 }
 
