@@ -219,6 +219,24 @@ void hs_replay_stats_average(hs_replay_stats *st)
     }
 }
 
+void hs_replay_stats_add(hs_replay_stats *st, xrsc_renderer *r, double render_ms,
+                         xrsc_pass_timing passes[XRSC_MAX_PASSES], uint32_t *out_np)
+{
+    st->render_ms_mean += render_ms;
+    if (render_ms > st->render_ms_max)
+        st->render_ms_max = render_ms;
+    uint32_t np = xrsc_renderer_timings(r, passes, XRSC_MAX_PASSES);
+    if (st->frames == 0) {
+        st->pass_count = np;
+        for (uint32_t p = 0; p < np; p++)
+            st->pass_mean[p].name = passes[p].name;
+    }
+    for (uint32_t p = 0; p < np && p < st->pass_count; p++)
+        st->pass_mean[p].gpu_ms += passes[p].gpu_ms;
+    st->rays_per_frame += (double)xrsc_renderer_rays_last_frame(r);
+    *out_np = np;
+}
+
 xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_stats,
                           xrsc_diag *diag)
 {
@@ -343,26 +361,17 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
             goto done;
         }
         double ms = (now_s() - t0) * 1e3;
-        st->render_ms_mean += ms;
-        if (ms > st->render_ms_max)
-            st->render_ms_max = ms;
         xrsc_pass_timing passes[XRSC_MAX_PASSES];
-        uint32_t np = xrsc_renderer_timings(r, passes, XRSC_MAX_PASSES);
+        uint32_t np;
+        hs_replay_stats_add(st, r, ms, passes, &np);
         uint64_t rays = xrsc_renderer_rays_last_frame(r);
-        st->rays_per_frame += (double)rays;
         if (k == 0) {
-            st->pass_count = np;
-            for (uint32_t p = 0; p < np; p++) {
-                st->pass_mean[p].name = passes[p].name;
-                if (csv)
-                    fprintf(csv, ",%s_gpu_ms", passes[p].name);
-            }
+            for (uint32_t p = 0; csv && p < np; p++)
+                fprintf(csv, ",%s_gpu_ms", passes[p].name);
             if (csv)
                 fputc('\n', csv);
             csv_header_done = true;
         }
-        for (uint32_t p = 0; p < np && p < st->pass_count; p++)
-            st->pass_mean[p].gpu_ms += passes[p].gpu_ms;
         if (csv) {
             static const char *const lookup_name[] = {"exact", "interpolated", "clamped"};
             fprintf(csv, "%u,%lld,%s,%.3f,%llu", k, (long long)t_ns, lookup_name[lookup], ms,

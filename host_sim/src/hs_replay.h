@@ -125,6 +125,11 @@ void hs_warn_if_black(const hs_replay_options *opt, xrsc_renderer *r, uint32_t w
  * into means over st->frames; both replay paths (hs_replay_run, hs_xr_replay_run) end with it.
  */
 void hs_replay_stats_average(hs_replay_stats *st);
+/** Adds frame st->frames's wall time and r's last frame (pass timings: named after the first
+ *  frame's; rays) to the sums hs_replay_stats_average divides; passes/out_np: the timings read
+ *  (XRSC_MAX_PASSES), for the caller's own records. */
+void hs_replay_stats_add(hs_replay_stats *st, xrsc_renderer *r, double render_ms,
+                         xrsc_pass_timing passes[XRSC_MAX_PASSES], uint32_t *out_np);
 
 #ifdef __cplusplus
 }

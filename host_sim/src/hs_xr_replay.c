@@ -143,6 +143,147 @@ static xrsc_result configure_runtime(const hs_replay_options *opt, const hs_pose
     return XRSC_OK;
 }
 
+/* The pose stream, read here too: a bad one is reported with file, line and field before any
+ * runtime starts, and its duration gives the frame count. --pose-columns: the runtime reads
+ * the canonical format, so it gets a converted copy (`imported`, *opt then points to conv).
+ * The runtime reads a stream by format detection, so a forced format must be the detected. */
+static xrsc_result load_stream(const hs_replay_options **opt, hs_replay_options *conv,
+                               char *imported, size_t imported_size, hs_pose_stream **stream,
+                               xrsc_diag *diag)
+{
+    const hs_replay_options *o = *opt;
+    xrsc_result res;
+    if (o->pose_columns.count > 0) {
+        if ((res = hs_pose_stream_load_columns(o->poses_path, &o->pose_columns, stream, diag)) !=
+            XRSC_OK)
+            return res;
+        const char *tmp = getenv("TMPDIR");
+        snprintf(imported, imported_size, "%s/xrsc-poses-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+        int fd = mkstemp(imported);
+        if (fd < 0) {
+            imported[0] = '\0';
+            return u_diag_set(diag, XRSC_ERROR_IO, "", 0, "--pose-columns",
+                              "cannot create a temporary file: %s", strerror(errno));
+        }
+        close(fd);
+        if ((res = hs_pose_stream_save(*stream, imported, diag)) != XRSC_OK)
+            return res;
+        *conv = *o;
+        conv->poses_path = imported;
+        conv->pose_format = HS_POSE_FORMAT_AUTO;
+        *opt = o = conv;
+    } else if ((res = hs_pose_stream_load(o->poses_path, o->pose_format, stream, diag)) !=
+               XRSC_OK) {
+        return res;
+    }
+    if ((res = hs_check_start(o->poses_path, o->start_s, hs_pose_stream_duration_ns(*stream),
+                              diag)) != XRSC_OK)
+        return res;
+    if (o->pose_format == HS_POSE_FORMAT_AUTO)
+        return XRSC_OK;
+    hs_pose_stream *probe = NULL;
+    xrsc_diag pd = {0};
+    bool same = hs_pose_stream_load(o->poses_path, HS_POSE_FORMAT_AUTO, &probe, &pd) == XRSC_OK &&
+                probe->format == o->pose_format;
+    hs_pose_stream_destroy(&probe);
+    if (!same)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, o->poses_path, 0, "--pose-format",
+                          "the runtime detects the format itself and would not read this file "
+                          "as %s; use --direct",
+                          hs_pose_format_name(o->pose_format));
+    return XRSC_OK;
+}
+
+/* --fov scene: the glTF camera's yfov and aspect for both eyes, read from the file before the
+ * runtime starts and given to it as the headset's FOV (XRSC_RT_FOV_DEG), so that
+ * xrLocateViews reports the frusta the direct path renders (*opt then points to copy). */
+static xrsc_result use_scene_fov(const hs_replay_options **opt, hs_replay_options *copy,
+                                 uint32_t w, uint32_t h, xrsc_diag *diag)
+{
+    xrsc_scene_info si;
+    XrFovf f;
+    xrsc_result res = xrsc_scene_inspect((*opt)->scene_path, &si, diag);
+    if (res != XRSC_OK)
+        return res;
+    if (!hs_scene_fov(&si, w, h, &f))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, (*opt)->scene_path, 0, "--fov",
+                          "--fov scene: the scene has no perspective camera with a yfov");
+    static const xrsc_headset zero;
+    *copy = **opt;
+    if (memcmp(&copy->headset, &zero, sizeof(zero)) == 0)
+        xrsc_headset_default(&copy->headset);
+    copy->headset.fov[0] = copy->headset.fov[1] = f;
+    *opt = copy;
+    return XRSC_OK;
+}
+
+/* One rendered frame of the session: statistics, the overlay's line, the app's own outputs. */
+static xrsc_result count_frame(const hs_replay_options *opt, const xrsc_xr_frame_info *fi,
+                               xrsc_renderer *r, hs_outputs *outs, hs_preview_link *plink,
+                               hs_replay_stats *st, xrsc_diag *diag)
+{
+    if (opt->on_frame) {
+        xrsc_frame frame = {.display_time_ns = fi->scene_time_ns, .frame_index = fi->frame_index};
+        frame.views[0] = fi->views[0];
+        frame.views[1] = fi->views[1];
+        opt->on_frame(opt->on_frame_user, &frame);
+    }
+    xrsc_pass_timing passes[XRSC_MAX_PASSES];
+    uint32_t np;
+    hs_replay_stats_add(st, r, fi->render_ms, passes, &np);
+    hs_preview_link_frame(plink, fi->frame_index, fi->render_ms, passes, np);
+    /* Numbered as the runtime numbers the PNG/PFM files of this frame. */
+    return hs_outputs_frame(outs, r, fi->frame_index, diag);
+}
+
+/* Steps the session until the runtime ends it after `frames` shown frames (or a Ctrl-C,
+ * opt->stop, asks it to: the frame in flight is finished and written, the session ends
+ * cleanly); w x h per eye. st->frames may end at frames + 1 (a frame past the end, not
+ * counted). */
+static xrsc_result run_session(const hs_replay_options *opt, xrsc_xr_session *session,
+                               xrsc_renderer *r, hs_outputs *outs, hs_preview_link *plink,
+                               uint32_t frames, uint32_t w, uint32_t h, hs_replay_stats *st,
+                               xrsc_diag *diag)
+{
+    xrsc_result res;
+    double last_progress = now_s();
+    bool exit_requested = false;
+    for (;;) {
+        xrsc_xr_frame_info fi;
+        if ((res = xrsc_xr_session_step(session, &fi, diag)) != XRSC_OK)
+            return res;
+        if (fi.status == XRSC_XR_EXITED)
+            return XRSC_OK;
+        if (fi.status == XRSC_XR_RENDERED && st->frames >= frames) {
+            st->frames = frames + 1; /* past the end: not counted, only ends the session */
+        } else if (fi.status == XRSC_XR_RENDERED) {
+            last_progress = now_s();
+            if (st->frames == 0)
+                hs_warn_if_black(opt, r, w, h);
+            if ((res = count_frame(opt, &fi, r, outs, plink, st, diag)) != XRSC_OK)
+                return res;
+            st->frames++;
+            if (opt->progress && st->frames % 30 == 0)
+                fprintf(stderr, "frame %u/%u\n", st->frames, frames);
+        } else if (fi.status == XRSC_XR_WAITING && now_s() - last_progress > STALL_LIMIT_S) {
+            return u_diag_set(diag, XRSC_ERROR_XR, "", 0, "session",
+                              "the runtime did not run the session for %.0f s (state %d)",
+                              STALL_LIMIT_S, (int)fi.state);
+        }
+        /* The runtime stops after XRSC_RT_FRAMES (its next state change is STOPPING); a
+         * runtime that keeps going past them, or a Ctrl-C, asks it to end. */
+        if (opt->stop && *opt->stop && !st->stopped_by)
+            st->stopped_by = *opt->stop;
+        if (st->stopped_by && fi.status == XRSC_XR_WAITING)
+            return XRSC_OK; /* not running: nothing in flight to finish */
+        if ((st->frames > frames || st->stopped_by) && !exit_requested) {
+            if ((res = xrsc_xr_session_request_exit(session, diag)) != XRSC_OK)
+                return res;
+            exit_requested = true;
+        }
+    }
+}
+
 xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_stats,
                              xrsc_diag *diag)
 {
@@ -166,53 +307,9 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     char imported[1100] = ""; /* --pose-columns: the canonical copy given to the runtime */
     hs_preview_link *plink = NULL; /* --preview: the overlay's information (hs_preview_link.h) */
 
-    /* The stream is read here too: a bad one is reported with file, line and field before any
-     * runtime starts, and its duration gives the frame count. The runtime reads it by format
-     * detection, so a forced format must be the one detected. */
-    /* --pose-columns: the runtime reads the canonical format, so it gets a converted copy. */
-    hs_replay_options conv = *opt;
-    if (opt->pose_columns.count > 0) {
-        if ((res = hs_pose_stream_load_columns(opt->poses_path, &opt->pose_columns, &stream,
-                                               diag)) != XRSC_OK)
-            goto done;
-        const char *tmp = getenv("TMPDIR");
-        snprintf(imported, sizeof(imported), "%s/xrsc-poses-XXXXXX", tmp && *tmp ? tmp : "/tmp");
-        int fd = mkstemp(imported);
-        if (fd < 0) {
-            imported[0] = '\0';
-            res = u_diag_set(diag, XRSC_ERROR_IO, "", 0, "--pose-columns",
-                             "cannot create a temporary file: %s", strerror(errno));
-            goto done;
-        }
-        close(fd);
-        if ((res = hs_pose_stream_save(stream, imported, diag)) != XRSC_OK)
-            goto done;
-        conv.poses_path = imported;
-        conv.pose_format = HS_POSE_FORMAT_AUTO;
-        opt = &conv;
-    } else if ((res = hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag)) !=
-               XRSC_OK) {
+    hs_replay_options conv;
+    if ((res = load_stream(&opt, &conv, imported, sizeof(imported), &stream, diag)) != XRSC_OK)
         goto done;
-    }
-    if ((res = hs_check_start(opt->poses_path, opt->start_s, hs_pose_stream_duration_ns(stream),
-                              diag)) != XRSC_OK)
-        goto done;
-    if (opt->pose_format != HS_POSE_FORMAT_AUTO) {
-        hs_pose_stream *probe = NULL;
-        xrsc_diag pd = {0};
-        bool same = hs_pose_stream_load(opt->poses_path, HS_POSE_FORMAT_AUTO, &probe, &pd) ==
-                        XRSC_OK &&
-                    probe->format == opt->pose_format;
-        hs_pose_stream_destroy(&probe);
-        if (!same) {
-            res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->poses_path, 0,
-                             "--pose-format",
-                             "the runtime detects the format itself and would not read this "
-                             "file as %s; use --direct",
-                             hs_pose_format_name(opt->pose_format));
-            goto done;
-        }
-    }
     uint32_t w = opt->renderer.width ? opt->renderer.width : DEFAULT_EYE_SIZE_PX;
     uint32_t h = opt->renderer.height ? opt->renderer.height : DEFAULT_EYE_SIZE_PX;
     double refresh = opt->headset.refresh_hz > 0 ? opt->headset.refresh_hz : DEFAULT_REFRESH_HZ;
@@ -229,27 +326,9 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
         frames = session_frames - 1;
     }
 
-    /* --fov scene: the glTF camera's yfov and aspect for both eyes, read from the file before
-     * the runtime starts and given to it as the headset's FOV (XRSC_RT_FOV_DEG), so that
-     * xrLocateViews reports the frusta the direct path renders */
     hs_replay_options scene_fov_opt;
-    if (opt->fov_scene) {
-        xrsc_scene_info si;
-        XrFovf f;
-        if ((res = xrsc_scene_inspect(opt->scene_path, &si, diag)) != XRSC_OK)
-            goto done;
-        if (!hs_scene_fov(&si, w, h, &f)) {
-            res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->scene_path, 0, "--fov",
-                             "--fov scene: the scene has no perspective camera with a yfov");
-            goto done;
-        }
-        static const xrsc_headset zero_fov_hs;
-        scene_fov_opt = *opt;
-        if (memcmp(&scene_fov_opt.headset, &zero_fov_hs, sizeof(zero_fov_hs)) == 0)
-            xrsc_headset_default(&scene_fov_opt.headset);
-        scene_fov_opt.headset.fov[0] = scene_fov_opt.headset.fov[1] = f;
-        opt = &scene_fov_opt;
-    }
+    if (opt->fov_scene && (res = use_scene_fov(&opt, &scene_fov_opt, w, h, diag)) != XRSC_OK)
+        goto done;
     if ((res = choose_runtime(diag)) != XRSC_OK)
         goto done;
     if ((res = configure_runtime(opt, stream, w, h, refresh, session_frames, diag)) != XRSC_OK)
@@ -292,66 +371,8 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
         goto done;
     st->load_s = now_s() - t_start;
 
-    double last_progress = now_s();
-    bool exit_requested = false;
-    for (;;) {
-        xrsc_xr_frame_info fi;
-        if ((res = xrsc_xr_session_step(session, &fi, diag)) != XRSC_OK)
-            goto done;
-        if (fi.status == XRSC_XR_EXITED)
-            break;
-        if (fi.status == XRSC_XR_RENDERED && st->frames >= frames) {
-            st->frames = frames + 1; /* past the end: not counted, only ends the session */
-        } else if (fi.status == XRSC_XR_RENDERED) {
-            last_progress = now_s();
-            if (st->frames == 0)
-                hs_warn_if_black(opt, r, w, h);
-            if (opt->on_frame) {
-                xrsc_frame frame = {.display_time_ns = fi.scene_time_ns,
-                                    .frame_index = fi.frame_index};
-                frame.views[0] = fi.views[0];
-                frame.views[1] = fi.views[1];
-                opt->on_frame(opt->on_frame_user, &frame);
-            }
-            st->render_ms_mean += fi.render_ms;
-            if (fi.render_ms > st->render_ms_max)
-                st->render_ms_max = fi.render_ms;
-            xrsc_pass_timing passes[XRSC_MAX_PASSES];
-            uint32_t np = xrsc_renderer_timings(r, passes, XRSC_MAX_PASSES);
-            if (st->frames == 0) {
-                st->pass_count = np;
-                for (uint32_t p = 0; p < np; p++)
-                    st->pass_mean[p].name = passes[p].name;
-            }
-            for (uint32_t p = 0; p < np && p < st->pass_count; p++)
-                st->pass_mean[p].gpu_ms += passes[p].gpu_ms;
-            st->rays_per_frame += (double)xrsc_renderer_rays_last_frame(r);
-            hs_preview_link_frame(plink, fi.frame_index, fi.render_ms, passes, np);
-            /* Numbered as the runtime numbers the PNG/PFM files of this frame. */
-            if ((res = hs_outputs_frame(outs, r, fi.frame_index, diag)) != XRSC_OK)
-                goto done;
-            st->frames++;
-            if (opt->progress && st->frames % 30 == 0)
-                fprintf(stderr, "frame %u/%u\n", st->frames, frames);
-        } else if (fi.status == XRSC_XR_WAITING && now_s() - last_progress > STALL_LIMIT_S) {
-            res = u_diag_set(diag, XRSC_ERROR_XR, "", 0, "session",
-                             "the runtime did not run the session for %.0f s (state %d)",
-                             STALL_LIMIT_S, (int)fi.state);
-            goto done;
-        }
-        /* The runtime stops after XRSC_RT_FRAMES (its next state change is STOPPING); a
-         * runtime that keeps going past them, or a run stopped by Ctrl-C (opt->stop), asks it
-         * to end: the frame in flight is finished and written, the session ends cleanly. */
-        if (opt->stop && *opt->stop && !st->stopped_by)
-            st->stopped_by = *opt->stop;
-        if (st->stopped_by && fi.status == XRSC_XR_WAITING)
-            break; /* not running: nothing in flight to finish */
-        if ((st->frames > frames || st->stopped_by) && !exit_requested) {
-            if ((res = xrsc_xr_session_request_exit(session, diag)) != XRSC_OK)
-                goto done;
-            exit_requested = true;
-        }
-    }
+    if ((res = run_session(opt, session, r, outs, plink, frames, w, h, st, diag)) != XRSC_OK)
+        goto done;
     if (st->frames > frames)
         st->frames = frames;
     hs_replay_stats_average(st);
