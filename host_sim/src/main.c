@@ -435,6 +435,338 @@ static int run_recorded(hs_replay_options *opt, bool direct, bool overwrite, boo
     return rc;
 }
 
+/* What the command line of `xrsc replay` sets beyond hs_replay_options. */
+typedef struct main_args {
+    hs_replay_options opt;
+    bool quiet, direct, overwrite;
+    bool blend_given;                             /* --blend: else default_blend(method) */
+    bool size_given, ipd_given, refresh_given;    /* these win over --headset */
+    const char *pose_columns, *pose_time_unit, *pose_handedness;
+    const char *headset_name, *headsets_path; /* --headset, --headsets */
+} main_args;
+
+/* The parse steps' results besides an exit status (>= 0): go on with the next argument, or
+ * the option is not this step's. */
+#define ARG_NEXT (-1)
+#define ARG_NOT_MINE (-2)
+
+/* Options without a value. */
+static int parse_flag(const char *a, main_args *m)
+{
+    hs_replay_options *opt = &m->opt;
+    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+        usage(stdout);
+        return 0;
+    }
+    if (!strcmp(a, "--no-anchor"))
+        opt->no_anchor = true;
+    else if (!strcmp(a, "--frame"))
+        opt->frame_bounds = true;
+    else if (!strcmp(a, "--direct"))
+        m->direct = true;
+    else if (!strcmp(a, "--preview") || !strcmp(a, "--preview-autoclose")) {
+        opt->preview = true;
+        opt->preview_autoclose |= !strcmp(a, "--preview-autoclose");
+    } else if (!strcmp(a, "--validation"))
+        opt->context.validation = true;
+    else if (!strcmp(a, HS_LIGHT_FLAG_SKY))
+        hs_light_parse("xrsc", a, NULL, &opt->scene);
+    else if (!strcmp(a, "--quiet")) {
+        m->quiet = true;
+        opt->progress = false;
+    } else if (!strcmp(a, "--overwrite"))
+        m->overwrite = true;
+    else
+        return ARG_NOT_MINE;
+    return ARG_NEXT;
+}
+
+/* The input: scene, pose stream, which part of it, and the views' FOV. */
+static int parse_input_option(const char *a, const char *v, main_args *m)
+{
+    hs_replay_options *opt = &m->opt;
+    double d;
+    if (!strcmp(a, "--scene")) {
+        opt->scene_path = v;
+    } else if (!strcmp(a, "--poses")) {
+        opt->poses_path = v;
+    } else if (!strcmp(a, "--pose-format")) {
+        if (!strcmp(v, "auto"))
+            opt->pose_format = HS_POSE_FORMAT_AUTO;
+        else if (!strcmp(v, "xrsc"))
+            opt->pose_format = HS_POSE_FORMAT_XRSC;
+        else if (!strcmp(v, "pred6dof"))
+            opt->pose_format = HS_POSE_FORMAT_PRED6DOF;
+        else if (!strcmp(v, "360video"))
+            opt->pose_format = HS_POSE_FORMAT_360VIDEO;
+        else if (!strcmp(v, "librnr"))
+            opt->pose_format = HS_POSE_FORMAT_LIBRNR;
+        else
+            return bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
+    } else if (!strcmp(a, "--pose-columns")) {
+        m->pose_columns = v;
+    } else if (!strcmp(a, "--pose-time-unit")) {
+        m->pose_time_unit = v;
+    } else if (!strcmp(a, "--pose-handedness")) {
+        m->pose_handedness = v;
+    } else if (!strcmp(a, "--fov")) {
+        if (strcmp(v, "headset") && strcmp(v, "scene"))
+            return bad_arg(a, v, "expected headset or scene");
+        opt->fov_scene = !strcmp(v, "scene");
+    } else if (!strcmp(a, "--start")) {
+        if (!hs_parse_f(v, &d) || d < 0)
+            return bad_arg(a, v, "expected seconds >= 0");
+        opt->start_s = d;
+    } else if (!strcmp(a, "--frames")) {
+        if (!hs_parse_u32(v, &opt->frames))
+            return bad_arg(a, v, "expected a count");
+    } else {
+        return ARG_NOT_MINE;
+    }
+    return ARG_NEXT;
+}
+
+/* The method, its blend and TAA, and what every method shares (samples, bounces, size). */
+static int parse_method_option(const char *a, const char *v, main_args *m)
+{
+    xrsc_renderer_options *ro = &m->opt.renderer;
+    uint32_t u;
+    double d;
+    if (!strcmp(a, "--method")) {
+        if (xrsc_method_from_name(v, &ro->method) != XRSC_OK)
+            return bad_arg(a, v, "unknown method (xrsc --help lists them)");
+    } else if (!strcmp(a, "--taa")) {
+        if (!strcmp(v, "default") || xrsc_taa_mode_from_name(v, &ro->taa.mode) != XRSC_OK)
+            return bad_arg(a, v, "expected off, on or pfj23");
+    } else if (!strcmp(a, "--isrt-m")) {
+        if (!hs_parse_u32(v, &u) || u < 1 || u > 4)
+            return bad_arg(a, v, "expected 1..4");
+        ro->isrt.m = u;
+    } else if (!strcmp(a, "--taa-alpha")) {
+        int r = parse_positive(a, v, 1.0f, &ro->taa.alpha);
+        if (r)
+            return r;
+    } else if (!strcmp(a, "--blend")) {
+        if (xrsc_blend_from_name(v, &ro->blend) != XRSC_OK)
+            return bad_arg(a, v, "unknown blend (none, pfj23, moments)");
+        m->blend_given = true;
+    } else if (!strcmp(a, "--blend-r")) {
+        if (!hs_parse_f(v, &d) || !(d >= 0.0 && d <= 1.0))
+            return bad_arg(a, v, "expected R in [0, 1]");
+        ro->blend_r = (float)d;
+    } else if (!strcmp(a, "--spp")) {
+        if (!hs_parse_u32(v, &u) || u == 0 || u > 4096)
+            return bad_arg(a, v, "expected 1..4096");
+        ro->spp.samples_per_pixel = u;
+    } else if (!strcmp(a, "--bounces")) {
+        if (!hs_parse_u32(v, &u) || u > 16)
+            return bad_arg(a, v, "expected 0..16");
+        ro->spp.max_bounces = u ? u : XRSC_BOUNCES_NONE;
+        ro->samplecache.max_bounces = ro->spp.max_bounces;
+        ro->hashcache.max_bounces = ro->spp.max_bounces;
+    } else if (!strcmp(a, "--resolution")) {
+        unsigned w = 0, h = 0;
+        char tail;
+        if (sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 8 || h < 8 || w > 8192 || h > 8192)
+            return bad_arg(a, v, "expected WxH, each 8..8192");
+        ro->width = w;
+        ro->height = h;
+        m->size_given = true;
+    } else if (!strcmp(a, "--seed")) {
+        if (!hs_parse_u32(v, &ro->seed))
+            return bad_arg(a, v, "expected an unsigned integer");
+    } else if (!strncmp(a, "--sc-", 5)) {
+        int r = parse_samplecache(a, v, &ro->samplecache);
+        return r ? r : ARG_NEXT;
+    } else if (!strncmp(a, "--hc-", 5)) {
+        int r = parse_hashcache(a, v, &ro->hashcache);
+        return r ? r : ARG_NEXT;
+    } else {
+        return ARG_NOT_MINE;
+    }
+    return ARG_NEXT;
+}
+
+/* The world around the scene and the simulated headset: lighting, device, IPD, refresh. */
+static int parse_world_option(const char *a, const char *v, main_args *m)
+{
+    hs_replay_options *opt = &m->opt;
+    double d;
+    if (!strcmp(a, "--env")) {
+        float r, g, b;
+        char tail;
+        if (sscanf(v, "%f,%f,%f%c", &r, &g, &b, &tail) != 3 || r < 0 || g < 0 || b < 0)
+            return bad_arg(a, v, "expected R,G,B >= 0");
+        opt->scene.env_set = true;
+        opt->scene.environment[0] = r;
+        opt->scene.environment[1] = g;
+        opt->scene.environment[2] = b;
+    } else if (hs_arg_in(a, hs_light_value_options, hs_light_value_option_count)) {
+        int r = hs_light_parse("xrsc", a, v, &opt->scene);
+        if (r)
+            return r;
+    } else if (!strcmp(a, "--device")) {
+        opt->context.device = v;
+    } else if (!strcmp(a, "--ipd")) {
+        if (!hs_parse_f(v, &d) || d < 0 || d > 200)
+            return bad_arg(a, v, "expected millimetres 0..200");
+        opt->headset.ipd_m = (float)(d * 1e-3);
+        m->ipd_given = true;
+    } else if (!strcmp(a, "--refresh")) {
+        if (!hs_parse_f(v, &d) || d < 1 || d > 1000)
+            return bad_arg(a, v, "expected 1..1000 Hz");
+        opt->headset.refresh_hz = (float)d;
+        m->refresh_given = true;
+    } else if (!strcmp(a, "--headset")) {
+        m->headset_name = v;
+    } else if (!strcmp(a, "--headsets")) {
+        m->headsets_path = v;
+    } else {
+        return ARG_NOT_MINE;
+    }
+    return ARG_NEXT;
+}
+
+/* What is written: the folder, the image files, the video, tone mapping, the preview. */
+static int parse_output_option(const char *a, const char *v, main_args *m)
+{
+    hs_replay_options *opt = &m->opt;
+    double d;
+    if (!strcmp(a, "--video")) {
+        opt->video_path = v;
+    } else if (!strcmp(a, "--out")) {
+        opt->out_dir = v;
+    } else if (!strcmp(a, "--preview-reference")) {
+        opt->preview_reference = v;
+        opt->preview = true;
+    } else if (!strcmp(a, "--write")) {
+        opt->write_eyes = opt->write_sbs = opt->write_linear = opt->write_exr = false;
+        char list[256];
+        snprintf(list, sizeof(list), "%s", v);
+        for (char *tok = strtok(list, ","); tok; tok = strtok(NULL, ",")) {
+            if (!strcmp(tok, "eyes"))
+                opt->write_eyes = true;
+            else if (!strcmp(tok, "sbs"))
+                opt->write_sbs = true;
+            else if (!strcmp(tok, "linear"))
+                opt->write_linear = true;
+            else if (!strcmp(tok, "exr"))
+                opt->write_exr = true;
+            else if (strcmp(tok, "none") != 0)
+                return bad_arg(a, v, "expected eyes, sbs, linear, exr or none");
+        }
+    } else if (!strcmp(a, "--exposure")) {
+        if (!strcmp(v, "auto"))
+            opt->exposure = 0.0f; /* automatic (hs_image.h) */
+        else if (!hs_parse_f(v, &d) || d <= 0)
+            return bad_arg(a, v, "expected a positive number or auto");
+        else
+            opt->exposure = (float)d;
+    } else {
+        return ARG_NOT_MINE;
+    }
+    return ARG_NEXT;
+}
+
+/* Reads argv[1..argc) into m: ARG_NEXT when all of it was read, else the exit status. */
+static int parse_args(int argc, char **argv, main_args *m)
+{
+    typedef int (*value_step)(const char *, const char *, main_args *);
+    static const value_step steps[] = {parse_input_option, parse_method_option,
+                                       parse_world_option, parse_output_option};
+    int i = 1;
+    if (i < argc && strcmp(argv[i], "replay") == 0)
+        i++;
+    for (; i < argc; i++) {
+        const char *a = argv[i];
+        int r = parse_flag(a, m);
+        if (r == ARG_NEXT)
+            continue;
+        if (r != ARG_NOT_MINE)
+            return r;
+        if (a[0] != '-' || a[1] != '-')
+            return bad_arg(a, NULL, "unexpected argument");
+        if (!hs_arg_in(a, value_options, sizeof(value_options) / sizeof(value_options[0])))
+            return bad_arg(a, NULL, "unknown option");
+        if (i + 1 >= argc)
+            return bad_arg(a, NULL, "needs a value");
+        const char *v = argv[++i];
+        r = ARG_NOT_MINE;
+        for (size_t k = 0; r == ARG_NOT_MINE && k < sizeof(steps) / sizeof(steps[0]); k++)
+            r = steps[k](a, v, m);
+        if (r == ARG_NOT_MINE)
+            return bad_arg(a, NULL, "unknown option");
+        if (r != ARG_NEXT)
+            return r;
+    }
+    return ARG_NEXT;
+}
+
+/* What the options mean together: pose columns, the headset profile, the method's default
+ * blend, --preview without --direct, --quiet for the library and runtime too. */
+static int finish_args(main_args *m)
+{
+    hs_replay_options *opt = &m->opt;
+    if (m->pose_columns) {
+        xrsc_diag pd = {0};
+        if (hs_pose_columns_parse(m->pose_columns, m->pose_time_unit, m->pose_handedness,
+                                  &opt->pose_columns, &pd) != XRSC_OK)
+            return bad_arg(pd.field, NULL, pd.message);
+    } else if (m->pose_time_unit || m->pose_handedness) {
+        return bad_arg(m->pose_time_unit ? "--pose-time-unit" : "--pose-handedness", NULL,
+                       "needs --pose-columns");
+    }
+    if (m->headset_name || m->headsets_path) {
+        int r = apply_headset(m->headset_name, m->headsets_path, m->size_given, m->ipd_given,
+                              m->refresh_given, opt);
+        if (r >= 0)
+            return r;
+    }
+    if (!m->blend_given)
+        opt->renderer.blend = default_blend(opt->renderer.method);
+    if (opt->preview && m->direct)
+        return bad_arg("--preview", NULL,
+                       "the preview window is the OpenXR runtime's: drop --direct");
+    if (m->quiet) /* errors only, also from the library and the OpenXR runtime (u_diag.h) */
+        setenv("XRSC_LOG", "error", 1);
+    return ARG_NEXT;
+}
+
+/* Runs the replay with run.json / run.conf: the given options as parsed (args), and the
+ * values of the options not given, as they would be typed. */
+static int run_with_record(main_args *m, const hs_args *args, hs_run_info *run)
+{
+    hs_replay_options *opt = &m->opt;
+    char res_s[32], spp_s[16], ipd_s[32], refresh_s[32];
+    snprintf(res_s, sizeof(res_s), "%ux%u", opt->renderer.width, opt->renderer.height);
+    snprintf(spp_s, sizeof(spp_s), "%u", opt->renderer.spp.samples_per_pixel);
+    snprintf(ipd_s, sizeof(ipd_s), "%g", (double)opt->headset.ipd_m * 1e3);
+    snprintf(refresh_s, sizeof(refresh_s), "%g", (double)opt->headset.refresh_hz);
+    const hs_run_setting defaults[] = {
+        {"--scene", opt->scene_path},   {"--poses", opt->poses_path},
+        {"--pose-format", "auto"},      {"--start", "0"},
+        {"--frames", "0"},              {"--fov", "headset"},
+        {"--method", xrsc_method_name(opt->renderer.method)},
+        {"--blend", xrsc_blend_name(opt->renderer.blend)},
+        {"--blend-r", "0"},             {"--spp", spp_s},
+        {"--resolution", res_s},        {"--seed", "0"},
+        {"--ipd", ipd_s},               {"--refresh", refresh_s},
+        {"--out", opt->out_dir},        {"--write", "eyes,sbs"},
+        {"--exposure", "auto"},
+    };
+    run->args_argc = args->argc;
+    run->args_argv = args->argv;
+    run->value_options = value_options;
+    run->value_count = sizeof(value_options) / sizeof(value_options[0]);
+    run->defaults = defaults;
+    run->default_count = sizeof(defaults) / sizeof(defaults[0]);
+    run->not_settings = not_settings;
+    run->not_settings_count = sizeof(not_settings) / sizeof(not_settings[0]);
+    run->out_dir = opt->out_dir;
+    hs_run_info_start(run);
+    return run_recorded(opt, m->direct, m->overwrite, m->quiet, run);
+}
+
 int main(int argc, char **argv)
 {
     /* xrsc version, and --version anywhere (any command) */
@@ -451,290 +783,34 @@ int main(int argc, char **argv)
         return hs_bench_main(argc - 1, argv + 1);
     if (argc > 1 && strcmp(argv[1], "poses") == 0)
         return hs_poses_main(argc - 1, argv + 1);
-    hs_replay_options opt = {
-        .scene_path = DEFAULT_SCENE,
-        .poses_path = DEFAULT_POSES,
-        .out_dir = DEFAULT_OUT,
-        .write_eyes = true,
-        .write_sbs = true,
-        .progress = true,
-        /* the main job (seed 000): the per-eye sample cache with the raw-moment stereo blend
-         * at R = 0 (the blend is chosen after parsing: default_blend) */
-        .renderer = {.method = XRSC_METHOD_SAMPLECACHE, .width = DEFAULT_WIDTH,
-                     .height = DEFAULT_HEIGHT, .spp = {.samples_per_pixel = DEFAULT_SPP}},
+    main_args m = {
+        .opt = {
+            .scene_path = DEFAULT_SCENE,
+            .poses_path = DEFAULT_POSES,
+            .out_dir = DEFAULT_OUT,
+            .write_eyes = true,
+            .write_sbs = true,
+            .progress = true,
+            /* the main job (seed 000): the per-eye sample cache with the raw-moment stereo
+             * blend at R = 0 (the blend is chosen after parsing: default_blend) */
+            .renderer = {.method = XRSC_METHOD_SAMPLECACHE, .width = DEFAULT_WIDTH,
+                         .height = DEFAULT_HEIGHT,
+                         .spp = {.samples_per_pixel = DEFAULT_SPP}},
+        },
     };
-    xrsc_headset_default(&opt.headset);
-    bool quiet = false;
-    bool direct = false;       /* --direct: in-process, no OpenXR */
-    bool blend_given = false; /* --blend: else default_blend(method) */
-    const char *pose_columns = NULL, *pose_time_unit = NULL, *pose_handedness = NULL;
-    const char *headset_name = NULL, *headsets_path = NULL; /* --headset, --headsets */
-    bool size_given = false, ipd_given = false, refresh_given = false; /* win over --headset */
-
-    bool overwrite = false; /* --overwrite: replace an earlier run in --out */
-    /* --opt=value and --config FILE (hs_args_prepare); the loop sees "--opt value" pairs. */
+    xrsc_headset_default(&m.opt.headset);
+    /* --opt=value and --config FILE (hs_args_prepare); the parse sees "--opt value" pairs. */
     hs_run_info run = {.argc = argc, .argv = argv};
     hs_args args; /* about 140 KiB of stack; argv points into it until the run ends */
     const hs_args_spec spec = {.cmd = "xrsc", .value_options = value_options,
                                .value_count = sizeof(value_options) / sizeof(value_options[0]),
                                .config = true};
-    int prep = hs_args_prepare(&args, &spec, argc, argv);
-    if (prep)
-        return prep;
-    argc = args.argc;
-    argv = args.argv;
-
-    int i = 1;
-    if (i < argc && strcmp(argv[i], "replay") == 0)
-        i++;
-    for (; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            usage(stdout);
-            return 0;
-        }
-        if (!strcmp(a, "--no-anchor")) {
-            opt.no_anchor = true;
-            continue;
-        }
-        if (!strcmp(a, "--frame")) {
-            opt.frame_bounds = true;
-            continue;
-        }
-        if (!strcmp(a, "--direct")) {
-            direct = true;
-            continue;
-        }
-        if (!strcmp(a, "--preview") || !strcmp(a, "--preview-autoclose")) {
-            opt.preview = true;
-            opt.preview_autoclose |= !strcmp(a, "--preview-autoclose");
-            continue;
-        }
-        if (!strcmp(a, "--validation")) {
-            opt.context.validation = true;
-            continue;
-        }
-        if (!strcmp(a, HS_LIGHT_FLAG_SKY)) {
-            hs_light_parse("xrsc", a, NULL, &opt.scene);
-            continue;
-        }
-        if (!strcmp(a, "--quiet")) {
-            quiet = true;
-            opt.progress = false;
-            continue;
-        }
-        if (!strcmp(a, "--overwrite")) {
-            overwrite = true;
-            continue;
-        }
-        if (a[0] != '-' || a[1] != '-')
-            return bad_arg(a, NULL, "unexpected argument");
-        if (!hs_arg_in(a, value_options, sizeof(value_options) / sizeof(value_options[0])))
-            return bad_arg(a, NULL, "unknown option");
-        if (i + 1 >= argc)
-            return bad_arg(a, NULL, "needs a value");
-        const char *v = argv[++i];
-        uint32_t u;
-        double d;
-        if (!strcmp(a, "--scene")) {
-            opt.scene_path = v;
-        } else if (!strcmp(a, "--poses")) {
-            opt.poses_path = v;
-        } else if (!strcmp(a, "--pose-format")) {
-            if (!strcmp(v, "auto"))
-                opt.pose_format = HS_POSE_FORMAT_AUTO;
-            else if (!strcmp(v, "xrsc"))
-                opt.pose_format = HS_POSE_FORMAT_XRSC;
-            else if (!strcmp(v, "pred6dof"))
-                opt.pose_format = HS_POSE_FORMAT_PRED6DOF;
-            else if (!strcmp(v, "360video"))
-                opt.pose_format = HS_POSE_FORMAT_360VIDEO;
-            else if (!strcmp(v, "librnr"))
-                opt.pose_format = HS_POSE_FORMAT_LIBRNR;
-            else
-                return bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
-        } else if (!strcmp(a, "--pose-columns")) {
-            pose_columns = v;
-        } else if (!strcmp(a, "--pose-time-unit")) {
-            pose_time_unit = v;
-        } else if (!strcmp(a, "--pose-handedness")) {
-            pose_handedness = v;
-        } else if (!strcmp(a, "--fov")) {
-            if (strcmp(v, "headset") && strcmp(v, "scene"))
-                return bad_arg(a, v, "expected headset or scene");
-            opt.fov_scene = !strcmp(v, "scene");
-        } else if (!strcmp(a, "--start")) {
-            if (!hs_parse_f(v, &d) || d < 0)
-                return bad_arg(a, v, "expected seconds >= 0");
-            opt.start_s = d;
-        } else if (!strcmp(a, "--frames")) {
-            if (!hs_parse_u32(v, &opt.frames))
-                return bad_arg(a, v, "expected a count");
-        } else if (!strcmp(a, "--method")) {
-            if (xrsc_method_from_name(v, &opt.renderer.method) != XRSC_OK)
-                return bad_arg(a, v, "unknown method (xrsc --help lists them)");
-        } else if (!strcmp(a, "--taa")) {
-            if (!strcmp(v, "default") ||
-                xrsc_taa_mode_from_name(v, &opt.renderer.taa.mode) != XRSC_OK)
-                return bad_arg(a, v, "expected off, on or pfj23");
-        } else if (!strcmp(a, "--isrt-m")) {
-            if (!hs_parse_u32(v, &u) || u < 1 || u > 4)
-                return bad_arg(a, v, "expected 1..4");
-            opt.renderer.isrt.m = u;
-        } else if (!strcmp(a, "--taa-alpha")) {
-            int r = parse_positive(a, v, 1.0f, &opt.renderer.taa.alpha);
-            if (r)
-                return r;
-        } else if (!strcmp(a, "--blend")) {
-            if (xrsc_blend_from_name(v, &opt.renderer.blend) != XRSC_OK)
-                return bad_arg(a, v, "unknown blend (none, pfj23, moments)");
-            blend_given = true;
-        } else if (!strcmp(a, "--blend-r")) {
-            if (!hs_parse_f(v, &d) || !(d >= 0.0 && d <= 1.0))
-                return bad_arg(a, v, "expected R in [0, 1]");
-            opt.renderer.blend_r = (float)d;
-        } else if (!strcmp(a, "--spp")) {
-            if (!hs_parse_u32(v, &u) || u == 0 || u > 4096)
-                return bad_arg(a, v, "expected 1..4096");
-            opt.renderer.spp.samples_per_pixel = u;
-        } else if (!strcmp(a, "--bounces")) {
-            if (!hs_parse_u32(v, &u) || u > 16)
-                return bad_arg(a, v, "expected 0..16");
-            opt.renderer.spp.max_bounces = u ? u : XRSC_BOUNCES_NONE;
-            opt.renderer.samplecache.max_bounces = opt.renderer.spp.max_bounces;
-            opt.renderer.hashcache.max_bounces = opt.renderer.spp.max_bounces;
-        } else if (!strcmp(a, "--resolution")) {
-            unsigned w = 0, h = 0;
-            char tail;
-            if (sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 8 || h < 8 || w > 8192 ||
-                h > 8192)
-                return bad_arg(a, v, "expected WxH, each 8..8192");
-            opt.renderer.width = w;
-            opt.renderer.height = h;
-            size_given = true;
-        } else if (!strcmp(a, "--seed")) {
-            if (!hs_parse_u32(v, &opt.renderer.seed))
-                return bad_arg(a, v, "expected an unsigned integer");
-        } else if (!strcmp(a, "--env")) {
-            float r, g, b;
-            char tail;
-            if (sscanf(v, "%f,%f,%f%c", &r, &g, &b, &tail) != 3 || r < 0 || g < 0 || b < 0)
-                return bad_arg(a, v, "expected R,G,B >= 0");
-            opt.scene.env_set = true;
-            opt.scene.environment[0] = r;
-            opt.scene.environment[1] = g;
-            opt.scene.environment[2] = b;
-        } else if (!strcmp(a, "--device")) {
-            opt.context.device = v;
-        } else if (!strcmp(a, "--ipd")) {
-            if (!hs_parse_f(v, &d) || d < 0 || d > 200)
-                return bad_arg(a, v, "expected millimetres 0..200");
-            opt.headset.ipd_m = (float)(d * 1e-3);
-            ipd_given = true;
-        } else if (!strcmp(a, "--refresh")) {
-            if (!hs_parse_f(v, &d) || d < 1 || d > 1000)
-                return bad_arg(a, v, "expected 1..1000 Hz");
-            opt.headset.refresh_hz = (float)d;
-            refresh_given = true;
-        } else if (!strcmp(a, "--headset")) {
-            headset_name = v;
-        } else if (!strcmp(a, "--headsets")) {
-            headsets_path = v;
-        } else if (!strcmp(a, "--video")) {
-            opt.video_path = v;
-        } else if (!strcmp(a, "--out")) {
-            opt.out_dir = v;
-        } else if (!strcmp(a, "--preview-reference")) {
-            opt.preview_reference = v;
-            opt.preview = true;
-        } else if (!strcmp(a, "--write")) {
-            opt.write_eyes = opt.write_sbs = opt.write_linear = opt.write_exr = false;
-            char list[256];
-            snprintf(list, sizeof(list), "%s", v);
-            for (char *tok = strtok(list, ","); tok; tok = strtok(NULL, ",")) {
-                if (!strcmp(tok, "eyes"))
-                    opt.write_eyes = true;
-                else if (!strcmp(tok, "sbs"))
-                    opt.write_sbs = true;
-                else if (!strcmp(tok, "linear"))
-                    opt.write_linear = true;
-                else if (!strcmp(tok, "exr"))
-                    opt.write_exr = true;
-                else if (strcmp(tok, "none") != 0)
-                    return bad_arg(a, v, "expected eyes, sbs, linear, exr or none");
-            }
-        } else if (!strcmp(a, "--exposure")) {
-            if (!strcmp(v, "auto"))
-                opt.exposure = 0.0f; /* automatic (hs_image.h) */
-            else if (!hs_parse_f(v, &d) || d <= 0)
-                return bad_arg(a, v, "expected a positive number or auto");
-            else
-                opt.exposure = (float)d;
-        } else if (hs_arg_in(a, hs_light_value_options, hs_light_value_option_count)) {
-            int r = hs_light_parse("xrsc", a, v, &opt.scene);
-            if (r)
-                return r;
-        } else if (!strncmp(a, "--sc-", 5)) {
-            int r = parse_samplecache(a, v, &opt.renderer.samplecache);
-            if (r)
-                return r;
-        } else if (!strncmp(a, "--hc-", 5)) {
-            int r = parse_hashcache(a, v, &opt.renderer.hashcache);
-            if (r)
-                return r;
-        } else {
-            return bad_arg(a, NULL, "unknown option");
-        }
-    }
-
-    if (pose_columns) {
-        xrsc_diag pd = {0};
-        if (hs_pose_columns_parse(pose_columns, pose_time_unit, pose_handedness,
-                                  &opt.pose_columns, &pd) != XRSC_OK)
-            return bad_arg(pd.field, NULL, pd.message);
-    } else if (pose_time_unit || pose_handedness) {
-        return bad_arg(pose_time_unit ? "--pose-time-unit" : "--pose-handedness", NULL,
-                       "needs --pose-columns");
-    }
-    if (headset_name || headsets_path) {
-        int r = apply_headset(headset_name, headsets_path, size_given, ipd_given, refresh_given,
-                              &opt);
-        if (r >= 0)
-            return r;
-    }
-    if (!blend_given)
-        opt.renderer.blend = default_blend(opt.renderer.method);
-    if (opt.preview && direct)
-        return bad_arg("--preview", NULL, "the preview window is the OpenXR runtime's: drop --direct");
-    if (quiet) /* errors only, also from the library and the OpenXR runtime (u_diag.h) */
-        setenv("XRSC_LOG", "error", 1);
-    /* run.json / run.conf: the values of the options not given, as they would be typed. */
-    char res_s[32], spp_s[16], ipd_s[32], refresh_s[32];
-    snprintf(res_s, sizeof(res_s), "%ux%u", opt.renderer.width, opt.renderer.height);
-    snprintf(spp_s, sizeof(spp_s), "%u", opt.renderer.spp.samples_per_pixel);
-    snprintf(ipd_s, sizeof(ipd_s), "%g", (double)opt.headset.ipd_m * 1e3);
-    snprintf(refresh_s, sizeof(refresh_s), "%g", (double)opt.headset.refresh_hz);
-    const hs_run_setting defaults[] = {
-        {"--scene", opt.scene_path},    {"--poses", opt.poses_path},
-        {"--pose-format", "auto"},      {"--start", "0"},
-        {"--frames", "0"},              {"--fov", "headset"},
-        {"--method", xrsc_method_name(opt.renderer.method)},
-        {"--blend", xrsc_blend_name(opt.renderer.blend)},
-        {"--blend-r", "0"},             {"--spp", spp_s},
-        {"--resolution", res_s},        {"--seed", "0"},
-        {"--ipd", ipd_s},               {"--refresh", refresh_s},
-        {"--out", opt.out_dir},         {"--write", "eyes,sbs"},
-        {"--exposure", "auto"},
-    };
-    run.args_argc = args.argc;
-    run.args_argv = args.argv;
-    run.value_options = value_options;
-    run.value_count = sizeof(value_options) / sizeof(value_options[0]);
-    run.defaults = defaults;
-    run.default_count = sizeof(defaults) / sizeof(defaults[0]);
-    run.not_settings = not_settings;
-    run.not_settings_count = sizeof(not_settings) / sizeof(not_settings[0]);
-    run.out_dir = opt.out_dir;
-    hs_run_info_start(&run);
-    return run_recorded(&opt, direct, overwrite, quiet, &run);
+    int r = hs_args_prepare(&args, &spec, argc, argv);
+    if (r)
+        return r;
+    if ((r = parse_args(args.argc, args.argv, &m)) != ARG_NEXT)
+        return r;
+    if ((r = finish_args(&m)) != ARG_NEXT)
+        return r;
+    return run_with_record(&m, &args, &run);
 }
