@@ -271,84 +271,112 @@ static void names_string(FILE *f, const hs_bench_options *opt)
 
 /* ---- the report ---- */
 
-xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_info *info,
-                            FILE *out, xrsc_diag *diag)
+/* What the report's steps share: the settings' tables, their summaries, the union of their
+ * pass and counter columns, and the baseline. One function per file or chart follows. */
+typedef struct report {
+    const hs_bench_options *opt;
+    const hs_bench_report_info *info;
+    uint32_t ns;
+    table *tab;
+    setting_summary *sum;
+    char *pass_names[MAX_COLS];
+    uint32_t npass;
+    char *counter_names[MAX_COLS]; /* the methods' counters, "c_<name>" columns */
+    uint32_t ncounter;
+    uint32_t base; /* index of the baseline setting */
+    char plotdir[HS_BENCH_PATH_MAX + 16];
+} report;
+
+/* Reads every setting's CSV and collects the union of pass and counter columns. */
+static xrsc_result read_tables(report *rp, xrsc_diag *diag)
 {
-    uint32_t ns = opt->setting_count;
-    table *tab = calloc(ns, sizeof(table));
-    setting_summary *sum = calloc(ns, sizeof(setting_summary));
-    char *pass_names[MAX_COLS] = {0};
-    uint32_t npass = 0;
-    char *counter_names[MAX_COLS] = {0}; /* the methods' counters, "c_<name>" columns */
-    uint32_t ncounter = 0;
-    FILE *f = NULL;
-    xrsc_result res = XRSC_OK;
-    char path[HS_BENCH_PATH_MAX + 64], plotdir[HS_BENCH_PATH_MAX + 16];
-    if (!tab || !sum) {
-        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "report");
-        goto done;
-    }
-    for (uint32_t i = 0; i < ns; i++) {
-        hs_bench_setting_csv_path(opt->out_dir, opt->settings[i].name, path, sizeof(path));
-        if ((res = table_read(path, &tab[i], diag)) != XRSC_OK)
-            goto done;
-        for (uint32_t c = HS_BENCH_COLUMN_COUNT; c < tab[i].ncols; c++) {
-            bool is_counter = !strncmp(tab[i].names[c], HS_BENCH_COUNTER_PREFIX,
+    char path[HS_BENCH_PATH_MAX + 64];
+    for (uint32_t i = 0; i < rp->ns; i++) {
+        hs_bench_setting_csv_path(rp->opt->out_dir, rp->opt->settings[i].name, path,
+                                  sizeof(path));
+        xrsc_result res = table_read(path, &rp->tab[i], diag);
+        if (res != XRSC_OK)
+            return res;
+        const table *t = &rp->tab[i];
+        for (uint32_t c = HS_BENCH_COLUMN_COUNT; c < t->ncols; c++) {
+            bool is_counter = !strncmp(t->names[c], HS_BENCH_COUNTER_PREFIX,
                                        strlen(HS_BENCH_COUNTER_PREFIX));
-            char **names = is_counter ? counter_names : pass_names;
-            uint32_t *n = is_counter ? &ncounter : &npass;
+            char **names = is_counter ? rp->counter_names : rp->pass_names;
+            uint32_t *n = is_counter ? &rp->ncounter : &rp->npass;
             bool seen = false;
             for (uint32_t p = 0; p < *n; p++)
-                seen |= !strcmp(names[p], tab[i].names[c]);
+                seen |= !strcmp(names[p], t->names[c]);
             if (!seen && *n < MAX_COLS)
-                names[(*n)++] = tab[i].names[c];
+                names[(*n)++] = t->names[c];
         }
     }
+    return XRSC_OK;
+}
 
-    /* bench.csv: all rows, the pass columns' union. */
-    snprintf(path, sizeof(path), "%s/bench.csv", opt->out_dir);
-    if (!(f = fopen(path, "w"))) {
-        res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
-        goto done;
+/* Opens OUT/name for writing (its path in path). */
+static FILE *open_out(const report *rp, const char *name, char *path, size_t size,
+                      xrsc_diag *diag)
+{
+    snprintf(path, size, "%s/%s", rp->opt->out_dir, name);
+    FILE *f = fopen(path, "w");
+    if (!f)
+        u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
+    return f;
+}
+
+static xrsc_result close_out(FILE *f, const char *path, xrsc_diag *diag)
+{
+    return fclose(f) == 0 ? XRSC_OK
+                          : u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "writing failed");
+}
+
+/* Writes the pass, then the counter columns of row r of t (or their names: t NULL). */
+static void extra_columns(FILE *f, const report *rp, const table *t, uint32_t r)
+{
+    for (uint32_t p = 0; p < rp->npass; p++) {
+        fputc(',', f);
+        t ? fmt_value(f, cell(t, r, rp->pass_names[p])) : (void)fputs(rp->pass_names[p], f);
     }
+    for (uint32_t p = 0; p < rp->ncounter; p++) {
+        fputc(',', f);
+        t ? fmt_value(f, cell(t, r, rp->counter_names[p]))
+          : (void)fputs(rp->counter_names[p], f);
+    }
+}
+
+/* bench.csv: all rows, the pass and counter columns' union. */
+static xrsc_result write_bench_csv(const report *rp, xrsc_diag *diag)
+{
+    char path[HS_BENCH_PATH_MAX + 64];
+    FILE *f = open_out(rp, "bench.csv", path, sizeof(path), diag);
+    if (!f)
+        return XRSC_ERROR_IO;
     for (uint32_t c = 0; c < HS_BENCH_COLUMN_COUNT; c++)
         fprintf(f, "%s%s", c ? "," : "", hs_bench_columns[c]);
-    for (uint32_t p = 0; p < npass; p++)
-        fprintf(f, ",%s", pass_names[p]);
-    for (uint32_t p = 0; p < ncounter; p++)
-        fprintf(f, ",%s", counter_names[p]);
+    extra_columns(f, rp, NULL, 0);
     fputc('\n', f);
-    for (uint32_t i = 0; i < ns; i++) {
-        const table *t = &tab[i];
+    for (uint32_t i = 0; i < rp->ns; i++) {
+        const table *t = &rp->tab[i];
         for (uint32_t r = 0; r < t->nrows; r++) {
-            fprintf(f, "%s,%s", opt->settings[i].name,
-                    xrsc_method_name(opt->settings[i].renderer.method));
+            fprintf(f, "%s,%s", rp->opt->settings[i].name,
+                    xrsc_method_name(rp->opt->settings[i].renderer.method));
             for (uint32_t c = 2; c < HS_BENCH_COLUMN_COUNT; c++) {
                 fputc(',', f);
                 fmt_value(f, cell(t, r, hs_bench_columns[c]));
             }
-            for (uint32_t p = 0; p < npass; p++) {
-                fputc(',', f);
-                fmt_value(f, cell(t, r, pass_names[p]));
-            }
-            for (uint32_t p = 0; p < ncounter; p++) {
-                fputc(',', f);
-                fmt_value(f, cell(t, r, counter_names[p]));
-            }
+            extra_columns(f, rp, t, r);
             fputc('\n', f);
         }
     }
-    if (fclose(f) != 0) {
-        f = NULL;
-        res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "writing failed");
-        goto done;
-    }
-    f = NULL;
+    return close_out(f, path, diag);
+}
 
-    /* Means over the frames after the warm-up; errors over the scored frames. */
-    for (uint32_t i = 0; i < ns; i++) {
-        const table *t = &tab[i];
-        setting_summary *s = &sum[i];
+/* Means over the frames after the warm-up, errors over the scored frames; the baseline. */
+static xrsc_result summarize(report *rp, xrsc_diag *diag)
+{
+    for (uint32_t i = 0; i < rp->ns; i++) {
+        const table *t = &rp->tab[i];
+        setting_summary *s = &rp->sum[i];
         s->wall_ms = mean_of(t, "wall_ms", false, &s->measured);
         s->gpu_ms = mean_of(t, "gpu_ms", false, NULL);
         s->rays_per_px = mean_of(t, "rays_per_px", false, NULL);
@@ -362,47 +390,46 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
         s->ref_stereo = mean_of(t, "ref_stereo_msd", true, NULL);
         s->blend_ms = mean_of(t, "gpu_blend_ms", false, NULL);
         s->blend_pct = 100.0 * ratio(s->blend_ms, s->gpu_ms);
-        for (uint32_t p = 0; p < npass; p++)
-            s->pass_ms[p] = mean_of(t, pass_names[p], false, NULL);
-        for (uint32_t p = 0; p < ncounter; p++)
-            s->counter[p] = mean_of(t, counter_names[p], false, NULL);
+        for (uint32_t p = 0; p < rp->npass; p++)
+            s->pass_ms[p] = mean_of(t, rp->pass_names[p], false, NULL);
+        for (uint32_t p = 0; p < rp->ncounter; p++)
+            s->counter[p] = mean_of(t, rp->counter_names[p], false, NULL);
     }
-    uint32_t base = 0;
-    bool base_found = false;
-    for (uint32_t i = 0; i < ns && !base_found; i++) {
+    const hs_bench_options *opt = rp->opt;
+    rp->base = 0;
+    for (uint32_t i = 0; i < rp->ns; i++) {
         const hs_bench_setting *s = &opt->settings[i];
         if (opt->baseline ? !strcmp(s->name, opt->baseline)
                           : (s->renderer.method == XRSC_METHOD_SAMPLECACHE &&
                              s->renderer.samplecache.trace == XRSC_SC_TRACE_SINGLE)) {
-            base = i;
-            base_found = true;
+            rp->base = i;
+            return XRSC_OK;
         }
     }
-    if (opt->baseline && !base_found) {
-        res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--baseline",
-                         "no setting is labelled '%s'", opt->baseline);
-        goto done;
-    }
-    const setting_summary *bs = &sum[base];
+    if (opt->baseline)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--baseline",
+                          "no setting is labelled '%s'", opt->baseline);
+    return XRSC_OK;
+}
 
-    snprintf(path, sizeof(path), "%s/summary.csv", opt->out_dir);
-    if (!(f = fopen(path, "w"))) {
-        res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create: %s", strerror(errno));
-        goto done;
-    }
+/* summary.csv: one row per setting, ratios to the baseline. */
+static xrsc_result write_summary_csv(const report *rp, xrsc_diag *diag)
+{
+    char path[HS_BENCH_PATH_MAX + 64];
+    FILE *f = open_out(rp, "summary.csv", path, sizeof(path), diag);
+    if (!f)
+        return XRSC_ERROR_IO;
+    const setting_summary *bs = &rp->sum[rp->base];
     fprintf(f, "setting,spec,r,measured_frames,scored_frames,wall_ms,gpu_ms,gpu_ms_ratio,"
                "wall_ms_ratio,rays_per_px,relmse,relmse_ratio,rmse,ssim,cpbd,ref_cpbd,"
                "temporal_msd,temporal_ratio,stereo_msd,ref_stereo_msd,blend_ms,blend_pct,"
                "baseline");
-    for (uint32_t p = 0; p < npass; p++)
-        fprintf(f, ",%s", pass_names[p]);
-    for (uint32_t p = 0; p < ncounter; p++)
-        fprintf(f, ",%s", counter_names[p]);
+    extra_columns(f, rp, NULL, 0);
     fputc('\n', f);
-    for (uint32_t i = 0; i < ns; i++) {
-        const setting_summary *s = &sum[i];
-        fprintf(f, "%s,\"%s\",", opt->settings[i].name, opt->settings[i].spec);
-        fmt_value(f, opt->settings[i].r);
+    for (uint32_t i = 0; i < rp->ns; i++) {
+        const setting_summary *s = &rp->sum[i];
+        fprintf(f, "%s,\"%s\",", rp->opt->settings[i].name, rp->opt->settings[i].spec);
+        fmt_value(f, rp->opt->settings[i].r);
         fprintf(f, ",%u,%u", s->measured, s->scored);
         double v[] = {s->wall_ms,  s->gpu_ms, ratio(s->gpu_ms, bs->gpu_ms),
                       ratio(s->wall_ms, bs->wall_ms), s->rays_per_px, s->relmse,
@@ -413,254 +440,291 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             fputc(',', f);
             fmt_value(f, v[k]);
         }
-        fprintf(f, ",%d", i == base);
-        for (uint32_t p = 0; p < npass; p++) {
+        fprintf(f, ",%d", i == rp->base);
+        for (uint32_t p = 0; p < rp->npass; p++) {
             fputc(',', f);
             fmt_value(f, s->pass_ms[p]);
         }
-        for (uint32_t p = 0; p < ncounter; p++) {
+        for (uint32_t p = 0; p < rp->ncounter; p++) {
             fputc(',', f);
             fmt_value(f, s->counter[p]);
         }
         fputc('\n', f);
     }
-    if (fclose(f) != 0) {
-        f = NULL;
-        res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "writing failed");
-        goto done;
-    }
-    f = NULL;
+    return close_out(f, path, diag);
+}
 
-    if (out) {
+/* A pass column's short name: "gpu_<name>_ms" without "gpu_" and "_ms". */
+static void pass_short_name(const char *column, char *out, size_t size)
+{
+    snprintf(out, size, "%s", column + 4);
+    out[strlen(out) > 3 ? strlen(out) - 3 : 0] = '\0';
+}
+
+/* The printed summary's main table: one row per setting, ratios to the baseline. */
+static void print_table(const report *rp, FILE *out)
+{
+    const hs_bench_report_info *info = rp->info;
+    const setting_summary *bs = &rp->sum[rp->base];
+    fprintf(out,
+            "xrsc bench: %s; %ux%u per eye; %u frames, the first %u (warm-up) left out of "
+            "the means; relMSE (eps %g), RMSE, SSIM over %u-spp references of every %u. "
+            "frame; ratios (x) to %s\n",
+            info->device, info->width, info->height, info->frames, info->warmup,
+            XRSC_METRICS_RELMSE_EPSILON, info->ref_spp, info->score_every,
+            rp->opt->settings[rp->base].name);
+    fprintf(out, "%-24s %8s %6s %8s %6s %7s %9s %6s %6s %6s %6s %10s %6s %10s %10s %8s %6s\n",
+            "setting", "GPU ms", "x", "wall ms", "x", "rays/px", "relMSE", "x", "SSIM", "CPBD",
+            "ref", "temporal", "x", "stereo", "ref stereo", "blend ms", "blend%");
+    for (uint32_t i = 0; i < rp->ns; i++) {
+        const setting_summary *s = &rp->sum[i];
+        fprintf(out, "%-24s ", rp->opt->settings[i].name);
+        print_num(out, "%8.2f ", 8, s->gpu_ms);
+        print_num(out, "%6.2f ", 6, ratio(s->gpu_ms, bs->gpu_ms));
+        print_num(out, "%8.2f ", 8, s->wall_ms);
+        print_num(out, "%6.2f ", 6, ratio(s->wall_ms, bs->wall_ms));
+        print_num(out, "%7.3f ", 7, s->rays_per_px);
+        print_num(out, "%9.4g ", 9, s->relmse);
+        print_num(out, "%6.2f ", 6, ratio(s->relmse, bs->relmse));
+        print_num(out, "%6.4f ", 6, s->ssim);
+        print_num(out, "%6.3f ", 6, s->cpbd);
+        print_num(out, "%6.3f ", 6, s->ref_cpbd);
+        print_num(out, "%10.4g ", 10, s->temporal);
+        print_num(out, "%6.2f ", 6, ratio(s->temporal, bs->temporal));
+        print_num(out, "%10.4g ", 10, s->stereo);
+        print_num(out, "%10.4g ", 10, s->ref_stereo);
+        print_num(out, "%8.3f ", 8, s->blend_ms);
+        print_num(out, "%6.2f", 6, s->blend_pct);
+        fputc('\n', out);
+    }
+}
+
+/* The printed summary: the table, the reference floor, the passes and the counters. */
+static void print_summary(const report *rp, FILE *out)
+{
+    const hs_bench_report_info *info = rp->info;
+    print_table(rp, out);
+    fprintf(out, "CPBD, stereo: means over the measured frames; ref, ref stereo: the references "
+                 "(scored frames); blend%%: the blend pass's share of the GPU time\n");
+    if (isfinite(info->ref_floor_relmse))
         fprintf(out,
-                "xrsc bench: %s; %ux%u per eye; %u frames, the first %u (warm-up) left out of "
-                "the means; relMSE (eps %g), RMSE, SSIM over %u-spp references of every %u. "
-                "frame; ratios (x) to %s\n",
-                info->device, info->width, info->height, info->frames, info->warmup,
-                XRSC_METRICS_RELMSE_EPSILON, info->ref_spp, info->score_every,
-                opt->settings[base].name);
-        fprintf(out, "%-24s %8s %6s %8s %6s %7s %9s %6s %6s %6s %6s %10s %6s %10s %10s %8s %6s\n",
-                "setting", "GPU ms", "x", "wall ms", "x", "rays/px", "relMSE", "x", "SSIM", "CPBD",
-                "ref", "temporal", "x", "stereo", "ref stereo", "blend ms", "blend%");
-        for (uint32_t i = 0; i < ns; i++) {
-            const setting_summary *s = &sum[i];
-            fprintf(out, "%-24s ", opt->settings[i].name);
-            print_num(out, "%8.2f ", 8, s->gpu_ms);
-            print_num(out, "%6.2f ", 6, ratio(s->gpu_ms, bs->gpu_ms));
-            print_num(out, "%8.2f ", 8, s->wall_ms);
-            print_num(out, "%6.2f ", 6, ratio(s->wall_ms, bs->wall_ms));
-            print_num(out, "%7.3f ", 7, s->rays_per_px);
-            print_num(out, "%9.4g ", 9, s->relmse);
-            print_num(out, "%6.2f ", 6, ratio(s->relmse, bs->relmse));
-            print_num(out, "%6.4f ", 6, s->ssim);
-            print_num(out, "%6.3f ", 6, s->cpbd);
-            print_num(out, "%6.3f ", 6, s->ref_cpbd);
-            print_num(out, "%10.4g ", 10, s->temporal);
-            print_num(out, "%6.2f ", 6, ratio(s->temporal, bs->temporal));
-            print_num(out, "%10.4g ", 10, s->stereo);
-            print_num(out, "%10.4g ", 10, s->ref_stereo);
-            print_num(out, "%8.3f ", 8, s->blend_ms);
-            print_num(out, "%6.2f", 6, s->blend_pct);
-            fputc('\n', out);
-        }
-        fprintf(out,
-                "CPBD, stereo: means over the measured frames; ref, ref stereo: the references "
-                "(scored frames); blend%%: the blend pass's share of the GPU time\n");
-        if (isfinite(info->ref_floor_relmse))
-            fprintf(out,
-                    "reference floor relMSE \u2248 %.4g (two %u-spp references of frame %u, "
-                    "independent seeds; a setting's relMSE holds about half of it as the "
-                    "reference's own noise)\n",
-                    info->ref_floor_relmse, info->ref_spp, info->floor_frame);
-        fprintf(out, "per pass, GPU ms (mean):\n%-24s", "setting");
-        for (uint32_t p = 0; p < npass; p++) {
-            char nm[64];
-            snprintf(nm, sizeof(nm), "%s", pass_names[p] + 4); /* drop "gpu_" */
-            nm[strlen(nm) > 3 ? strlen(nm) - 3 : 0] = '\0';   /* and "_ms" */
-            fprintf(out, " %11s", nm);
+                "reference floor relMSE \u2248 %.4g (two %u-spp references of frame %u, "
+                "independent seeds; a setting's relMSE holds about half of it as the "
+                "reference's own noise)\n",
+                info->ref_floor_relmse, info->ref_spp, info->floor_frame);
+    fprintf(out, "per pass, GPU ms (mean):\n%-24s", "setting");
+    for (uint32_t p = 0; p < rp->npass; p++) {
+        char nm[64];
+        pass_short_name(rp->pass_names[p], nm, sizeof(nm));
+        fprintf(out, " %11s", nm);
+    }
+    fputc('\n', out);
+    for (uint32_t i = 0; i < rp->ns; i++) {
+        fprintf(out, "%-24s", rp->opt->settings[i].name);
+        for (uint32_t p = 0; p < rp->npass; p++) {
+            fputc(' ', out);
+            print_num(out, "%11.3f", 11, rp->sum[i].pass_ms[p]);
         }
         fputc('\n', out);
-        for (uint32_t i = 0; i < ns; i++) {
-            fprintf(out, "%-24s", opt->settings[i].name);
-            for (uint32_t p = 0; p < npass; p++) {
-                fputc(' ', out);
-                print_num(out, "%11.3f", 11, sum[i].pass_ms[p]);
-            }
-            fputc('\n', out);
-        }
-        print_counters(out, opt, sum, counter_names, ncounter);
-        fprintf(out, "files: %s/{bench.csv,summary.csv,*.png}\n", opt->out_dir);
     }
+    print_counters(out, rp->opt, rp->sum, rp->counter_names, rp->ncounter);
+    fprintf(out, "files: %s/{bench.csv,summary.csv,*.png}\n", rp->opt->out_dir);
+}
 
-    /* Plot data. */
-    snprintf(plotdir, sizeof(plotdir), "%s/plot", opt->out_dir);
-    if ((res = hs_make_dirs(plotdir, "--out", diag)) != XRSC_OK)
-        goto done;
-    bool any_r = false;
-    {
-        snprintf(path, sizeof(path), "%s/summary.dat", plotdir);
-        FILE *d = fopen(path, "w");
-        snprintf(path, sizeof(path), "%s/frames.dat", plotdir);
-        FILE *fr = fopen(path, "w");
-        snprintf(path, sizeof(path), "%s/scored.dat", plotdir);
-        FILE *sc = fopen(path, "w");
-        snprintf(path, sizeof(path), "%s/passes.dat", plotdir);
-        FILE *pa = fopen(path, "w");
-        if (!d || !fr || !sc || !pa) {
-            res = u_diag_set(diag, XRSC_ERROR_IO, plotdir, 0, "", "cannot write plot data");
-        } else {
-            fprintf(d, "# idx name gpu_ms wall_ms relmse temporal_msd stereo_msd cpbd ref_cpbd "
+/* One setting's lines of the plot data files. */
+static void plot_data_setting(const report *rp, uint32_t i, FILE *d, FILE *fr, FILE *sc,
+                              FILE *pa)
+{
+    const setting_summary *s = &rp->sum[i];
+    const table *t = &rp->tab[i];
+    const char *name = rp->opt->settings[i].name;
+    fprintf(d, "%u %s %g %g %g %g %g %g %g %g %g\n", i + 1, name, s->gpu_ms, s->wall_ms,
+            s->relmse, s->temporal, s->stereo, s->cpbd, s->ref_cpbd, s->rays_per_px,
+            s->ref_stereo);
+    fprintf(pa, "%s", name);
+    for (uint32_t p = 0; p < rp->npass; p++)
+        fprintf(pa, " %g", isfinite(s->pass_ms[p]) ? s->pass_ms[p] : 0.0);
+    fputc('\n', pa);
+    fprintf(fr, "%s# %s: frame gpu_ms wall_ms temporal_msd stereo_msd cpbd\n", i ? "\n\n" : "",
+            name);
+    fprintf(sc, "%s# %s: frame relmse ssim rmse\n", i ? "\n\n" : "", name);
+    for (uint32_t r = 0; r < t->nrows; r++) {
+        fprintf(fr, "%g %g %g %g %g %g\n", cell(t, r, "frame"), cell(t, r, "gpu_ms"),
+                cell(t, r, "wall_ms"), cell(t, r, "temporal_msd"), cell(t, r, "stereo_msd"),
+                cell(t, r, "cpbd"));
+        if (cell(t, r, "scored") == 1.0)
+            fprintf(sc, "%g %g %g %g\n", cell(t, r, "frame"), cell(t, r, "relmse"),
+                    cell(t, r, "ssim"), cell(t, r, "rmse"));
+    }
+}
+
+/* OUT/plot/{summary,frames,scored,passes}.dat: what the charts draw. */
+static xrsc_result write_plot_data(const report *rp, xrsc_diag *diag)
+{
+    static const char *const names[4] = {"summary.dat", "frames.dat", "scored.dat",
+                                         "passes.dat"};
+    FILE *fs[4] = {NULL};
+    char path[HS_BENCH_PATH_MAX + 64];
+    bool opened = true;
+    for (int k = 0; k < 4; k++) {
+        snprintf(path, sizeof(path), "%s/%s", rp->plotdir, names[k]);
+        opened &= (fs[k] = fopen(path, "w")) != NULL;
+    }
+    xrsc_result res = XRSC_OK;
+    if (!opened) {
+        res = u_diag_set(diag, XRSC_ERROR_IO, rp->plotdir, 0, "", "cannot write plot data");
+    } else {
+        fprintf(fs[0], "# idx name gpu_ms wall_ms relmse temporal_msd stereo_msd cpbd ref_cpbd "
                        "rays_per_px ref_stereo_msd\n");
-            fprintf(pa, "setting");
-            for (uint32_t p = 0; p < npass; p++) {
-                char nm[64];
-                snprintf(nm, sizeof(nm), "%s", pass_names[p] + 4);
-                nm[strlen(nm) > 3 ? strlen(nm) - 3 : 0] = '\0';
-                fprintf(pa, " %s", nm);
-            }
-            fputc('\n', pa);
-            for (uint32_t i = 0; i < ns; i++) {
-                const setting_summary *s = &sum[i];
-                const table *t = &tab[i];
-                fprintf(d, "%u %s %g %g %g %g %g %g %g %g %g\n", i + 1, opt->settings[i].name,
-                        s->gpu_ms, s->wall_ms, s->relmse, s->temporal, s->stereo, s->cpbd,
-                        s->ref_cpbd, s->rays_per_px, s->ref_stereo);
-                fprintf(pa, "%s", opt->settings[i].name);
-                for (uint32_t p = 0; p < npass; p++)
-                    fprintf(pa, " %g", isfinite(s->pass_ms[p]) ? s->pass_ms[p] : 0.0);
-                fputc('\n', pa);
-                fprintf(fr, "%s# %s: frame gpu_ms wall_ms temporal_msd stereo_msd cpbd\n",
-                        i ? "\n\n" : "", opt->settings[i].name);
-                fprintf(sc, "%s# %s: frame relmse ssim rmse\n", i ? "\n\n" : "",
-                        opt->settings[i].name);
-                for (uint32_t r = 0; r < t->nrows; r++) {
-                    fprintf(fr, "%g %g %g %g %g %g\n", cell(t, r, "frame"), cell(t, r, "gpu_ms"),
-                            cell(t, r, "wall_ms"), cell(t, r, "temporal_msd"),
-                            cell(t, r, "stereo_msd"), cell(t, r, "cpbd"));
-                    if (cell(t, r, "scored") == 1.0)
-                        fprintf(sc, "%g %g %g %g\n", cell(t, r, "frame"), cell(t, r, "relmse"),
-                                cell(t, r, "ssim"), cell(t, r, "rmse"));
-                }
-                any_r |= isfinite(opt->settings[i].r);
-            }
+        fprintf(fs[3], "setting");
+        for (uint32_t p = 0; p < rp->npass; p++) {
+            char nm[64];
+            pass_short_name(rp->pass_names[p], nm, sizeof(nm));
+            fprintf(fs[3], " %s", nm);
         }
-        bool bad = false;
-        if (d)
-            bad |= fclose(d) != 0;
-        if (fr)
-            bad |= fclose(fr) != 0;
-        if (sc)
-            bad |= fclose(sc) != 0;
-        if (pa)
-            bad |= fclose(pa) != 0;
-        if (res == XRSC_OK && bad)
-            res = u_diag_set(diag, XRSC_ERROR_IO, plotdir, 0, "", "writing plot data failed");
-        if (res != XRSC_OK)
-            goto done;
+        fputc('\n', fs[3]);
+        for (uint32_t i = 0; i < rp->ns; i++)
+            plot_data_setting(rp, i, fs[0], fs[1], fs[2], fs[3]);
     }
-    if (any_r) {
-        /* One block per group (settings equal but for r), sorted by r. */
-        snprintf(path, sizeof(path), "%s/r.dat", plotdir);
-        FILE *d = fopen(path, "w");
-        if (!d) {
-            res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create");
-            goto done;
-        }
-        uint32_t blocks = 0;
-        char groups[4096] = "";
-        for (uint32_t i = 0; i < ns; i++) {
-            const hs_bench_setting *s = &opt->settings[i];
-            bool first = isfinite(s->r);
-            for (uint32_t j = 0; j < i && first; j++)
-                if (isfinite(opt->settings[j].r) && !strcmp(opt->settings[j].group, s->group))
-                    first = false;
-            if (!first)
-                continue;
-            fprintf(d, "%s# %s: r stereo_msd cpbd ref_cpbd ref_stereo_msd\n", blocks ? "\n\n" : "",
-                    s->group);
-            snprintf(groups + strlen(groups), sizeof(groups) - strlen(groups), "%s%s",
-                     blocks ? " " : "", s->group);
-            /* Selection sort by r over the group's members. */
-            double last = -INFINITY;
-            for (;;) {
-                int pick = -1;
-                for (uint32_t j = 0; j < ns; j++) {
-                    const hs_bench_setting *q = &opt->settings[j];
-                    if (isfinite(q->r) && !strcmp(q->group, s->group) && q->r > last &&
-                        (pick < 0 || q->r < opt->settings[pick].r))
-                        pick = (int)j;
-                }
-                if (pick < 0)
-                    break;
-                last = opt->settings[pick].r;
-                fprintf(d, "%g %g %g %g %g\n", last, sum[pick].stereo, sum[pick].cpbd,
-                        sum[pick].ref_cpbd, sum[pick].ref_stereo);
-            }
-            blocks++;
-        }
-        if (fclose(d) != 0) {
-            res = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "writing failed");
-            goto done;
-        }
-        FILE *g =
-            hs_bench_open_script(opt->out_dir, "stereo_r.gp", "stereo_r.png", 1100, 520, diag);
-        if (!g) {
-            res = diag ? diag->code : XRSC_ERROR_IO;
-            goto done;
-        }
-        fprintf(g, "groups = \"%s\"\n", groups);
-        /* Settings without R (no blend, pfj23) as horizontal lines, like the reference. */
-        static const char *const flat_colour[] = {"dark-orange", "dark-green", "red",
-                                                  "dark-cyan", "brown", "dark-magenta"};
-        char flat_stereo[2048] = "", flat_cpbd[2048] = "";
-        uint32_t nflat = 0;
-        for (uint32_t i = 0; i < ns; i++) {
-            if (isfinite(opt->settings[i].r))
-                continue;
-            const char *colour = flat_colour[nflat++ % 6];
-            if (isfinite(sum[i].stereo))
-                snprintf(flat_stereo + strlen(flat_stereo),
-                         sizeof(flat_stereo) - strlen(flat_stereo),
-                         ", %.9g with lines dt 3 lw 2 lc '%s' title '%s'", sum[i].stereo, colour,
-                         opt->settings[i].name);
-            if (isfinite(sum[i].cpbd))
-                snprintf(flat_cpbd + strlen(flat_cpbd), sizeof(flat_cpbd) - strlen(flat_cpbd),
-                         ", %.9g with lines dt 3 lw 2 lc '%s' title '%s'", sum[i].cpbd, colour,
-                         opt->settings[i].name);
-        }
-        fprintf(g, "set multiplot layout 1,2 title 'stereo discrepancy and sharpness vs R'\n"
-                   "set xlabel 'R'\nset xrange [-0.05:1.05]\nset key below font ',8'\n"
-                   "set ylabel 'stereo discrepancy (MSE, right vs left reprojected)'\n"
-                   "plot for [i=0:%u] 'plot/r.dat' index i using 1:2 with linespoints pt 7 "
-                   "title word(groups, i+1), "
-                   "'plot/r.dat' index 0 using 1:5 with lines dt 2 lc 'black' title 'reference'"
-                   "%s\n",
-                blocks ? blocks - 1 : 0, flat_stereo);
-        fprintf(g, "set ylabel 'CPBD (higher = sharper)'\n"
-                   "plot for [i=0:%u] 'plot/r.dat' index i using 1:3 with linespoints pt 7 "
-                   "title word(groups, i+1), "
-                   "'plot/r.dat' index 0 using 1:4 with lines dt 2 lc 'black' title 'reference'"
-                   "%s\n"
-                   "unset multiplot\n",
-                blocks ? blocks - 1 : 0, flat_cpbd);
-        fclose(g);
-    }
+    bool bad = false;
+    for (int k = 0; k < 4; k++)
+        if (fs[k])
+            bad |= fclose(fs[k]) != 0;
+    if (res == XRSC_OK && bad)
+        res = u_diag_set(diag, XRSC_ERROR_IO, rp->plotdir, 0, "", "writing plot data failed");
+    return res;
+}
 
-    /* Scripts. */
-    char title[512];
-    snprintf(title, sizeof(title), "%s, %ux%u per eye, %u frames (%u warm-up), ref %u spp",
-             info->device, info->width, info->height, info->frames, info->warmup, info->ref_spp);
+/* Writes group s's block of r.dat: its members' points sorted by r (selection sort). */
+static void r_block(const report *rp, const char *group, FILE *d)
+{
+    const hs_bench_options *opt = rp->opt;
+    double last = -INFINITY;
+    for (;;) {
+        int pick = -1;
+        for (uint32_t j = 0; j < rp->ns; j++) {
+            const hs_bench_setting *q = &opt->settings[j];
+            if (isfinite(q->r) && !strcmp(q->group, group) && q->r > last &&
+                (pick < 0 || q->r < opt->settings[pick].r))
+                pick = (int)j;
+        }
+        if (pick < 0)
+            return;
+        last = opt->settings[pick].r;
+        const setting_summary *ps = &rp->sum[pick];
+        fprintf(d, "%g %g %g %g %g\n", last, ps->stereo, ps->cpbd, ps->ref_cpbd, ps->ref_stereo);
+    }
+}
+
+/* OUT/plot/r.dat: one block per group (settings equal but for r), sorted by r; the groups'
+ * names, space separated, in groups. Returns the number of blocks, or -1 on error. */
+static int write_r_data(const report *rp, char *groups, size_t groups_size, xrsc_diag *diag)
+{
+    const hs_bench_options *opt = rp->opt;
+    char path[HS_BENCH_PATH_MAX + 64];
+    snprintf(path, sizeof(path), "%s/r.dat", rp->plotdir);
+    FILE *d = fopen(path, "w");
+    if (!d) {
+        u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot create");
+        return -1;
+    }
+    int blocks = 0;
+    groups[0] = '\0';
+    for (uint32_t i = 0; i < rp->ns; i++) {
+        const hs_bench_setting *s = &opt->settings[i];
+        bool first = isfinite(s->r);
+        for (uint32_t j = 0; j < i && first; j++)
+            if (isfinite(opt->settings[j].r) && !strcmp(opt->settings[j].group, s->group))
+                first = false;
+        if (!first)
+            continue;
+        fprintf(d, "%s# %s: r stereo_msd cpbd ref_cpbd ref_stereo_msd\n", blocks ? "\n\n" : "",
+                s->group);
+        snprintf(groups + strlen(groups), groups_size - strlen(groups), "%s%s",
+                 blocks ? " " : "", s->group);
+        r_block(rp, s->group, d);
+        blocks++;
+    }
+    if (fclose(d) != 0) {
+        u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "writing failed");
+        return -1;
+    }
+    return blocks;
+}
+
+/* Chart stereo_r: stereo discrepancy and CPBD against R, one line per group; settings without
+ * R (no blend, pfj23) as horizontal lines, like the reference. */
+static xrsc_result chart_stereo_r(const report *rp, xrsc_diag *diag)
+{
+    char groups[4096];
+    int blocks = write_r_data(rp, groups, sizeof(groups), diag);
+    if (blocks < 0)
+        return diag ? diag->code : XRSC_ERROR_IO;
+    FILE *g =
+        hs_bench_open_script(rp->opt->out_dir, "stereo_r.gp", "stereo_r.png", 1100, 520, diag);
+    if (!g)
+        return diag ? diag->code : XRSC_ERROR_IO;
+    fprintf(g, "groups = \"%s\"\n", groups);
+    static const char *const flat_colour[] = {"dark-orange", "dark-green", "red",
+                                              "dark-cyan", "brown", "dark-magenta"};
+    char flat_stereo[2048] = "", flat_cpbd[2048] = "";
+    uint32_t nflat = 0;
+    for (uint32_t i = 0; i < rp->ns; i++) {
+        if (isfinite(rp->opt->settings[i].r))
+            continue;
+        const char *colour = flat_colour[nflat++ % 6];
+        const setting_summary *s = &rp->sum[i];
+        if (isfinite(s->stereo))
+            snprintf(flat_stereo + strlen(flat_stereo), sizeof(flat_stereo) - strlen(flat_stereo),
+                     ", %.9g with lines dt 3 lw 2 lc '%s' title '%s'", s->stereo, colour,
+                     rp->opt->settings[i].name);
+        if (isfinite(s->cpbd))
+            snprintf(flat_cpbd + strlen(flat_cpbd), sizeof(flat_cpbd) - strlen(flat_cpbd),
+                     ", %.9g with lines dt 3 lw 2 lc '%s' title '%s'", s->cpbd, colour,
+                     rp->opt->settings[i].name);
+    }
+    unsigned last = blocks ? (unsigned)blocks - 1 : 0;
+    fprintf(g, "set multiplot layout 1,2 title 'stereo discrepancy and sharpness vs R'\n"
+               "set xlabel 'R'\nset xrange [-0.05:1.05]\nset key below font ',8'\n"
+               "set ylabel 'stereo discrepancy (MSE, right vs left reprojected)'\n"
+               "plot for [i=0:%u] 'plot/r.dat' index i using 1:2 with linespoints pt 7 "
+               "title word(groups, i+1), "
+               "'plot/r.dat' index 0 using 1:5 with lines dt 2 lc 'black' title 'reference'"
+               "%s\n",
+            last, flat_stereo);
+    fprintf(g, "set ylabel 'CPBD (higher = sharper)'\n"
+               "plot for [i=0:%u] 'plot/r.dat' index i using 1:3 with linespoints pt 7 "
+               "title word(groups, i+1), "
+               "'plot/r.dat' index 0 using 1:4 with lines dt 2 lc 'black' title 'reference'"
+               "%s\n"
+               "unset multiplot\n",
+            last, flat_cpbd);
+    fclose(g);
+    return XRSC_OK;
+}
+
+/* The charts' common title: device, size, frames, reference (no single quotes: gnuplot). */
+static void chart_title(const report *rp, char *title, size_t size)
+{
+    const hs_bench_report_info *info = rp->info;
+    snprintf(title, size, "%s, %ux%u per eye, %u frames (%u warm-up), ref %u spp", info->device,
+             info->width, info->height, info->frames, info->warmup, info->ref_spp);
     for (char *p = title; *p; p++)
         if (*p == '\'')
             *p = '"';
-    FILE *g = hs_bench_open_script(opt->out_dir, "error_vs_time.gp", "error_vs_time.png", 1300,
-                                   520, diag);
-    if (!g) {
-        res = diag ? diag->code : XRSC_ERROR_IO;
-        goto done;
-    }
-    /* One series per setting (a legend rather than labels: settings often share a point). */
-    names_string(g, opt);
+}
+
+/* Chart error_vs_time: relMSE and temporal difference against GPU time, one point per
+ * setting (a legend rather than labels: settings often share a point). */
+static xrsc_result chart_error_vs_time(const report *rp, xrsc_diag *diag)
+{
+    char title[512];
+    chart_title(rp, title, sizeof(title));
+    FILE *g = hs_bench_open_script(rp->opt->out_dir, "error_vs_time.gp", "error_vs_time.png",
+                                   1300, 520, diag);
+    if (!g)
+        return diag ? diag->code : XRSC_ERROR_IO;
+    names_string(g, rp->opt);
     fprintf(g,
             "N = words(names)\n"
             "set multiplot layout 1,2 title '%s'\n"
@@ -676,22 +740,29 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             "unset multiplot\n",
             title);
     fclose(g);
+    return XRSC_OK;
+}
 
+/* Chart sequence: relMSE, GPU time and temporal difference per frame. */
+static xrsc_result chart_sequence(const report *rp, xrsc_diag *diag)
+{
+    const hs_bench_report_info *info = rp->info;
+    char title[512];
+    chart_title(rp, title, sizeof(title));
     /* The frame-time axis ends above the measured frames: warm-up frames (pipeline creation,
      * shader compilation on CPU devices) can be orders of magnitude slower. */
     double gpu_max = 0;
-    for (uint32_t i = 0; i < ns; i++)
-        for (uint32_t r = 0; r < tab[i].nrows; r++) {
-            double v = cell(&tab[i], r, "gpu_ms");
-            if (cell(&tab[i], r, "warmup") == 0.0 && isfinite(v) && v > gpu_max)
+    for (uint32_t i = 0; i < rp->ns; i++)
+        for (uint32_t r = 0; r < rp->tab[i].nrows; r++) {
+            double v = cell(&rp->tab[i], r, "gpu_ms");
+            if (cell(&rp->tab[i], r, "warmup") == 0.0 && isfinite(v) && v > gpu_max)
                 gpu_max = v;
         }
-    g = hs_bench_open_script(opt->out_dir, "sequence.gp", "sequence.png", 1100, 1000, diag);
-    if (!g) {
-        res = diag ? diag->code : XRSC_ERROR_IO;
-        goto done;
-    }
-    names_string(g, opt);
+    FILE *g =
+        hs_bench_open_script(rp->opt->out_dir, "sequence.gp", "sequence.png", 1100, 1000, diag);
+    if (!g)
+        return diag ? diag->code : XRSC_ERROR_IO;
+    names_string(g, rp->opt);
     fprintf(g,
             "N = words(names)\n"
             "set multiplot layout 3,1 title '%s'\n"
@@ -708,12 +779,15 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             title, info->frames ? info->frames - 1 : 0, info->warmup, info->warmup,
             gpu_max > 0 ? 1.15 * gpu_max : 1.0);
     fclose(g);
+    return XRSC_OK;
+}
 
-    g = hs_bench_open_script(opt->out_dir, "passes.gp", "passes.png", 1100, 550, diag);
-    if (!g) {
-        res = diag ? diag->code : XRSC_ERROR_IO;
-        goto done;
-    }
+/* Chart passes: the mean GPU time per pass, stacked per setting. */
+static xrsc_result chart_passes(const report *rp, xrsc_diag *diag)
+{
+    FILE *g = hs_bench_open_script(rp->opt->out_dir, "passes.gp", "passes.png", 1100, 550, diag);
+    if (!g)
+        return diag ? diag->code : XRSC_ERROR_IO;
     fprintf(g,
             "set title 'GPU time per pass (mean per stereo frame, Vulkan timestamps)'\n"
             "set style data histograms\nset style histogram rowstacked\n"
@@ -721,23 +795,62 @@ xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_i
             "set xtics rotate by -30 font ',8'\nset key outside right\nset yrange [0:*]\n"
             "set ylabel 'GPU ms'\n"
             "plot for [c=2:%u] 'plot/passes.dat' using c:xtic(1) title columnheader(c)\n",
-            npass + 1);
+            rp->npass + 1);
     fclose(g);
+    return XRSC_OK;
+}
 
-    if (!opt->no_plots) {
-        const char *scripts[] = {"error_vs_time.gp", "sequence.gp", "passes.gp", "stereo_r.gp"};
-        for (size_t k = 0; k < (any_r ? 4u : 3u); k++)
-            if (!hs_bench_run_gnuplot(opt->out_dir, scripts[k]))
-                fprintf(stderr, "xrsc bench: warning: gnuplot %s failed (see %s/gnuplot.log)\n",
-                        scripts[k], opt->out_dir);
+/* Whether any setting has an R (the stereo_r chart). */
+static bool any_r(const report *rp)
+{
+    for (uint32_t i = 0; i < rp->ns; i++)
+        if (isfinite(rp->opt->settings[i].r))
+            return true;
+    return false;
+}
+
+/* The charts' data and scripts, and the scripts run through gnuplot unless --no-plots. */
+static xrsc_result write_charts(report *rp, xrsc_diag *diag)
+{
+    const hs_bench_options *opt = rp->opt;
+    snprintf(rp->plotdir, sizeof(rp->plotdir), "%s/plot", opt->out_dir);
+    bool with_r = any_r(rp);
+    xrsc_result res;
+    if ((res = hs_make_dirs(rp->plotdir, "--out", diag)) != XRSC_OK ||
+        (res = write_plot_data(rp, diag)) != XRSC_OK ||
+        (with_r && (res = chart_stereo_r(rp, diag)) != XRSC_OK) ||
+        (res = chart_error_vs_time(rp, diag)) != XRSC_OK ||
+        (res = chart_sequence(rp, diag)) != XRSC_OK || (res = chart_passes(rp, diag)) != XRSC_OK)
+        return res;
+    if (opt->no_plots)
+        return XRSC_OK;
+    const char *scripts[] = {"error_vs_time.gp", "sequence.gp", "passes.gp", "stereo_r.gp"};
+    for (size_t k = 0; k < (with_r ? 4u : 3u); k++)
+        if (!hs_bench_run_gnuplot(opt->out_dir, scripts[k]))
+            fprintf(stderr, "xrsc bench: warning: gnuplot %s failed (see %s/gnuplot.log)\n",
+                    scripts[k], opt->out_dir);
+    return XRSC_OK;
+}
+
+xrsc_result hs_bench_report(const hs_bench_options *opt, const hs_bench_report_info *info,
+                            FILE *out, xrsc_diag *diag)
+{
+    report rp = {.opt = opt, .info = info, .ns = opt->setting_count};
+    rp.tab = calloc(rp.ns, sizeof(table));
+    rp.sum = calloc(rp.ns, sizeof(setting_summary));
+    xrsc_result res = XRSC_OK;
+    if (!rp.tab || !rp.sum)
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "report");
+    if (res == XRSC_OK && (res = read_tables(&rp, diag)) == XRSC_OK &&
+        (res = write_bench_csv(&rp, diag)) == XRSC_OK && (res = summarize(&rp, diag)) == XRSC_OK &&
+        (res = write_summary_csv(&rp, diag)) == XRSC_OK) {
+        if (out)
+            print_summary(&rp, out);
+        res = write_charts(&rp, diag);
     }
-
-done:
-    if (f)
-        fclose(f);
-    for (uint32_t i = 0; tab && i < ns; i++)
-        table_free(&tab[i]);
-    free(tab);
-    free(sum);
+    for (uint32_t i = 0; rp.tab && i < rp.ns; i++)
+        table_free(&rp.tab[i]);
+    free(rp.tab);
+    free(rp.sum);
     return res;
 }
