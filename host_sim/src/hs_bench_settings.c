@@ -213,6 +213,12 @@ static const char *set_blend(xrsc_renderer_options *o, const char *v)
     return xrsc_blend_from_name(v, &o->blend) == XRSC_OK ? NULL : "none, pfj23, moments";
 }
 
+static const char *set_blend_estimate(xrsc_renderer_options *o, const char *v)
+{
+    return xrsc_blend_estimate_from_name(v, &o->blend_estimate) == XRSC_OK ? NULL
+                                                                            : "samples, mean";
+}
+
 static const char *set_taa(xrsc_renderer_options *o, const char *v)
 {
     if (!strcmp(v, "default") ||
@@ -246,6 +252,9 @@ static const bench_key keys[] = {
      "stereo blend none | pfj23 | moments (moments: spp, samplecache, isrt, hybrid) [none]"},
     {"r", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HY, set_r, "r",
      "sharpness R of the moments blend, [0, 1] [0]"},
+    {"estimate", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HY, set_blend_estimate, "est",
+     "variances of the moments blend: samples (Eq. 5 as printed) | mean (of the pixel) "
+     "[samples]"},
     {"taa", M_ALL, set_taa, "taa",
      "TAA post-pass off | on | pfj23 [on for taa, pfj23 for hashcache/hybrid, else off]"},
     {"spp", M_SPP, set_spp, "", "samples per pixel per frame, 1..4096 [1]"},

@@ -113,6 +113,8 @@ HS_LIGHT_USAGE
 "  --blend B           none | pfj23 | moments  [moments for the sample caches\n"
 "                      (samplecache, isrt, hybrid), else none]\n"
 "  --blend-r R         sharpness R in [0, 1] of moments (0: lowest error, Fig. 15) [0]\n"
+"  --blend-estimate E  samples | mean: the variances moments uses, the spread of the\n"
+"                      samples (Eq. 5 as printed) or of the pixel's mean [samples]\n"
 "\n"
 "Temporal antialiasing (after reconstruction, before the stereo blend; seed 000 section 5.1):\n"
 "  --taa T             off | on | pfj23  [on for taa, pfj23 for hashcache and hybrid, else off]\n"
@@ -198,7 +200,7 @@ static const char *const value_options[] = {
     "--env-map", "--env-intensity", "--env-rotation", "--sky-turbidity", "--sun-dir",
     "--sc-slots", "--sc-target", "--sc-delta", "--sc-eps0", "--sc-eps1", "--sc-block",
     "--sc-trace", "--sc-reproject", "--sc-shading-cache", "--sc-shade", "--sc-shade-rate",
-    "--sc-alpha", "--sc-alpha-fixed", "--blend", "--blend-r", "--taa", "--taa-alpha",
+    "--sc-alpha", "--sc-alpha-fixed", "--blend", "--blend-r", "--blend-estimate", "--taa", "--taa-alpha",
     "--isrt-m", "--hc-table", "--hc-lod", "--hc-voxel-scale", "--hc-max-age",
     "--hc-voxel-jitter",
 };
@@ -373,6 +375,8 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
            xrsc_blend_name(opt->renderer.blend));
     if (opt->renderer.blend == XRSC_BLEND_MOMENTS)
         printf(", R = %g", (double)opt->renderer.blend_r);
+    if (opt->renderer.blend == XRSC_BLEND_MOMENTS && opt->renderer.blend_estimate)
+        printf(", estimate %s", xrsc_blend_estimate_name(opt->renderer.blend_estimate));
     printf("\n");
     printf("frames: %u  load %.2f s  total %.2f s\n", st->frames, st->load_s, st->total_s);
     printf("render wall time per stereo frame: mean %.2f ms, max %.2f ms\n",
@@ -554,6 +558,9 @@ static int parse_method_option(const char *a, const char *v, main_args *m)
         if (!hs_parse_f(v, &d) || !(d >= 0.0 && d <= 1.0))
             return bad_arg(a, v, "expected R in [0, 1]");
         ro->blend_r = (float)d;
+    } else if (!strcmp(a, "--blend-estimate")) {
+        if (xrsc_blend_estimate_from_name(v, &ro->blend_estimate) != XRSC_OK)
+            return bad_arg(a, v, "unknown estimate (samples, mean)");
     } else if (!strcmp(a, "--spp")) {
         if (!hs_parse_u32(v, &u) || u == 0 || u > 4096)
             return bad_arg(a, v, "expected 1..4096");
@@ -748,7 +755,8 @@ static int run_with_record(main_args *m, const hs_args *args, hs_run_info *run)
         {"--frames", "0"},              {"--fov", "headset"},
         {"--method", xrsc_method_name(opt->renderer.method)},
         {"--blend", xrsc_blend_name(opt->renderer.blend)},
-        {"--blend-r", "0"},             {"--spp", spp_s},
+        {"--blend-r", "0"},             {"--blend-estimate", "samples"},
+        {"--spp", spp_s},
         {"--resolution", res_s},        {"--seed", "0"},
         {"--ipd", ipd_s},               {"--refresh", refresh_s},
         {"--out", opt->out_dir},        {"--write", "eyes,sbs"},

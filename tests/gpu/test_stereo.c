@@ -29,7 +29,11 @@
  * background pixels are untouched, swapping the eyes swaps the result, the renderer's in-frame
  * blend equals the pass run on the same inputs; zero validation errors.
  * Experiments (environment): T_INPUTS (<= 16), T_CACHE_FRAMES, T_CACHE_YAW (head turn per cache
- * frame, rad, towards the scored view), T_PIXEL_MEAN (Eq. 8 of the pixel values), T_NO_SPP.
+ * frame, rad, towards the scored view), T_PIXEL_MEAN (Eq. 8 of the pixel values: estimate
+ * `mean`), T_NO_SPP, T_VAR_STATS (the estimates against the pixels' actual variance over the
+ * inputs, and the blend with that variance and with the best fixed per-pixel beta: issue 12,
+ * bench/results/issue12-fig15/). The estimate `mean` on the device equals xs_st_beta_eq8_mean,
+ * and the renderer's blend_estimate reaches the pass (`samples`, the default, as before).
  */
 #include "st_blend.h"
 #include "testing.h"
@@ -269,6 +273,27 @@ static void test_blend_synthetic(void)
         CHECK(rejected == (T_H - 4) * (T_W / 2 - 2));
         CHECK_EQ_INT(bad, 0);
     }
+    /* the `mean` estimate (pixel_mean): Eq. 8 of the pixel values' moments with the counts c
+     * (one colour tap: n_x = c of the other eye), a different beta from the samples' one */
+    st_settings pm = {.blend = XRSC_BLEND_MOMENTS, .pixel_mean = true};
+    CHECK_EQ_INT(st_blend_run_host(gpu, T_W, T_H, &pm, v, color, depth, mu1, mu2, out, aux, NULL),
+                 XRSC_OK);
+    uint32_t bad_mean = 0;
+    for (uint32_t e = 0; e < 2; e++) {
+        uint32_t o = 1 - e;
+        float b_s = xs_st_beta_eq8(m1[o], m1[o] * m1[o] + var[o], m1[e], m1[e] * m1[e] + var[e]);
+        float b_m = xs_st_beta_eq8_mean(m1[o], m1[o] * m1[o] + var[o], c[o], m1[e],
+                                        m1[e] * m1[e] + var[e], c[e]);
+        CHECK_MSG(fabsf(b_m - b_s) > 0.05f, "eye %u: estimates must differ here", e);
+        for (uint32_t y = 2; y < T_H - 2; y++)
+            for (uint32_t x = T_W / 2 + 2; x < T_W - 2; x++) {
+                size_t i = e * px + (size_t)y * T_W + x;
+                bad_mean += fabsf(aux[i * 4] - b_m) > 1e-4f;
+            }
+        printf("  eye %u, estimate mean: beta (C) %.5f (samples: %.5f)\n", e, b_m, b_s);
+    }
+    printf("  estimate mean: %u mismatches\n", bad_mean);
+    CHECK_EQ_INT(bad_mean, 0);
     free(color), free(depth), free(mu1), free(mu2), free(out), free(aux);
     CHECK_EQ_INT(xrsc_context_validation_errors(ctx), 0);
     xrsc_context_destroy(&ctx);
@@ -403,6 +428,161 @@ static void glossy_close(glossy_rig *g)
 }
 
 /**
+ * Experiment T_VAR_STATS (issue 12): what the moments blend's variance estimates are worth.
+ * Per foreground pixel and channel, over the n independent inputs of the same view: V, the
+ * pixel value's actual variance (sample variance of Y over the inputs), against the mean over
+ * the inputs of the estimates Eq. 8 takes for it: `samples` S = mu_2 - mu_1^2 (Eq. 5-7 as
+ * printed), `mean` S / c_X. Printed: sum S / sum V, sum (S / c_X) / sum V and the medians of
+ * the per-pixel ratios (1 = unbiased; above 1 the estimate inflates both variances of Eq. 4
+ * against the bias term, i.e. trusts the other eye too much, below 1 too little).
+ */
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void variance_stats(const stereo_input *ins, uint32_t n, float *v_out)
+{
+    size_t px = (size_t)T_W * T_H, m = 0, fg = 0;
+    double *rs = malloc(2 * px * 3 * sizeof(double)), *rm = malloc(2 * px * 3 * sizeof(double));
+    double sv = 0, ss = 0, sm = 0, cx = 0;
+    for (size_t i = 0; i < 2 * px; i++) {
+        if (!(ins[0].depth[i] > 0.0f))
+            continue;
+        fg++;
+        for (int c = 0; c < 3; c++) {
+            double y1 = 0, y2 = 0, es = 0, em = 0, cm = 0;
+            for (uint32_t k = 0; k < n; k++) {
+                double y = ins[k].color[i * 4 + c], a = ins[k].mu1[i * 4 + c];
+                double spread = fmax(ins[k].mu2[i * 4 + c] - a * a, 0.0);
+                double cnt = fmax(ins[k].mu1[i * 4 + 3], 1e-6);
+                y1 += y / n, y2 += y * y / n, es += spread / n, em += spread / cnt / n;
+                cm += cnt / n;
+            }
+            double v = fmax(y2 - y1 * y1, 0.0) * n / (n - 1);
+            v_out[i * 4 + c] = (float)v;
+            sv += v, ss += es, sm += em, cx += cm / 3;
+            if (v > 1e-10)
+                rs[m] = es / v, rm[m] = em / v, m++;
+        }
+    }
+    qsort(rs, m, sizeof(double), cmp_double);
+    qsort(rm, m, sizeof(double), cmp_double);
+    printf("  T_VAR_STATS: %zu pixel channels; estimate / actual variance of the pixel: samples "
+           "%.3f (median %.3f), mean %.4f (median %.4f); mean c_X %.2f\n",
+           m, ss / sv, m ? rs[m / 2] : 0.0, sm / sv, m ? rm[m / 2] : 0.0,
+           fg ? cx / (double)fg : 0.0);
+    free(rs), free(rm);
+}
+
+/** T_VAR_STATS: X, the other eye's colour as the blend resamples it onto each pixel (both eyes),
+ *  via the moments pass with a huge variance in the eye being improved (beta = 0 there);
+ *  status (aux alpha) per pixel in st. */
+static void other_eye_colour(glossy_rig *g, const stereo_input *in, float *x, float *st)
+{
+    size_t px = (size_t)T_W * T_H;
+    float *mu2 = malloc(2 * px * 16), *out = malloc(2 * px * 16), *aux = malloc(2 * px * 16);
+    st_settings set = {.blend = XRSC_BLEND_MOMENTS, .r = 1.0f};
+    for (uint32_t e = 0; e < 2; e++) {
+        for (size_t i = 0; i < 2 * px * 4; i++) {
+            float m = in->mu1[i];
+            mu2[i] = i % 4 == 3 ? in->mu2[i] : m * m + (i / 4 / px == e ? 1e8f : 0.0f);
+        }
+        CHECK_EQ_INT(st_blend_run_host(g->gpu, T_W, T_H, &set, g->frame.views, in->color, in->depth,
+                                       in->mu1, mu2, out, aux, NULL),
+                     XRSC_OK);
+        memcpy(x + e * px * 4, out + e * px * 4, px * 16);
+        for (size_t i = 0; i < px; i++)
+            st[e * px + i] = aux[(e * px + i) * 4 + 3];
+    }
+    free(mu2), free(out), free(aux);
+}
+
+/** T_VAR_STATS: the per-pixel, per-channel beta that minimises the squared error against the
+ *  reference over the n inputs (fitted on them, so slightly optimistic): the best any per-pixel
+ *  lerp(X, Y, beta) can do; its relMSE, discrepancy, CPBD and mean beta over blended pixels. */
+static void oracle_beta_row(glossy_rig *g, const stereo_input *ins, uint32_t n)
+{
+    size_t px = (size_t)T_W * T_H, nf = 2 * px * 4;
+    float *x = malloc(n * nf * sizeof(float)), *st = malloc(n * 2 * px * sizeof(float));
+    float *out = malloc(nf * sizeof(float));
+    for (uint32_t k = 0; k < n; k++)
+        other_eye_colour(g, &ins[k], x + k * nf, st + k * 2 * px);
+    float *beta = malloc(nf * sizeof(float));
+    double bsum = 0, bn = 0;
+    for (size_t i = 0; i < nf; i++) {
+        double num = 0, den = 0;
+        for (uint32_t k = 0; k < n; k++) {
+            if (i % 4 == 3 || st[k * 2 * px + i / 4] != XS_ST_STATUS_BLENDED)
+                continue;
+            double a = x[k * nf + i] - g->ref[i], b = ins[k].color[i] - g->ref[i];
+            num -= a * (b - a), den += (b - a) * (b - a);
+        }
+        beta[i] = den > 0 ? (float)fmin(fmax(num / den, 0.0), 1.0) : 1.0f;
+        if (den > 0)
+            bsum += beta[i], bn += 1;
+    }
+    double rel[T_INPUTS], disc[T_INPUTS], rm, rse, dm, dse, cpbd = 0;
+    for (uint32_t k = 0; k < n; k++) {
+        for (size_t i = 0; i < nf; i++) {
+            bool bl = i % 4 != 3 && st[k * 2 * px + i / 4] == XS_ST_STATUS_BLENDED;
+            out[i] = bl ? xs_st_lerp(x[k * nf + i], ins[k].color[i], beta[i]) : ins[k].color[i];
+        }
+        measure(out, ins[k].depth, g->ref, g->frame.views, &rel[k], &disc[k]);
+        for (uint32_t e = 0; e < 2; e++) {
+            xrsc_cpbd cp;
+            CHECK_EQ_INT(xrsc_metrics_cpbd(out + e * px * 4, T_W, T_H, NULL, &cp), XRSC_OK);
+            cpbd += cp.cpbd / (2 * n);
+        }
+    }
+    mean_se(rel, n, &rm, &rse);
+    mean_se(disc, n, &dm, &dse);
+    printf("  oracle beta    %10.6f +- %7.6f %12.6f +- %8.6f %8.4f %17s %6.3f\n", rm, rse, dm, dse,
+           cpbd, "", bn > 0 ? bsum / bn : 1.0);
+    free(x), free(st), free(out), free(beta);
+}
+
+/** T_VAR_STATS, continued: the moments blend with the pixels' actual variances v (from
+ *  variance_stats) in place of an estimate: mu_2 replaced by mu_1^2 + v c_X under the `mean`
+ *  estimate, so Eq. 8 sees Var(Y) = v. What an exact per-pixel variance (e.g. per-sample second
+ *  moments in the shading cache) could give at best; printed as the table's rows. */
+static void oracle_rows(glossy_rig *g, const stereo_input *ins, uint32_t n, const float *v)
+{
+    size_t px = (size_t)T_W * T_H;
+    float *mu2 = malloc(2 * px * 16), *out = malloc(2 * px * 16);
+    static const float rs[] = {0.0f, 0.8f, 1.0f};
+    for (int ri = 0; ri < 3; ri++) {
+        double rel[T_INPUTS], disc[T_INPUTS], rm, rse, dm, dse, cpbd = 0;
+        st_settings set = {.blend = XRSC_BLEND_MOMENTS, .r = rs[ri], .pixel_mean = true};
+        for (uint32_t k = 0; k < n; k++) {
+            for (size_t i = 0; i < 2 * px; i++) {
+                float a = ins[k].mu1[i * 4 + 3];
+                for (int c = 0; c < 4; c++)
+                    mu2[i * 4 + c] =
+                        c < 3 && a > 0.0f
+                            ? ins[k].mu1[i * 4 + c] * ins[k].mu1[i * 4 + c] + v[i * 4 + c] * a
+                            : ins[k].mu2[i * 4 + c];
+            }
+            CHECK_EQ_INT(st_blend_run_host(g->gpu, T_W, T_H, &set, g->frame.views, ins[k].color,
+                                           ins[k].depth, ins[k].mu1, mu2, out, NULL, NULL),
+                         XRSC_OK);
+            measure(out, ins[k].depth, g->ref, g->frame.views, &rel[k], &disc[k]);
+            for (uint32_t e = 0; e < 2; e++) {
+                xrsc_cpbd cp;
+                CHECK_EQ_INT(xrsc_metrics_cpbd(out + e * px * 4, T_W, T_H, NULL, &cp), XRSC_OK);
+                cpbd += cp.cpbd / (2 * n);
+            }
+        }
+        mean_se(rel, n, &rm, &rse);
+        mean_se(disc, n, &dm, &dse);
+        printf("  oracle var R=%.1f %10.6f +- %7.6f %12.6f +- %8.6f %8.4f\n", rs[ri], rm, rse, dm,
+               dse, cpbd);
+    }
+    free(mu2), free(out);
+}
+
+/**
  * The blends on T_INPUTS independent inputs of one kind against the reference: the table, the
  * paired differences, and (claims) the issue's claims asserted; always asserted: disoccluded and
  * background pixels untouched, swapping the eyes swaps the result, the renderer's in-frame blend
@@ -426,12 +606,15 @@ static void glossy_compare(glossy_rig *g, input_kind kind, bool claims)
         xrsc_renderer_destroy(&r);
     }
     const xrsc_view *views = g->frame.views;
+    float *var_px = getenv("T_VAR_STATS") ? calloc(2 * px * 4, sizeof(float)) : NULL;
+    if (var_px)
+        variance_stats(ins, n_in, var_px);
     float *out = malloc(2 * px * 16), *aux = malloc(2 * px * 16);
     struct {
         const char *name;
         xrsc_blend blend;
         float r;
-        double relmse, relmse_se, disc, disc_se, cpbd;
+        double relmse, relmse_se, disc, disc_se, cpbd, beta; /* beta: mean over blended */
         double rel_n[T_INPUTS], disc_n[T_INPUTS]; /* per input */
     } runs[] = {{.name = "none", .blend = XRSC_BLEND_NONE},
                 {.name = "pfj23", .blend = XRSC_BLEND_PFJ23},
@@ -450,8 +633,8 @@ static void glossy_compare(glossy_rig *g, input_kind kind, bool claims)
     printf("; reference %u spp; means over both eyes and %u inputs (+- standard error over the "
            "inputs)\n",
            T_REF_SPP * T_REF_FRAMES, n_in);
-    printf("  %-14s %21s %24s %8s %8s %8s\n", "blend", "relMSE", "discrepancy", "CPBD", "blended",
-           "kept");
+    printf("  %-14s %21s %24s %8s %8s %8s %6s\n", "blend", "relMSE", "discrepancy", "CPBD",
+           "blended", "kept", "beta");
     printf("  %-14s %21s %24.6f %8.4f   (the converged images' own)\n", "reference", "-",
            g->ref_disc, g->ref_cpbd);
     const char *ps_env = getenv("T_PIXEL_MEAN"); /* experiment: the other estimate */
@@ -472,6 +655,7 @@ static void glossy_compare(glossy_rig *g, input_kind kind, bool claims)
             for (size_t i = 0; i < 2 * px; i++) {
                 if (aux[i * 4 + 3] == XS_ST_STATUS_BLENDED) {
                     blended++;
+                    runs[k].beta += (aux[i * 4] + aux[i * 4 + 1] + aux[i * 4 + 2]) / 3;
                 } else {
                     kept++;
                     touched += memcmp(&out[i * 4], &ik->color[i * 4], 16) != 0;
@@ -483,15 +667,20 @@ static void glossy_compare(glossy_rig *g, input_kind kind, bool claims)
         }
         mean_se(runs[k].rel_n, n_in, &runs[k].relmse, &runs[k].relmse_se);
         mean_se(runs[k].disc_n, n_in, &runs[k].disc, &runs[k].disc_se);
-        printf("  %-14s %10.6f +- %7.6f %12.6f +- %8.6f %8.4f %8u %8u\n", runs[k].name,
+        printf("  %-14s %10.6f +- %7.6f %12.6f +- %8.6f %8.4f %8u %8u %6.3f\n", runs[k].name,
                runs[k].relmse, runs[k].relmse_se, runs[k].disc, runs[k].disc_se, runs[k].cpbd,
-               blended / n_in, kept / n_in);
+               blended / n_in, kept / n_in, blended ? runs[k].beta / blended : 1.0);
         CHECK_EQ_INT(touched, 0); /* disoccluded and background pixels untouched */
         if (k != NONE) {
             CHECK(blended / n_in > px); /* most foreground pixels find the other eye */
             CHECK(rejected > 0);        /* the objects' sides seen by one eye only */
         }
     }
+    if (var_px) {
+        oracle_rows(g, ins, n_in, var_px);
+        oracle_beta_row(g, ins, n_in);
+    }
+    free(var_px);
     printf("  reference discrepancy / noisy input's: %.1f %%\n",
            100.0 * g->ref_disc / runs[NONE].disc);
     /* paired differences over the same inputs: margin +- its standard error */
@@ -531,7 +720,7 @@ static void glossy_compare(glossy_rig *g, input_kind kind, bool claims)
         swap_eyes(in.mu1, sw.mu1, px * 4);
         swap_eyes(in.mu2, sw.mu2, px * 4);
         xrsc_view sv[2] = {views[1], views[0]};
-        st_settings set = {.blend = XRSC_BLEND_MOMENTS, .r = 0.0f};
+        st_settings set = {.blend = XRSC_BLEND_MOMENTS, .r = 0.0f, .pixel_mean = ps_env != NULL};
         CHECK_EQ_INT(st_blend_run_host(g->gpu, T_W, T_H, &set, sv, sw.color, sw.depth, sw.mu1,
                                        sw.mu2, out, NULL, NULL),
                      XRSC_OK);
@@ -545,8 +734,10 @@ static void glossy_compare(glossy_rig *g, input_kind kind, bool claims)
     /* the renderer's in-frame blend: the same pixels as the pass on the same inputs (`spp`:
      * input 0 again; `samplecache`: input 0's options over T_INFRAME_FRAMES frames, rendered
      * without and with the blend), pass "blend" last; the second frame's timings (pipelines
-     * warm) */
-    {
+     * warm). `samplecache` also with blend_estimate `mean`: it reaches the pass (pixel_mean)
+     * and changes the image, while the default `samples` is the pass as before. */
+    float *prev_est = NULL;
+    for (int est = 0; est < (kind == INPUT_CACHE ? 2 : 1); est++) {
         const float *want = keep_m0;
         float *want_sc = NULL;
         xrsc_renderer_options ro = input_options(kind, 0);
@@ -557,7 +748,7 @@ static void glossy_compare(glossy_rig *g, input_kind kind, bool claims)
             read_outputs(r, &sc);
             xrsc_renderer_destroy(&r);
             want = want_sc = malloc(2 * px * 16);
-            st_settings set = {.blend = XRSC_BLEND_MOMENTS, .r = 0.0f};
+            st_settings set = {.blend = XRSC_BLEND_MOMENTS, .r = 0.0f, .pixel_mean = est == 1};
             CHECK_EQ_INT(st_blend_run_host(g->gpu, T_W, T_H, &set, views, sc.color, sc.depth,
                                            sc.mu1, sc.mu2, want_sc, NULL, NULL),
                          XRSC_OK);
@@ -565,6 +756,7 @@ static void glossy_compare(glossy_rig *g, input_kind kind, bool claims)
         }
         ro.blend = XRSC_BLEND_MOMENTS;
         ro.blend_r = 0.0f;
+        ro.blend_estimate = (xrsc_blend_estimate)est;
         CHECK_EQ_INT(xrsc_renderer_create(g->ctx, g->scene, &ro, &r, NULL), XRSC_OK);
         double blend_ms = 0, total_ms = 0;
         for (int rep = 0; rep < (kind == INPUT_SPP ? 2 : 1); rep++) {
@@ -585,14 +777,25 @@ static void glossy_compare(glossy_rig *g, input_kind kind, bool claims)
             CHECK_EQ_INT(xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, rc, px * 16), XRSC_OK);
             same = same && memcmp(rc, want + e * px * 4, px * 16) == 0;
         }
-        printf("  renderer --blend moments: %s the pass on its inputs; blend %.3f ms of %.3f ms "
-               "GPU frame (%.1f %%, %s)\n",
+        printf("  renderer --blend moments --blend-estimate %s: %s the pass on its inputs; blend "
+               "%.3f ms of %.3f ms GPU frame (%.1f %%, %s)\n",
+               xrsc_blend_estimate_name((xrsc_blend_estimate)est),
                same ? "equal to" : "DIFFERENT from", blend_ms, total_ms,
                100.0 * blend_ms / (total_ms > 0 ? total_ms : 1), xrsc_context_device_name(g->ctx));
         CHECK(same);
-        free(rc), free(want_sc);
+        free(rc);
+        if (prev_est) { /* `mean` vs `samples` on the same frames */
+            size_t differ = 0;
+            for (size_t i = 0; i < 2 * px * 4; i++)
+                differ += want_sc[i] != prev_est[i];
+            printf("  estimates mean vs samples: %zu of %zu values differ\n", differ, 2 * px * 4);
+            CHECK(differ > px / 10);
+        }
+        free(prev_est);
+        prev_est = want_sc;
         xrsc_renderer_destroy(&r);
     }
+    free(prev_est);
     free(out), free(aux), free(keep_m0);
     for (uint32_t k = 0; k < n_in; k++)
         input_free(&ins[k]);
@@ -614,6 +817,9 @@ static void test_glossy_consistency(void)
     CHECK_EQ_INT(xrsc_renderer_create(g.ctx, g.scene, &ro, &r, NULL), XRSC_ERROR_INVALID_ARGUMENT);
     ro.method = XRSC_METHOD_SPP;
     ro.blend_r = 1.5f;
+    CHECK_EQ_INT(xrsc_renderer_create(g.ctx, g.scene, &ro, &r, NULL), XRSC_ERROR_INVALID_ARGUMENT);
+    ro.blend_r = 0.0f;
+    ro.blend_estimate = (xrsc_blend_estimate)2;
     CHECK_EQ_INT(xrsc_renderer_create(g.ctx, g.scene, &ro, &r, NULL), XRSC_ERROR_INVALID_ARGUMENT);
     glossy_close(&g);
 }

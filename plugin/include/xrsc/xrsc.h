@@ -356,11 +356,29 @@ const char *xrsc_blend_name(xrsc_blend blend);
 xrsc_result xrsc_blend_from_name(const char *name, xrsc_blend *out_blend);
 
 /**
+ * What the moments blend (XRSC_BLEND_MOMENTS) takes as the variances of Eq. 4 (seed 000 §3.6).
+ * - XRSC_BLEND_ESTIMATE_SAMPLES (0, the default, "samples"): Eq. 5-8 as printed, the
+ *   c_s-weighted spread mu_2 - mu_1^2 of the pixel's samples' values L_s.
+ * - XRSC_BLEND_ESTIMATE_MEAN ("mean"): the variance of the pixel's mean, that spread divided
+ *   by the pixel's effective sample count c_X (Eq. 6) (xs_st_beta_eq8_mean in
+ *   shaders/xs_stereo.h). bench/results/issue12-fig15/README.md compares the two.
+ */
+typedef enum xrsc_blend_estimate {
+    XRSC_BLEND_ESTIMATE_SAMPLES = 0,
+    XRSC_BLEND_ESTIMATE_MEAN = 1,
+} xrsc_blend_estimate;
+/** "samples" / "mean"; NULL for unknown values. */
+const char *xrsc_blend_estimate_name(xrsc_blend_estimate estimate);
+/** Parses an estimate name; XRSC_ERROR_INVALID_ARGUMENT when unknown. */
+xrsc_result xrsc_blend_estimate_from_name(const char *name, xrsc_blend_estimate *out_estimate);
+
+/**
  * Renderer options. width/height per eye (default 256 x 256); seed 0 is a valid seed.
  * blend: the stereo blend (default none). blend_r: the sharpness R in [0, 1] of the moments
  * blend; the zero default R = 0 is the setting with the lowest error and stereo discrepancy in
  * seed 000 §5.2 (Fig. 15: R = 0 beats R = 1 and PFJ23 on RSE and discrepancy, with CPBD
  * sharpness closest to the reference); R = 1 is the conservative, least blurring one.
+ * blend_estimate: the variances the moments blend uses (default: Eq. 5 as printed).
  */
 typedef struct xrsc_renderer_options {
     xrsc_method method;
@@ -370,6 +388,7 @@ typedef struct xrsc_renderer_options {
     xrsc_samplecache_options samplecache;
     xrsc_blend blend;
     float blend_r;
+    xrsc_blend_estimate blend_estimate;
     xrsc_taa_options taa;
     xrsc_hashcache_options hashcache;
     xrsc_isrt_options isrt;

@@ -326,6 +326,29 @@ xrsc_result xrsc_blend_from_name(const char *name, xrsc_blend *out_blend)
     return XRSC_ERROR_INVALID_ARGUMENT;
 }
 
+const char *xrsc_blend_estimate_name(xrsc_blend_estimate estimate)
+{
+    switch (estimate) {
+    case XRSC_BLEND_ESTIMATE_SAMPLES:
+        return "samples";
+    case XRSC_BLEND_ESTIMATE_MEAN:
+        return "mean";
+    }
+    return NULL;
+}
+
+xrsc_result xrsc_blend_estimate_from_name(const char *name, xrsc_blend_estimate *out_estimate)
+{
+    for (int i = XRSC_BLEND_ESTIMATE_SAMPLES; name && i <= XRSC_BLEND_ESTIMATE_MEAN; i++) {
+        if (!strcmp(name, xrsc_blend_estimate_name((xrsc_blend_estimate)i))) {
+            if (out_estimate)
+                *out_estimate = (xrsc_blend_estimate)i;
+            return XRSC_OK;
+        }
+    }
+    return XRSC_ERROR_INVALID_ARGUMENT;
+}
+
 /** mt_post: the post-passes after the method's last pass, in its command buffer and timer:
  *  TAA (its history is the filtered colour before any blend), then the stereo blend (seed 004
  *  Fig. 1: stereo filtering on top of temporal filtering). Either may be absent. */
@@ -399,10 +422,10 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
     };
     xrsc_result res;
     if ((unsigned)r->opt.blend > XRSC_BLEND_MOMENTS || !(r->opt.blend_r >= 0.0f) ||
-        !(r->opt.blend_r <= 1.0f)) {
+        !(r->opt.blend_r <= 1.0f) || (unsigned)r->opt.blend_estimate > XRSC_BLEND_ESTIMATE_MEAN) {
         res = u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "blend",
-                         "blend %d with R = %g (R must be in [0, 1])", (int)r->opt.blend,
-                         (double)r->opt.blend_r);
+                         "blend %d with R = %g, estimate %d (R must be in [0, 1])",
+                         (int)r->opt.blend, (double)r->opt.blend_r, (int)r->opt.blend_estimate);
         free(r);
         return res;
     }
@@ -452,7 +475,8 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
         return res;
     }
     if (r->opt.blend != XRSC_BLEND_NONE) {
-        st_settings set = {.blend = r->opt.blend, .r = r->opt.blend_r};
+        st_settings set = {.blend = r->opt.blend, .r = r->opt.blend_r,
+                           .pixel_mean = r->opt.blend_estimate == XRSC_BLEND_ESTIMATE_MEAN};
         st_images imgs = {
             .color = mt_method_output_image(r->method, XRSC_OUTPUT_COLOR),
             .depth = mt_method_output_image(r->method, XRSC_OUTPUT_DEPTH),
