@@ -237,6 +237,97 @@ void hs_replay_stats_add(hs_replay_stats *st, xrsc_renderer *r, double render_ms
     *out_np = np;
 }
 
+/* What the direct replay's frames share (hs_replay_run sets it up). */
+typedef struct replay_loop {
+    const hs_replay_options *opt;
+    xrsc_renderer *r;
+    const hs_pose_stream *stream;
+    xrsc_headset headset;
+    XrFovf scene_fov;      /* --fov scene: both eyes' */
+    uint32_t w, h, frames; /* eye size; frames to render */
+    double period_ns;      /* frame spacing on the simulated clock */
+    int64_t start_ns;      /* --start */
+    replay_buffers buf;
+    hs_outputs *outs;
+    FILE *csv; /* frames.csv, or NULL */
+    bool csv_header_done;
+} replay_loop;
+
+/* frames.csv: the pass columns' names after the first frame, then one row per frame. */
+static void csv_row(replay_loop *L, uint32_t k, int64_t t_ns, hs_lookup lookup, double ms,
+                    const xrsc_pass_timing *passes, uint32_t np)
+{
+    static const char *const lookup_name[] = {"exact", "interpolated", "clamped"};
+    if (k == 0) {
+        for (uint32_t p = 0; L->csv && p < np; p++)
+            fprintf(L->csv, ",%s_gpu_ms", passes[p].name);
+        if (L->csv)
+            fputc('\n', L->csv);
+        L->csv_header_done = true;
+    }
+    if (!L->csv)
+        return;
+    fprintf(L->csv, "%u,%lld,%s,%.3f,%llu", k, (long long)t_ns, lookup_name[lookup], ms,
+            (unsigned long long)xrsc_renderer_rays_last_frame(L->r));
+    for (uint32_t p = 0; p < np; p++)
+        fprintf(L->csv, ",%.4f", passes[p].gpu_ms);
+    fputc('\n', L->csv);
+}
+
+/* Renders, counts and writes frame k. */
+static xrsc_result replay_frame(replay_loop *L, uint32_t k, hs_replay_stats *st,
+                                xrsc_diag *diag)
+{
+    const hs_replay_options *opt = L->opt;
+    /* Predicted display time of frame k on the simulated clock. */
+    int64_t t_ns = L->start_ns + (int64_t)(k * L->period_ns + 0.5);
+    /* Recorded eye views (librnr) when the stream has them, else the headset's eyes. */
+    hs_view_sample eyes;
+    hs_lookup lookup = hs_pose_stream_eyes(L->stream, &L->headset, t_ns, &eyes);
+    xrsc_frame frame = {.display_time_ns = t_ns - L->start_ns, .frame_index = k};
+    for (int e = 0; e < 2; e++) {
+        frame.views[e].pose = eyes.pose[e];
+        frame.views[e].fov = opt->fov_scene ? L->scene_fov : eyes.fov[e];
+    }
+    if (opt->on_frame)
+        opt->on_frame(opt->on_frame_user, &frame);
+    double t0 = now_s();
+    xrsc_result res = xrsc_renderer_render(L->r, &frame);
+    if (res != XRSC_OK)
+        return u_diag_set(diag, res, opt->poses_path, 0, "", "rendering frame %u failed", k);
+    double ms = (now_s() - t0) * 1e3;
+    xrsc_pass_timing passes[XRSC_MAX_PASSES];
+    uint32_t np;
+    hs_replay_stats_add(st, L->r, ms, passes, &np);
+    csv_row(L, k, t_ns, lookup, ms, passes, np);
+    if (k == 0)
+        hs_warn_if_black(opt, L->r, L->w, L->h);
+    if (opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear) &&
+        (res = write_frame(opt, L->r, k, L->w, L->h, &L->buf, diag)) != XRSC_OK)
+        return res;
+    return hs_outputs_frame(L->outs, L->r, k, diag);
+}
+
+/* The scene's view: --fov scene's FOV, --frame's viewpoint, the stream anchored to it. */
+static xrsc_result scene_view(const hs_replay_options *opt, xrsc_scene *scene,
+                              replay_loop *L, hs_pose_stream *stream, xrsc_diag *diag)
+{
+    xrsc_scene_info info;
+    xrsc_scene_get_info(scene, &info);
+    if (opt->fov_scene && !hs_scene_fov(&info, L->w, L->h, &L->scene_fov))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->scene_path, 0, "--fov",
+                          "--fov scene: the scene has no perspective camera with a yfov");
+    if (opt->frame_bounds) {
+        XrFovf f[2] = {L->headset.fov[0], L->headset.fov[1]};
+        if (opt->fov_scene)
+            f[0] = f[1] = L->scene_fov;
+        info.viewpoint = hs_frame_viewpoint(&info, f);
+    }
+    if (!opt->no_anchor)
+        hs_pose_stream_anchor(stream, info.viewpoint);
+    return XRSC_OK;
+}
+
 xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_stats,
                           xrsc_diag *diag)
 {
@@ -246,13 +337,9 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
     memset(st, 0, sizeof(*st));
     xrsc_context *ctx = NULL;
     xrsc_scene *scene = NULL;
-    xrsc_renderer *r = NULL;
     hs_pose_stream *stream = NULL;
-    replay_buffers buf = {0};
-    hs_outputs *outs = NULL; /* --write exr, --video (hs_outputs.h) */
+    replay_loop L = {.opt = opt};
     hs_out_file csv_file = {0}; /* frames.csv, renamed into place at the end (hs_file.h) */
-    FILE *csv = NULL;
-    bool csv_header_done = false;
     xrsc_result res;
 
     if (!opt || !opt->scene_path || !opt->poses_path)
@@ -261,67 +348,49 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
     if (opt->out_dir && opt->out_dir[0] == '\0')
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--out",
                           "output folder name is empty (NULL writes nothing)");
-    xrsc_headset headset = opt->headset;
-    if (headset_is_zero(&headset))
-        xrsc_headset_default(&headset);
+    L.headset = opt->headset;
+    if (headset_is_zero(&L.headset))
+        xrsc_headset_default(&L.headset);
     xrsc_renderer_options ropt = opt->renderer;
     if (ropt.width == 0)
         ropt.width = DEFAULT_EYE_SIZE_PX;
     if (ropt.height == 0)
         ropt.height = DEFAULT_EYE_SIZE_PX;
+    L.w = ropt.width;
+    L.h = ropt.height;
 
     res = opt->pose_columns.count > 0
               ? hs_pose_stream_load_columns(opt->poses_path, &opt->pose_columns, &stream, diag)
               : hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag);
-    if (res != XRSC_OK)
-        goto done;
-    if ((res = hs_check_start(opt->poses_path, opt->start_s, hs_pose_stream_duration_ns(stream),
-                              diag)) != XRSC_OK)
-        goto done;
-    if ((res = xrsc_context_create(&opt->context, &ctx, diag)) != XRSC_OK)
+    if (res != XRSC_OK ||
+        (res = hs_check_start(opt->poses_path, opt->start_s, hs_pose_stream_duration_ns(stream),
+                              diag)) != XRSC_OK ||
+        (res = xrsc_context_create(&opt->context, &ctx, diag)) != XRSC_OK)
         goto done;
     snprintf(st->device, sizeof(st->device), "%s", xrsc_context_device_name(ctx));
-    if ((res = xrsc_scene_load(ctx, opt->scene_path, &opt->scene, &scene, diag)) != XRSC_OK)
+    if ((res = xrsc_scene_load(ctx, opt->scene_path, &opt->scene, &scene, diag)) != XRSC_OK ||
+        (res = scene_view(opt, scene, &L, stream, diag)) != XRSC_OK ||
+        (res = xrsc_renderer_create(ctx, scene, &ropt, &L.r, diag)) != XRSC_OK)
         goto done;
-    xrsc_scene_info info;
-    xrsc_scene_get_info(scene, &info);
-    XrFovf scene_fov = {0};
-    if (opt->fov_scene && !hs_scene_fov(&info, ropt.width, ropt.height, &scene_fov)) {
-        res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->scene_path, 0, "--fov",
-                         "--fov scene: the scene has no perspective camera with a yfov");
-        goto done;
-    }
-    if (opt->frame_bounds) {
-        XrFovf f[2] = {headset.fov[0], headset.fov[1]};
-        if (opt->fov_scene)
-            f[0] = f[1] = scene_fov;
-        info.viewpoint = hs_frame_viewpoint(&info, f);
-    }
-    if (!opt->no_anchor)
-        hs_pose_stream_anchor(stream, info.viewpoint);
-    if ((res = xrsc_renderer_create(ctx, scene, &ropt, &r, diag)) != XRSC_OK)
-        goto done;
+    L.stream = stream;
     st->load_s = now_s() - t_start;
 
-    uint32_t w = ropt.width, h = ropt.height;
-    size_t n = (size_t)w * h;
+    size_t n = (size_t)L.w * L.h;
     for (int e = 0; e < 2; e++) {
-        buf.color[e] = malloc(n * 4 * sizeof(float));
-        buf.ldr[e] = malloc(n * 3);
+        L.buf.color[e] = malloc(n * 4 * sizeof(float));
+        L.buf.ldr[e] = malloc(n * 3);
     }
-    buf.sbs = malloc(n * 6);
-    if (!buf.color[0] || !buf.color[1] || !buf.ldr[0] || !buf.ldr[1] || !buf.sbs) {
+    L.buf.sbs = malloc(n * 6);
+    if (!L.buf.color[0] || !L.buf.color[1] || !L.buf.ldr[0] || !L.buf.ldr[1] || !L.buf.sbs) {
         res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "image buffers");
         goto done;
     }
-
-    double period_ns =
-        NS_PER_S / (headset.refresh_hz > 0 ? headset.refresh_hz : DEFAULT_REFRESH_HZ);
-    int64_t start_ns = (int64_t)(opt->start_s * NS_PER_S);
-    int64_t span_ns = hs_pose_stream_duration_ns(stream) - start_ns;
-    uint32_t frames = opt->frames;
-    if (frames == 0)
-        frames = span_ns > 0 ? (uint32_t)(span_ns / period_ns) + 1 : 1;
+    L.period_ns = NS_PER_S / (L.headset.refresh_hz > 0 ? L.headset.refresh_hz : DEFAULT_REFRESH_HZ);
+    L.start_ns = (int64_t)(opt->start_s * NS_PER_S);
+    int64_t span_ns = hs_pose_stream_duration_ns(stream) - L.start_ns;
+    L.frames = opt->frames;
+    if (L.frames == 0)
+        L.frames = span_ns > 0 ? (uint32_t)(span_ns / L.period_ns) + 1 : 1;
 
     if (opt->out_dir) {
         if ((res = hs_make_dirs(opt->out_dir, "--out", diag)) != XRSC_OK)
@@ -330,85 +399,39 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
         snprintf(path, sizeof(path), "%s/frames.csv", opt->out_dir);
         if ((res = hs_out_open(&csv_file, path, diag)) != XRSC_OK)
             goto done;
-        csv = csv_file.f;
-        fprintf(csv, "frame,display_time_ns,lookup,render_wall_ms,rays");
+        L.csv = csv_file.f;
+        fprintf(L.csv, "frame,display_time_ns,lookup,render_wall_ms,rays");
     }
-
-    if ((res = hs_outputs_open(opt, w, h, NS_PER_S / period_ns, &outs, diag)) != XRSC_OK)
+    if ((res = hs_outputs_open(opt, L.w, L.h, NS_PER_S / L.period_ns, &L.outs, diag)) != XRSC_OK)
         goto done;
 
     double started = now_s(), last_print = 0.0;
-    for (uint32_t k = 0; k < frames; k++) {
+    for (uint32_t k = 0; k < L.frames; k++) {
         if (opt->stop && *opt->stop) { /* Ctrl-C: the frames so far are complete */
             st->stopped_by = *opt->stop;
             break;
         }
-        /* Predicted display time of frame k on the simulated clock. */
-        int64_t t_ns = start_ns + (int64_t)(k * period_ns + 0.5);
-        /* Recorded eye views (librnr) when the stream has them, else the headset's eyes. */
-        hs_view_sample eyes;
-        hs_lookup lookup = hs_pose_stream_eyes(stream, &headset, t_ns, &eyes);
-        xrsc_frame frame = {.display_time_ns = t_ns - start_ns, .frame_index = k};
-        for (int e = 0; e < 2; e++) {
-            frame.views[e].pose = eyes.pose[e];
-            frame.views[e].fov = opt->fov_scene ? scene_fov : eyes.fov[e];
-        }
-        if (opt->on_frame)
-            opt->on_frame(opt->on_frame_user, &frame);
-        double t0 = now_s();
-        if ((res = xrsc_renderer_render(r, &frame)) != XRSC_OK) {
-            u_diag_set(diag, res, opt->poses_path, 0, "", "rendering frame %u failed", k);
-            goto done;
-        }
-        double ms = (now_s() - t0) * 1e3;
-        xrsc_pass_timing passes[XRSC_MAX_PASSES];
-        uint32_t np;
-        hs_replay_stats_add(st, r, ms, passes, &np);
-        uint64_t rays = xrsc_renderer_rays_last_frame(r);
-        if (k == 0) {
-            for (uint32_t p = 0; csv && p < np; p++)
-                fprintf(csv, ",%s_gpu_ms", passes[p].name);
-            if (csv)
-                fputc('\n', csv);
-            csv_header_done = true;
-        }
-        if (csv) {
-            static const char *const lookup_name[] = {"exact", "interpolated", "clamped"};
-            fprintf(csv, "%u,%lld,%s,%.3f,%llu", k, (long long)t_ns, lookup_name[lookup], ms,
-                    (unsigned long long)rays);
-            for (uint32_t p = 0; p < np; p++)
-                fprintf(csv, ",%.4f", passes[p].gpu_ms);
-            fputc('\n', csv);
-        }
-        if (k == 0)
-            hs_warn_if_black(opt, r, w, h);
-        if (opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear)) {
-            if ((res = write_frame(opt, r, k, w, h, &buf, diag)) != XRSC_OK)
-                goto done;
-        }
-        if ((res = hs_outputs_frame(outs, r, k, diag)) != XRSC_OK)
+        if ((res = replay_frame(&L, k, st, diag)) != XRSC_OK)
             goto done;
         st->frames = k + 1;
-        show_progress(opt, k + 1, frames, started, &last_print, k + 1 == frames);
+        show_progress(opt, k + 1, L.frames, started, &last_print, k + 1 == L.frames);
     }
     hs_replay_stats_average(st);
     res = XRSC_OK;
 
 done:
-    if (csv && !csv_header_done)
-        fputc('\n', csv); /* the header waits for the first frame's pass names */
-    if (csv) { /* its rows so far are whole, also after an error */
+    if (L.csv && !L.csv_header_done)
+        fputc('\n', L.csv); /* the header waits for the first frame's pass names */
+    if (L.csv) { /* its rows so far are whole, also after an error */
         xrsc_result closed = hs_out_close(&csv_file, true, res == XRSC_OK ? diag : NULL);
         if (res == XRSC_OK)
             res = closed;
     }
-    {
-        xrsc_result out_res = hs_outputs_close(&outs, res == XRSC_OK, res == XRSC_OK ? diag : NULL);
-        if (res == XRSC_OK)
-            res = out_res;
-    }
-    buffers_free(&buf);
-    xrsc_renderer_destroy(&r);
+    xrsc_result out_res = hs_outputs_close(&L.outs, res == XRSC_OK, res == XRSC_OK ? diag : NULL);
+    if (res == XRSC_OK)
+        res = out_res;
+    buffers_free(&L.buf);
+    xrsc_renderer_destroy(&L.r);
     xrsc_scene_destroy(&scene);
     /* Counted after the renderer and scene are gone, so errors at their destruction count. */
     st->validation_errors = xrsc_context_validation_errors(ctx);
