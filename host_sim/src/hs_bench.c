@@ -387,6 +387,196 @@ const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT] = {
     "temporal_msd", "temporal_valid", "stereo_msd", "stereo_valid", "ref_stereo_msd",
 };
 
+/* Renders frame k with r and reads its colour, and the depth at pixel centres (the same
+ * for every setting) for the reprojections, into cur. */
+static xrsc_result render_frame(bench_run *b, const hs_bench_setting *s, xrsc_renderer *r,
+                                uint32_t k, eye_images *cur, double *out_wall_ms,
+                                xrsc_diag *diag)
+{
+    const xrsc_frame *f = &b->frame[k];
+    size_t n = (size_t)b->w * b->h;
+    double w0 = now_s();
+    xrsc_result res = xrsc_renderer_render(r, f);
+    if (res != XRSC_OK)
+        return u_diag_set(diag, res, "", 0, "", "setting %s: frame %u failed", s->name, k);
+    *out_wall_ms = (now_s() - w0) * 1e3;
+    for (int e = 0; e < 2; e++)
+        if ((res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, cur->color[e],
+                                      n * 4 * sizeof(float))) != XRSC_OK)
+            return u_diag_set(diag, res, "", 0, "", "setting %s: reading frame %u", s->name, k);
+    if ((res = xrsc_renderer_render(b->depth_r, f)) != XRSC_OK)
+        return res;
+    for (int e = 0; e < 2; e++)
+        if ((res = xrsc_renderer_read(b->depth_r, (uint32_t)e, XRSC_OUTPUT_DEPTH, cur->depth[e],
+                                      n * sizeof(float))) != XRSC_OK)
+            return res;
+    return XRSC_OK;
+}
+
+/* The CSV's header: the fixed columns, the passes' times, the method's counters. */
+static void csv_header(FILE *csv, const xrsc_pass_timing *pass, uint32_t np,
+                       const xrsc_counter *counter, uint32_t nc)
+{
+    for (uint32_t c = 0; c < HS_BENCH_COLUMN_COUNT; c++)
+        fprintf(csv, "%s%s", c ? "," : "", hs_bench_columns[c]);
+    for (uint32_t p = 0; p < np; p++)
+        fprintf(csv, ",gpu_%s_ms", pass[p].name);
+    for (uint32_t c = 0; c < nc; c++)
+        fprintf(csv, "," HS_BENCH_COUNTER_PREFIX "%s", counter[c].name);
+    fputc('\n', csv);
+}
+
+/* relmse, rmse, ssim against the reference (scored frames; empty otherwise), cpbd of the
+ * frame, ref_cpbd of the reference; ref is loaded here on scored frames. */
+static xrsc_result put_error_columns(bench_run *b, FILE *csv, const eye_images *cur, uint32_t k,
+                                     bool scored, float *ref[2], xrsc_diag *diag)
+{
+    const xrsc_metrics_options mo = {0};
+    double relmse = 0, rmse = 0, ssim = 0, ref_cpbd = 0;
+    if (scored) {
+        if (!ref_load(b, k, ref))
+            return u_diag_set(diag, XRSC_ERROR_IO, b->ref_dir, 0, "",
+                              "reference of frame %u is missing or unreadable", k);
+        for (int e = 0; e < 2; e++) {
+            xrsc_error_metrics em;
+            double ms;
+            xrsc_cpbd cp;
+            if (metric_ok(b, xrsc_metrics_error(cur->color[e], ref[e], b->w, b->h, &mo, &em))) {
+                relmse += 0.5 * em.relmse;
+                rmse += 0.5 * em.rmse;
+            } else {
+                relmse = rmse = NAN;
+            }
+            ssim += metric_ok(b, xrsc_metrics_ssim(cur->color[e], ref[e], b->w, b->h, &mo, &ms,
+                                                   NULL))
+                        ? 0.5 * ms
+                        : NAN;
+            ref_cpbd += metric_ok(b, xrsc_metrics_cpbd(ref[e], b->w, b->h, &mo, &cp))
+                            ? 0.5 * cp.cpbd
+                            : NAN;
+        }
+        /* RMSE of both eyes together: sqrt of the mean MSE. */
+        if (isfinite(rmse)) {
+            double mse = 0;
+            for (int e = 0; e < 2; e++) {
+                xrsc_error_metrics em;
+                if (xrsc_metrics_error(cur->color[e], ref[e], b->w, b->h, &mo, &em) == XRSC_OK)
+                    mse += 0.5 * em.mse;
+            }
+            rmse = sqrt(mse);
+        }
+    }
+    put_num(csv, relmse, scored);
+    put_num(csv, rmse, scored);
+    put_num(csv, ssim, scored);
+    double cpbd = 0;
+    for (int e = 0; e < 2; e++) {
+        xrsc_cpbd cp;
+        cpbd += metric_ok(b, xrsc_metrics_cpbd(cur->color[e], b->w, b->h, &mo, &cp))
+                    ? 0.5 * cp.cpbd
+                    : NAN;
+    }
+    put_num(csv, cpbd, true);
+    put_num(csv, ref_cpbd, scored);
+    return XRSC_OK;
+}
+
+/* temporal_msd, temporal_valid: this frame against the previous one reprojected by depth,
+ * per eye, weighted by the valid pixels (empty on frame 0). */
+static void put_temporal_columns(bench_run *b, FILE *csv, const eye_images *cur,
+                                 const eye_images *prev, uint32_t k)
+{
+    if (k == 0) {
+        fputs(",,", csv);
+        return;
+    }
+    const xrsc_metrics_options mo = {0};
+    double sum = 0;
+    uint64_t valid = 0;
+    bool ok = true;
+    for (int e = 0; e < 2; e++) {
+        xrsc_metrics_view vc = metrics_view(b, cur, k, e), vp = metrics_view(b, prev, k - 1, e);
+        xrsc_reproj_diff d;
+        if (metric_ok(b, xrsc_metrics_temporal_diff(&vc, &vp, &mo, &d, NULL, NULL))) {
+            sum += d.mean_sq_diff * (double)d.valid_count;
+            valid += d.valid_count;
+        } else {
+            ok = false;
+        }
+    }
+    put_num(csv, ok && valid ? sum / (double)valid : NAN, true);
+    fprintf(csv, ",%llu", (unsigned long long)valid);
+}
+
+/* stereo_msd, stereo_valid: the right eye against the left reprojected into it (seed 000
+ * Fig. 15); ref_stereo_msd: the reference's own (scored frames), not zero where shading is
+ * view-dependent, the level a blend should reach rather than zero. */
+static void put_stereo_columns(bench_run *b, FILE *csv, const eye_images *cur, uint32_t k,
+                               bool scored, float *const ref[2])
+{
+    const xrsc_metrics_options mo = {0};
+    xrsc_metrics_view vr = metrics_view(b, cur, k, 1), vl = metrics_view(b, cur, k, 0);
+    xrsc_reproj_diff d;
+    if (metric_ok(b, xrsc_metrics_stereo_discrepancy(&vr, &vl, &mo, &d, NULL, NULL))) {
+        put_num(csv, d.valid_count ? d.mean_sq_diff : NAN, true);
+        fprintf(csv, ",%llu", (unsigned long long)d.valid_count);
+    } else {
+        fputs(",nan,0", csv);
+    }
+    if (!scored) {
+        fputc(',', csv);
+        return;
+    }
+    eye_images rim = *cur;
+    rim.color[0] = ref[0];
+    rim.color[1] = ref[1];
+    vr = metrics_view(b, &rim, k, 1);
+    vl = metrics_view(b, &rim, k, 0);
+    put_num(csv,
+            metric_ok(b, xrsc_metrics_stereo_discrepancy(&vr, &vl, &mo, &d, NULL, NULL)) &&
+                    d.valid_count
+                ? d.mean_sq_diff
+                : NAN,
+            true);
+}
+
+/* One frame of setting s: rendered, measured, its CSV row written. */
+static xrsc_result bench_frame(bench_run *b, const hs_bench_setting *s, xrsc_renderer *r,
+                               uint32_t k, eye_images im[2], float *ref[2], FILE *csv,
+                               xrsc_diag *diag)
+{
+    eye_images *cur = &im[k & 1], *prev = &im[(k + 1) & 1];
+    double wall_ms = 0.0;
+    xrsc_result res = render_frame(b, s, r, k, cur, &wall_ms, diag);
+    if (res != XRSC_OK)
+        return res;
+    xrsc_pass_timing pass[XRSC_MAX_PASSES];
+    uint32_t np = xrsc_renderer_timings(r, pass, XRSC_MAX_PASSES);
+    uint64_t rays = xrsc_renderer_rays_last_frame(r);
+    xrsc_counter counter[XRSC_MAX_COUNTERS];
+    uint32_t nc = xrsc_renderer_counters(r, counter, XRSC_MAX_COUNTERS);
+    if (k == 0)
+        csv_header(csv, pass, np, counter, nc);
+    double gpu_ms = 0.0;
+    for (uint32_t p = 0; p < np; p++)
+        gpu_ms += pass[p].gpu_ms;
+    bool scored = hs_bench_is_scored(k, b->warmup, b->score_every);
+    fprintf(csv, "%s,%s,%u,%lld,%d,%d,%.4f,%.4f,%llu,%.5f", s->name,
+            xrsc_method_name(s->renderer.method), k, (long long)b->frame[k].display_time_ns,
+            k < b->warmup, scored, wall_ms, gpu_ms, (unsigned long long)rays,
+            (double)rays / (2.0 * (double)b->w * b->h));
+    if ((res = put_error_columns(b, csv, cur, k, scored, ref, diag)) != XRSC_OK)
+        return res;
+    put_temporal_columns(b, csv, cur, prev, k);
+    put_stereo_columns(b, csv, cur, k, scored, ref);
+    for (uint32_t p = 0; p < np; p++)
+        fprintf(csv, ",%.4f", pass[p].gpu_ms);
+    for (uint32_t c = 0; c < nc; c++)
+        fprintf(csv, ",%.6g", counter[c].value);
+    fputc('\n', csv);
+    return XRSC_OK;
+}
+
 static xrsc_result run_setting(bench_run *b, const hs_bench_setting *s, uint32_t index,
                                xrsc_diag *diag)
 {
@@ -418,7 +608,7 @@ static xrsc_result run_setting(bench_run *b, const hs_bench_setting *s, uint32_t
         return res;
     }
     size_t n = (size_t)b->w * b->h;
-    size_t color_bytes = n * 4 * sizeof(float), depth_bytes = n * sizeof(float);
+    size_t color_bytes = n * 4 * sizeof(float);
     eye_images im[2]; /* [k & 1]: this frame and the previous one */
     float *ref[2] = {malloc(color_bytes), malloc(color_bytes)};
     FILE *csv = NULL;
@@ -434,161 +624,10 @@ static xrsc_result run_setting(bench_run *b, const hs_bench_setting *s, uint32_t
     }
     fprintf(csv, "%s\n", first_line);
 
-    const xrsc_metrics_options mo = {0};
     double t0 = now_s();
     for (uint32_t k = 0; k < b->frames; k++) {
-        const xrsc_frame *f = &b->frame[k];
-        eye_images *cur = &im[k & 1], *prev = &im[(k + 1) & 1];
-        double w0 = now_s();
-        if ((res = xrsc_renderer_render(r, f)) != XRSC_OK) {
-            u_diag_set(diag, res, "", 0, "", "setting %s: frame %u failed", s->name, k);
+        if ((res = bench_frame(b, s, r, k, im, ref, csv, diag)) != XRSC_OK)
             goto done;
-        }
-        double wall_ms = (now_s() - w0) * 1e3;
-        xrsc_pass_timing pass[XRSC_MAX_PASSES];
-        uint32_t np = xrsc_renderer_timings(r, pass, XRSC_MAX_PASSES);
-        uint64_t rays = xrsc_renderer_rays_last_frame(r);
-        xrsc_counter counter[XRSC_MAX_COUNTERS];
-        uint32_t nc = xrsc_renderer_counters(r, counter, XRSC_MAX_COUNTERS);
-        for (int e = 0; e < 2; e++)
-            if ((res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, cur->color[e],
-                                          color_bytes)) != XRSC_OK) {
-                u_diag_set(diag, res, "", 0, "", "setting %s: reading frame %u", s->name, k);
-                goto done;
-            }
-        /* Depth at pixel centres (the same for every setting) for the reprojections. */
-        if ((res = xrsc_renderer_render(b->depth_r, f)) != XRSC_OK)
-            goto done;
-        for (int e = 0; e < 2; e++)
-            if ((res = xrsc_renderer_read(b->depth_r, (uint32_t)e, XRSC_OUTPUT_DEPTH,
-                                          cur->depth[e], depth_bytes)) != XRSC_OK)
-                goto done;
-
-        if (k == 0) {
-            for (uint32_t c = 0; c < HS_BENCH_COLUMN_COUNT; c++)
-                fprintf(csv, "%s%s", c ? "," : "", hs_bench_columns[c]);
-            for (uint32_t p = 0; p < np; p++)
-                fprintf(csv, ",gpu_%s_ms", pass[p].name);
-            for (uint32_t c = 0; c < nc; c++)
-                fprintf(csv, "," HS_BENCH_COUNTER_PREFIX "%s", counter[c].name);
-            fputc('\n', csv);
-        }
-        double gpu_ms = 0.0;
-        for (uint32_t p = 0; p < np; p++)
-            gpu_ms += pass[p].gpu_ms;
-        bool scored = hs_bench_is_scored(k, b->warmup, b->score_every);
-        fprintf(csv, "%s,%s,%u,%lld,%d,%d,%.4f,%.4f,%llu,%.5f", s->name,
-                xrsc_method_name(s->renderer.method), k, (long long)f->display_time_ns,
-                k < b->warmup, scored, wall_ms, gpu_ms, (unsigned long long)rays,
-                (double)rays / (2.0 * (double)n));
-
-        /* Against the reference (scored frames). */
-        double relmse = 0, rmse = 0, ssim = 0, ref_cpbd = 0;
-        bool have_err = false, have_ref_cpbd = false;
-        if (scored) {
-            if (!ref_load(b, k, ref)) {
-                res = u_diag_set(diag, XRSC_ERROR_IO, b->ref_dir, 0, "",
-                                 "reference of frame %u is missing or unreadable", k);
-                goto done;
-            }
-            have_err = have_ref_cpbd = true;
-            for (int e = 0; e < 2; e++) {
-                xrsc_error_metrics em;
-                double ms;
-                xrsc_cpbd cp;
-                if (metric_ok(b, xrsc_metrics_error(cur->color[e], ref[e], b->w, b->h, &mo, &em))) {
-                    relmse += 0.5 * em.relmse;
-                    rmse += 0.5 * em.rmse;
-                } else {
-                    relmse = rmse = NAN;
-                }
-                ssim += metric_ok(b, xrsc_metrics_ssim(cur->color[e], ref[e], b->w, b->h, &mo, &ms,
-                                                       NULL))
-                            ? 0.5 * ms
-                            : NAN;
-                ref_cpbd += metric_ok(b, xrsc_metrics_cpbd(ref[e], b->w, b->h, &mo, &cp))
-                                ? 0.5 * cp.cpbd
-                                : NAN;
-            }
-            /* RMSE of both eyes together: sqrt of the mean MSE. */
-            if (isfinite(rmse)) {
-                double mse = 0;
-                for (int e = 0; e < 2; e++) {
-                    xrsc_error_metrics em;
-                    if (xrsc_metrics_error(cur->color[e], ref[e], b->w, b->h, &mo, &em) == XRSC_OK)
-                        mse += 0.5 * em.mse;
-                }
-                rmse = sqrt(mse);
-            }
-        }
-        put_num(csv, relmse, have_err);
-        put_num(csv, rmse, have_err);
-        put_num(csv, ssim, have_err);
-        double cpbd = 0;
-        for (int e = 0; e < 2; e++) {
-            xrsc_cpbd cp;
-            cpbd += metric_ok(b, xrsc_metrics_cpbd(cur->color[e], b->w, b->h, &mo, &cp))
-                        ? 0.5 * cp.cpbd
-                        : NAN;
-        }
-        put_num(csv, cpbd, true);
-        put_num(csv, ref_cpbd, have_ref_cpbd);
-
-        /* Temporal: this frame against the previous one reprojected by depth, per eye, weighted
-         * by the valid pixels. */
-        if (k > 0) {
-            double sum = 0;
-            uint64_t valid = 0;
-            bool ok = true;
-            for (int e = 0; e < 2; e++) {
-                xrsc_metrics_view vc = metrics_view(b, cur, k, e), vp = metrics_view(b, prev, k - 1, e);
-                xrsc_reproj_diff d;
-                if (metric_ok(b, xrsc_metrics_temporal_diff(&vc, &vp, &mo, &d, NULL, NULL))) {
-                    sum += d.mean_sq_diff * (double)d.valid_count;
-                    valid += d.valid_count;
-                } else {
-                    ok = false;
-                }
-            }
-            put_num(csv, ok && valid ? sum / (double)valid : NAN, true);
-            fprintf(csv, ",%llu", (unsigned long long)valid);
-        } else {
-            fputs(",,", csv);
-        }
-        /* Stereo: the right eye against the left reprojected into it (seed 000 Fig. 15). */
-        {
-            xrsc_metrics_view vr = metrics_view(b, cur, k, 1), vl = metrics_view(b, cur, k, 0);
-            xrsc_reproj_diff d;
-            if (metric_ok(b, xrsc_metrics_stereo_discrepancy(&vr, &vl, &mo, &d, NULL, NULL))) {
-                put_num(csv, d.valid_count ? d.mean_sq_diff : NAN, true);
-                fprintf(csv, ",%llu", (unsigned long long)d.valid_count);
-            } else {
-                fputs(",nan,0", csv);
-            }
-        }
-        /* The reference's own stereo discrepancy (scored frames): not zero where shading is
-         * view-dependent, the level a blend should reach rather than zero. */
-        if (scored) {
-            eye_images rim = *cur;
-            rim.color[0] = ref[0];
-            rim.color[1] = ref[1];
-            xrsc_metrics_view vr = metrics_view(b, &rim, k, 1), vl = metrics_view(b, &rim, k, 0);
-            xrsc_reproj_diff d;
-            put_num(csv,
-                    metric_ok(b, xrsc_metrics_stereo_discrepancy(&vr, &vl, &mo, &d, NULL, NULL)) &&
-                            d.valid_count
-                        ? d.mean_sq_diff
-                        : NAN,
-                    true);
-        } else {
-            fputc(',', csv);
-        }
-        for (uint32_t p = 0; p < np; p++)
-            fprintf(csv, ",%.4f", pass[p].gpu_ms);
-        for (uint32_t c = 0; c < nc; c++)
-            fprintf(csv, ",%.6g", counter[c].value);
-        fputc('\n', csv);
-
         double per = (now_s() - t0) / (k + 1);
         progress_line(&b->prog, k + 1 == b->frames,
                       "setting %u/%u %-22s frame %u/%u  %.2f s/frame  left ~%.0f s", index + 1,
