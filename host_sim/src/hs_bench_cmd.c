@@ -132,205 +132,232 @@ static const char *const value_options[] = {
     "--seed", "--env", "--ipd", "--refresh", "--device", "--out",
 };
 
-int hs_bench_main(int argc, char **argv)
-{
-    hs_bench_options opt = {
-        .scene_path = DEFAULT_SCENE,
-        .poses_path = DEFAULT_POSES,
-        .out_dir = DEFAULT_OUT,
-        .frames = DEFAULT_FRAMES,
-        .warmup = DEFAULT_WARMUP,
-        .score_every = DEFAULT_SCORE_EVERY,
-        .width = DEFAULT_SIZE,
-        .height = DEFAULT_SIZE,
-        .ref_spp = DEFAULT_REF_SPP,
-        .progress = true,
-        .anchor = HS_BENCH_ANCHOR_START,
-    };
-    xrsc_headset_default(&opt.headset);
-    const char *settings_text = HS_BENCH_DEFAULT_SETTINGS;
-    char *settings_file = NULL;
-    static char scene_buf[4096], poses_buf[4096];
-    bool warmup_given = false;
-    for (int i = 1; i < argc; i++)
-        if (!strcmp(argv[i], "--suite") || !strncmp(argv[i], "--suite=", 8))
-            return hs_bench_suite_main(argc, argv);
-    hs_args args; /* --opt=value (hs_args_prepare) */
-    const hs_args_spec spec = {.cmd = "xrsc bench", .value_options = value_options,
-                               .value_count = sizeof(value_options) / sizeof(value_options[0])};
-    int prep = hs_args_prepare(&args, &spec, argc, argv);
-    if (prep)
-        return prep;
-    argc = args.argc;
-    argv = args.argv;
+/* What the command line sets: the bench options, the settings' text, --warmup given. */
+typedef struct bench_args {
+    hs_bench_options opt;
+    const char *settings_text;
+    char *settings_file; /* --settings @FILE: its text (owned) */
+    bool warmup_given;
+} bench_args;
 
+/* The parse steps' results besides an exit status (>= 0). */
+#define ARG_NEXT (-1)
+#define ARG_NOT_MINE (-2)
+
+/* Options without a value. */
+static int parse_flag(const char *a, bench_args *ba)
+{
+    hs_bench_options *opt = &ba->opt;
+    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+        usage(stdout);
+        return 0;
+    }
+    if (!strcmp(a, "--fresh"))
+        opt->fresh = true;
+    else if (!strcmp(a, "--ref-floor"))
+        opt->ref_floor = true;
+    else if (!strcmp(a, "--no-plots"))
+        opt->no_plots = true;
+    else if (!strcmp(a, "--quiet"))
+        opt->progress = false;
+    else if (!strcmp(a, "--validation"))
+        opt->context.validation = true;
+    else
+        return ARG_NOT_MINE;
+    return ARG_NEXT;
+}
+
+/* What is run: scene, poses, frames and scoring, the settings and the baseline. */
+static int parse_run_option(const char *a, const char *v, bench_args *ba)
+{
+    hs_bench_options *opt = &ba->opt;
+    double d;
+    if (!strcmp(a, "--scene")) {
+        opt->scene_path = v;
+    } else if (!strcmp(a, "--poses")) {
+        opt->poses_path = v;
+    } else if (!strcmp(a, "--pose-format")) {
+        static const struct {
+            const char *name;
+            hs_pose_format f;
+        } fm[] = {{"auto", HS_POSE_FORMAT_AUTO},         {"xrsc", HS_POSE_FORMAT_XRSC},
+                  {"pred6dof", HS_POSE_FORMAT_PRED6DOF}, {"360video", HS_POSE_FORMAT_360VIDEO},
+                  {"librnr", HS_POSE_FORMAT_LIBRNR}};
+        for (size_t k = 0; k < sizeof(fm) / sizeof(fm[0]); k++)
+            if (!strcmp(v, fm[k].name)) {
+                opt->pose_format = fm[k].f;
+                return ARG_NEXT;
+            }
+        return bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
+    } else if (!strcmp(a, "--anchor")) {
+        if (!strcmp(v, "start"))
+            opt->anchor = HS_BENCH_ANCHOR_START;
+        else if (!strcmp(v, "first"))
+            opt->anchor = HS_BENCH_ANCHOR_FIRST;
+        else if (!strcmp(v, "none"))
+            opt->anchor = HS_BENCH_ANCHOR_NONE;
+        else
+            return bad_arg(a, v, "expected start, first or none");
+    } else if (!strcmp(a, "--start")) {
+        if (!hs_parse_f(v, &d) || d < 0)
+            return bad_arg(a, v, "expected seconds >= 0");
+        opt->start_s = d;
+    } else if (!strcmp(a, "--frames")) {
+        if (!hs_parse_u32(v, &opt->frames) || opt->frames > 1000000)
+            return bad_arg(a, v, "expected 0..1000000");
+    } else if (!strcmp(a, "--warmup")) {
+        if (!hs_parse_u32(v, &opt->warmup))
+            return bad_arg(a, v, "expected a count");
+        ba->warmup_given = true;
+    } else if (!strcmp(a, "--score-every")) {
+        if (!hs_parse_u32(v, &opt->score_every) || opt->score_every == 0)
+            return bad_arg(a, v, "expected a count >= 1");
+    } else if (!strcmp(a, "--settings")) {
+        ba->settings_text = v;
+        if (v[0] == '@') {
+            free(ba->settings_file);
+            ba->settings_text = ba->settings_file = read_text_file(v + 1);
+            if (!ba->settings_file)
+                return bad_arg(a, v, "cannot read the file");
+        }
+    } else if (!strcmp(a, "--baseline")) {
+        opt->baseline = v;
+    } else {
+        return ARG_NOT_MINE;
+    }
+    return ARG_NEXT;
+}
+
+/* How it is rendered and written: size, references, seed, environment, headset, device, out. */
+static int parse_render_option(const char *a, const char *v, bench_args *ba)
+{
+    hs_bench_options *opt = &ba->opt;
+    uint32_t u;
+    double d;
+    if (!strcmp(a, "--resolution")) {
+        unsigned w = 0, h = 0;
+        char tail;
+        if (sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192)
+            return bad_arg(a, v, "expected WxH, each 16..8192");
+        opt->width = w;
+        opt->height = h;
+    } else if (!strcmp(a, "--ref-spp")) {
+        if (!hs_parse_u32(v, &u) || u == 0 || u > 1u << 20)
+            return bad_arg(a, v, "expected 1..1048576");
+        opt->ref_spp = u;
+    } else if (!strcmp(a, "--seed")) {
+        if (!hs_parse_u32(v, &opt->seed))
+            return bad_arg(a, v, "expected an unsigned integer");
+    } else if (!strcmp(a, "--env")) {
+        float r, g, b;
+        char tail;
+        if (sscanf(v, "%f,%f,%f%c", &r, &g, &b, &tail) != 3 || r < 0 || g < 0 || b < 0)
+            return bad_arg(a, v, "expected R,G,B >= 0");
+        opt->scene.env_set = true;
+        opt->scene.environment[0] = r;
+        opt->scene.environment[1] = g;
+        opt->scene.environment[2] = b;
+    } else if (!strcmp(a, "--ipd")) {
+        if (!hs_parse_f(v, &d) || d < 0 || d > 200)
+            return bad_arg(a, v, "expected millimetres 0..200");
+        opt->headset.ipd_m = (float)(d * 1e-3);
+    } else if (!strcmp(a, "--refresh")) {
+        if (!hs_parse_f(v, &d) || d < 1 || d > 1000)
+            return bad_arg(a, v, "expected 1..1000 Hz");
+        opt->headset.refresh_hz = (float)d;
+    } else if (!strcmp(a, "--device")) {
+        opt->context.device = v;
+    } else if (!strcmp(a, "--out")) {
+        if (!v[0])
+            return bad_arg(a, v, "empty folder name");
+        opt->out_dir = v;
+    } else {
+        return ARG_NOT_MINE;
+    }
+    return ARG_NEXT;
+}
+
+/* Reads argv[1..argc) into ba: ARG_NEXT when all of it was read, else the exit status. */
+static int parse_args(int argc, char **argv, bench_args *ba)
+{
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            usage(stdout);
-            free(settings_file);
-            return 0;
-        }
-        if (!strcmp(a, "--fresh")) {
-            opt.fresh = true;
+        int r = parse_flag(a, ba);
+        if (r == ARG_NEXT)
             continue;
-        }
-        if (!strcmp(a, "--ref-floor")) {
-            opt.ref_floor = true;
-            continue;
-        }
-        if (!strcmp(a, "--no-plots")) {
-            opt.no_plots = true;
-            continue;
-        }
-        if (!strcmp(a, "--quiet")) {
-            opt.progress = false;
-            continue;
-        }
-        if (!strcmp(a, "--validation")) {
-            opt.context.validation = true;
-            continue;
-        }
-        bool known = false;
-        for (size_t k = 0; k < sizeof(value_options) / sizeof(value_options[0]); k++)
-            known |= !strcmp(a, value_options[k]);
-        if (!known) {
-            free(settings_file);
+        if (r != ARG_NOT_MINE)
+            return r;
+        if (!hs_arg_in(a, value_options, sizeof(value_options) / sizeof(value_options[0])))
             return bad_arg(a, NULL, a[0] == '-' ? "unknown option" : "unexpected argument");
-        }
-        if (i + 1 >= argc) {
-            free(settings_file);
+        if (i + 1 >= argc)
             return bad_arg(a, NULL, "needs a value");
-        }
         const char *v = argv[++i];
-        uint32_t u;
-        double d;
-        int bad = 0;
-        if (!strcmp(a, "--scene")) {
-            opt.scene_path = v;
-        } else if (!strcmp(a, "--poses")) {
-            opt.poses_path = v;
-        } else if (!strcmp(a, "--pose-format")) {
-            static const struct {
-                const char *name;
-                hs_pose_format f;
-            } fm[] = {{"auto", HS_POSE_FORMAT_AUTO},         {"xrsc", HS_POSE_FORMAT_XRSC},
-                      {"pred6dof", HS_POSE_FORMAT_PRED6DOF}, {"360video", HS_POSE_FORMAT_360VIDEO},
-                      {"librnr", HS_POSE_FORMAT_LIBRNR}};
-            bad = 1;
-            for (size_t k = 0; k < sizeof(fm) / sizeof(fm[0]); k++)
-                if (!strcmp(v, fm[k].name)) {
-                    opt.pose_format = fm[k].f;
-                    bad = 0;
-                }
-            if (bad)
-                bad = bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
-        } else if (!strcmp(a, "--anchor")) {
-            if (!strcmp(v, "start"))
-                opt.anchor = HS_BENCH_ANCHOR_START;
-            else if (!strcmp(v, "first"))
-                opt.anchor = HS_BENCH_ANCHOR_FIRST;
-            else if (!strcmp(v, "none"))
-                opt.anchor = HS_BENCH_ANCHOR_NONE;
-            else
-                bad = bad_arg(a, v, "expected start, first or none");
-        } else if (!strcmp(a, "--start")) {
-            if (!hs_parse_f(v, &d) || d < 0)
-                bad = bad_arg(a, v, "expected seconds >= 0");
-            opt.start_s = d;
-        } else if (!strcmp(a, "--frames")) {
-            if (!hs_parse_u32(v, &opt.frames) || opt.frames > 1000000)
-                bad = bad_arg(a, v, "expected 0..1000000");
-        } else if (!strcmp(a, "--warmup")) {
-            if (!hs_parse_u32(v, &opt.warmup))
-                bad = bad_arg(a, v, "expected a count");
-            warmup_given = true;
-        } else if (!strcmp(a, "--score-every")) {
-            if (!hs_parse_u32(v, &opt.score_every) || opt.score_every == 0)
-                bad = bad_arg(a, v, "expected a count >= 1");
-        } else if (!strcmp(a, "--settings")) {
-            if (v[0] == '@') {
-                free(settings_file);
-                settings_file = read_text_file(v + 1);
-                if (!settings_file)
-                    bad = bad_arg(a, v, "cannot read the file");
-                settings_text = settings_file;
-            } else {
-                settings_text = v;
-            }
-        } else if (!strcmp(a, "--baseline")) {
-            opt.baseline = v;
-        } else if (!strcmp(a, "--resolution")) {
-            unsigned w = 0, h = 0;
-            char tail;
-            if (sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 8192 ||
-                h > 8192)
-                bad = bad_arg(a, v, "expected WxH, each 16..8192");
-            opt.width = w;
-            opt.height = h;
-        } else if (!strcmp(a, "--ref-spp")) {
-            if (!hs_parse_u32(v, &u) || u == 0 || u > 1u << 20)
-                bad = bad_arg(a, v, "expected 1..1048576");
-            opt.ref_spp = u;
-        } else if (!strcmp(a, "--seed")) {
-            if (!hs_parse_u32(v, &opt.seed))
-                bad = bad_arg(a, v, "expected an unsigned integer");
-        } else if (!strcmp(a, "--env")) {
-            float r, g, b;
-            char tail;
-            if (sscanf(v, "%f,%f,%f%c", &r, &g, &b, &tail) != 3 || r < 0 || g < 0 || b < 0) {
-                bad = bad_arg(a, v, "expected R,G,B >= 0");
-            } else {
-                opt.scene.env_set = true;
-                opt.scene.environment[0] = r;
-                opt.scene.environment[1] = g;
-                opt.scene.environment[2] = b;
-            }
-        } else if (!strcmp(a, "--ipd")) {
-            if (!hs_parse_f(v, &d) || d < 0 || d > 200)
-                bad = bad_arg(a, v, "expected millimetres 0..200");
-            opt.headset.ipd_m = (float)(d * 1e-3);
-        } else if (!strcmp(a, "--refresh")) {
-            if (!hs_parse_f(v, &d) || d < 1 || d > 1000)
-                bad = bad_arg(a, v, "expected 1..1000 Hz");
-            opt.headset.refresh_hz = (float)d;
-        } else if (!strcmp(a, "--device")) {
-            opt.context.device = v;
-        } else if (!strcmp(a, "--out")) {
-            if (!v[0])
-                bad = bad_arg(a, v, "empty folder name");
-            opt.out_dir = v;
-        }
-        if (bad) {
-            free(settings_file);
-            return bad;
-        }
+        r = parse_run_option(a, v, ba);
+        if (r == ARG_NOT_MINE)
+            r = parse_render_option(a, v, ba);
+        if (r != ARG_NEXT && r != ARG_NOT_MINE)
+            return r;
     }
-    if (opt.frames && opt.warmup >= opt.frames) {
-        if (warmup_given) {
-            free(settings_file);
+    if (ba->opt.frames && ba->opt.warmup >= ba->opt.frames) {
+        if (ba->warmup_given)
             return bad_arg("--warmup", NULL, "must be less than --frames");
-        }
-        opt.warmup = opt.frames / 2; /* short runs keep half of their frames */
+        ba->opt.warmup = ba->opt.frames / 2; /* short runs keep half of their frames */
     }
+    return ARG_NEXT;
+}
 
+/* Parses the settings and runs the bench: the exit status. */
+static int run_bench(bench_args *ba)
+{
     static hs_bench_setting settings[HS_BENCH_MAX_SETTINGS];
+    static char scene_buf[4096], poses_buf[4096];
+    hs_bench_options *opt = &ba->opt;
     xrsc_diag diag = {0};
     char msg[1400];
-    if (hs_bench_parse_settings(settings_text, settings, HS_BENCH_MAX_SETTINGS,
-                                &opt.setting_count, &diag) != XRSC_OK) {
+    if (hs_bench_parse_settings(ba->settings_text, settings, HS_BENCH_MAX_SETTINGS,
+                                &opt->setting_count, &diag) != XRSC_OK) {
         fprintf(stderr, "xrsc bench: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
-        free(settings_file);
         return 2;
     }
-    free(settings_file);
-    opt.settings = settings;
-    opt.scene_path = resolve(opt.scene_path, scene_buf, sizeof(scene_buf));
-    opt.poses_path = resolve(opt.poses_path, poses_buf, sizeof(poses_buf));
-
-    if (hs_bench_run(&opt, stdout, &diag) != XRSC_OK) {
+    opt->settings = settings;
+    opt->scene_path = resolve(opt->scene_path, scene_buf, sizeof(scene_buf));
+    opt->poses_path = resolve(opt->poses_path, poses_buf, sizeof(poses_buf));
+    if (hs_bench_run(opt, stdout, &diag) != XRSC_OK) {
         fprintf(stderr, "xrsc bench: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
         return 1;
     }
     return 0;
+}
+
+int hs_bench_main(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--suite") || !strncmp(argv[i], "--suite=", 8))
+            return hs_bench_suite_main(argc, argv);
+    bench_args ba = {
+        .opt = {.scene_path = DEFAULT_SCENE,
+                .poses_path = DEFAULT_POSES,
+                .out_dir = DEFAULT_OUT,
+                .frames = DEFAULT_FRAMES,
+                .warmup = DEFAULT_WARMUP,
+                .score_every = DEFAULT_SCORE_EVERY,
+                .width = DEFAULT_SIZE,
+                .height = DEFAULT_SIZE,
+                .ref_spp = DEFAULT_REF_SPP,
+                .progress = true,
+                .anchor = HS_BENCH_ANCHOR_START},
+        .settings_text = HS_BENCH_DEFAULT_SETTINGS,
+    };
+    xrsc_headset_default(&ba.opt.headset);
+    hs_args args; /* --opt=value (hs_args_prepare) */
+    const hs_args_spec spec = {.cmd = "xrsc bench", .value_options = value_options,
+                               .value_count = sizeof(value_options) / sizeof(value_options[0])};
+    int r = hs_args_prepare(&args, &spec, argc, argv);
+    if (r)
+        return r;
+    r = parse_args(args.argc, args.argv, &ba);
+    if (r == ARG_NEXT)
+        r = run_bench(&ba);
+    free(ba.settings_file);
+    return r;
 }
