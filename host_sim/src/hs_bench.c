@@ -220,60 +220,38 @@ static xrsc_result render_reference(bench_run *b, xrsc_renderer *r, uint32_t k,
     return res;
 }
 
-static xrsc_result make_references(bench_run *b, xrsc_diag *diag)
+/* The reference cache: kept when it belongs to this configuration (config.txt), else
+ * emptied, so that another configuration's references are never taken for this one's. */
+static xrsc_result ref_cache_check(bench_run *b, xrsc_diag *diag)
 {
-    const hs_bench_options *opt = b->opt;
     char cfg_path[HS_BENCH_PATH_MAX + 16], old[sizeof(b->ref_config)];
     snprintf(cfg_path, sizeof(cfg_path), "%s/config.txt", b->ref_dir);
-    bool reuse = !opt->fresh && read_file_line(cfg_path, old, sizeof(old)) &&
-                 strcmp(old, b->ref_config) == 0;
-    xrsc_result res;
-    if (!reuse) {
-        /* Another configuration's references must not be taken for this one's. */
-        for (uint32_t k = 0; k < b->frames; k++)
-            for (int e = 0; e < 2; e++)
-                for (int s = 0; s < 2; s++) {
-                    char path[HS_BENCH_PATH_MAX];
-                    ref_path_s(b, k, e, s ? "_floor" : "", path, sizeof(path));
-                    unlink(path);
-                }
-        char text[sizeof(b->ref_config) + 2];
-        snprintf(text, sizeof(text), "%s\n", b->ref_config);
-        if ((res = write_text_atomic(cfg_path, text, diag)) != XRSC_OK)
-            return res;
-    }
-    uint32_t todo = 0, scored = 0;
-    bool have_floor_frame = false;
+    if (!b->opt->fresh && read_file_line(cfg_path, old, sizeof(old)) &&
+        strcmp(old, b->ref_config) == 0)
+        return XRSC_OK;
     for (uint32_t k = 0; k < b->frames; k++)
-        if (hs_bench_is_scored(k, b->warmup, b->score_every)) {
-            if (!have_floor_frame) {
-                b->floor_frame = k;
-                have_floor_frame = true;
+        for (int e = 0; e < 2; e++)
+            for (int s = 0; s < 2; s++) {
+                char path[HS_BENCH_PATH_MAX];
+                ref_path_s(b, k, e, s ? "_floor" : "", path, sizeof(path));
+                unlink(path);
             }
-            scored++;
-            if (!ref_load(b, k, NULL))
-                todo++;
-        }
-    bool floor_todo = opt->ref_floor && have_floor_frame &&
-                      !ref_load_s(b, b->floor_frame, "_floor", NULL);
-    if (opt->progress)
-        fprintf(stderr,
-                "xrsc bench: %u scored frames, %u references to render (%u spp), %u cached%s\n",
-                scored, todo, b->ref_spp, scored - todo,
-                !opt->ref_floor ? ""
-                : floor_todo    ? "; +1 for --ref-floor"
-                                : "; --ref-floor's cached");
+    char text[sizeof(b->ref_config) + 2];
+    snprintf(text, sizeof(text), "%s\n", b->ref_config);
+    return write_text_atomic(cfg_path, text, diag);
+}
 
-    size_t n = (size_t)b->w * b->h;
-    float *px = malloc(n * 4 * sizeof(float));
-    if (!px)
-        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "reference image");
-    res = XRSC_OK;
+/* Renders the references still missing (pass 0) and --ref-floor's second reference of the
+ * first scored frame with another seed (pass 1); all = how many, for the progress line. */
+static xrsc_result render_references(bench_run *b, bool refs_todo, bool floor_todo,
+                                     uint32_t all, float *px, xrsc_diag *diag)
+{
+    const hs_bench_options *opt = b->opt;
+    xrsc_result res = XRSC_OK;
     double t0 = now_s();
-    uint32_t done = 0, all = todo + (floor_todo ? 1u : 0u);
+    uint32_t done = 0;
     for (int pass = 0; pass < 2 && res == XRSC_OK; pass++) {
-        /* pass 0: the references; pass 1: --ref-floor's second reference, another seed. */
-        if ((pass == 0 && todo == 0) || (pass == 1 && !floor_todo))
+        if ((pass == 0 && !refs_todo) || (pass == 1 && !floor_todo))
             continue;
         uint32_t chunk = ref_chunk(b->ref_spp);
         xrsc_renderer_options ro = {
@@ -295,31 +273,73 @@ static xrsc_result make_references(bench_run *b, xrsc_diag *diag)
     }
     if (all)
         progress_line(&b->prog, true, "references: %u rendered", done);
+    return res;
+}
 
-    /* The noise floor: relMSE of the second reference against the first, as a setting's. */
-    if (res == XRSC_OK && opt->ref_floor && have_floor_frame) {
-        float *ra[2] = {malloc(n * 4 * sizeof(float)), malloc(n * 4 * sizeof(float))};
-        float *rb[2] = {px, malloc(n * 4 * sizeof(float))};
-        const xrsc_metrics_options mo = {0};
-        if (!ra[0] || !ra[1] || !rb[1])
-            res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "reference images");
-        else if (!ref_load(b, b->floor_frame, ra) || !ref_load_s(b, b->floor_frame, "_floor", rb))
-            res = u_diag_set(diag, XRSC_ERROR_IO, b->ref_dir, 0, "--ref-floor",
-                             "references of frame %u are missing or unreadable", b->floor_frame);
-        else {
-            double sum = 0;
-            for (int e = 0; e < 2; e++) {
-                xrsc_error_metrics em;
-                sum += xrsc_metrics_error(rb[e], ra[e], b->w, b->h, &mo, &em) == XRSC_OK
-                           ? 0.5 * em.relmse
-                           : NAN;
-            }
-            b->ref_floor_relmse = sum;
+/* The noise floor: relMSE of the second reference of the floor frame against the first, as
+ * a setting's would be measured. */
+static xrsc_result measure_floor(bench_run *b, float *px, xrsc_diag *diag)
+{
+    size_t n = (size_t)b->w * b->h;
+    float *ra[2] = {malloc(n * 4 * sizeof(float)), malloc(n * 4 * sizeof(float))};
+    float *rb[2] = {px, malloc(n * 4 * sizeof(float))};
+    const xrsc_metrics_options mo = {0};
+    xrsc_result res = XRSC_OK;
+    if (!ra[0] || !ra[1] || !rb[1]) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "reference images");
+    } else if (!ref_load(b, b->floor_frame, ra) ||
+               !ref_load_s(b, b->floor_frame, "_floor", rb)) {
+        res = u_diag_set(diag, XRSC_ERROR_IO, b->ref_dir, 0, "--ref-floor",
+                         "references of frame %u are missing or unreadable", b->floor_frame);
+    } else {
+        double sum = 0;
+        for (int e = 0; e < 2; e++) {
+            xrsc_error_metrics em;
+            sum += xrsc_metrics_error(rb[e], ra[e], b->w, b->h, &mo, &em) == XRSC_OK
+                       ? 0.5 * em.relmse
+                       : NAN;
         }
-        free(ra[0]);
-        free(ra[1]);
-        free(rb[1]);
+        b->ref_floor_relmse = sum;
     }
+    free(ra[0]);
+    free(ra[1]);
+    free(rb[1]);
+    return res;
+}
+
+static xrsc_result make_references(bench_run *b, xrsc_diag *diag)
+{
+    const hs_bench_options *opt = b->opt;
+    xrsc_result res = ref_cache_check(b, diag);
+    if (res != XRSC_OK)
+        return res;
+    uint32_t todo = 0, scored = 0;
+    bool have_floor_frame = false;
+    for (uint32_t k = 0; k < b->frames; k++)
+        if (hs_bench_is_scored(k, b->warmup, b->score_every)) {
+            if (!have_floor_frame) {
+                b->floor_frame = k;
+                have_floor_frame = true;
+            }
+            scored++;
+            if (!ref_load(b, k, NULL))
+                todo++;
+        }
+    bool floor_todo = opt->ref_floor && have_floor_frame &&
+                      !ref_load_s(b, b->floor_frame, "_floor", NULL);
+    if (opt->progress)
+        fprintf(stderr,
+                "xrsc bench: %u scored frames, %u references to render (%u spp), %u cached%s\n",
+                scored, todo, b->ref_spp, scored - todo,
+                !opt->ref_floor ? ""
+                : floor_todo    ? "; +1 for --ref-floor"
+                                : "; --ref-floor's cached");
+    float *px = malloc((size_t)b->w * b->h * 4 * sizeof(float));
+    if (!px)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "reference image");
+    res = render_references(b, todo > 0, floor_todo, todo + (floor_todo ? 1u : 0u), px, diag);
+    if (res == XRSC_OK && opt->ref_floor && have_floor_frame)
+        res = measure_floor(b, px, diag);
     free(px);
     return res;
 }
