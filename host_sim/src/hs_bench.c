@@ -692,6 +692,67 @@ static void fov_text(const XrFovf *f, char *out, size_t cap)
              f->angleDown);
 }
 
+/* Every setting's frames: the frame count (--frames, else the stream from --start to its
+ * end), the stream anchored (--anchor), the views of each frame on the simulated clock. */
+static xrsc_result bench_frames(bench_run *b, hs_pose_stream *stream,
+                                const xrsc_scene_info *info, xrsc_diag *diag)
+{
+    const hs_bench_options *opt = b->opt;
+    double period_ns =
+        NS_PER_S / (b->headset.refresh_hz > 0 ? b->headset.refresh_hz : DEFAULT_REFRESH_HZ);
+    int64_t start_ns = (int64_t)(opt->start_s * NS_PER_S);
+    int64_t span_ns = hs_pose_stream_duration_ns(stream) - start_ns;
+    if (span_ns < 0)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->poses_path, 0, "--start",
+                          "the stream ends at %.3f s, before --start %.3f s",
+                          hs_pose_stream_duration_ns(stream) / NS_PER_S, opt->start_s);
+    b->frames = opt->frames ? opt->frames : (uint32_t)(span_ns / period_ns) + 1;
+    if (opt->anchor == HS_BENCH_ANCHOR_FIRST) {
+        hs_pose_stream_anchor(stream, info->viewpoint);
+    } else if (opt->anchor == HS_BENCH_ANCHOR_START && stream->count > 0) {
+        /* viewpoint * inverse(pose at start) * p, through hs_pose_stream_anchor's
+         * viewpoint' * inverse(first) * p with viewpoint' = viewpoint * inverse(at) * first. */
+        XrPosef at;
+        hs_pose_stream_sample(stream, start_ns, &at);
+        XrPosef first = stream->samples[0].pose;
+        hs_pose_stream_anchor(stream, xrsc_pose_mul(xrsc_pose_mul(info->viewpoint,
+                                                                  xrsc_pose_inverse(at)),
+                                                    first));
+    }
+    b->frame = calloc(b->frames, sizeof(*b->frame));
+    if (!b->frame)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "--frames", "%u frames",
+                          b->frames);
+    for (uint32_t k = 0; k < b->frames; k++)
+        make_frame(b, stream, k, start_ns, period_ns, &b->frame[k]);
+    return XRSC_OK;
+}
+
+/* The configuration texts: what the references depend on (ref_config, ref/config.txt), and
+ * what a setting's CSV depends on besides its spec (config, its first line). */
+static void bench_config(bench_run *b)
+{
+    const hs_bench_options *opt = b->opt;
+    static const char *const anchor_name[] = {"start", "first", "none"};
+    char fov0[96], fov1[96], env[96] = "scene";
+    fov_text(&b->headset.fov[0], fov0, sizeof(fov0));
+    fov_text(&b->headset.fov[1], fov1, sizeof(fov1));
+    if (opt->scene.env_set)
+        snprintf(env, sizeof(env), "%g/%g/%g", opt->scene.environment[0],
+                 opt->scene.environment[1], opt->scene.environment[2]);
+    snprintf(b->ref_config, sizeof(b->ref_config),
+             "scene=%s poses=%s format=%s anchor=%s start=%.9g res=%ux%u ref_spp=%u seed=%u "
+             "ipd=%g refresh=%g fov=%s,%s env=%s",
+             opt->scene_path, opt->poses_path, hs_pose_format_name(opt->pose_format),
+             anchor_name[opt->anchor], opt->start_s, b->w, b->h, b->ref_spp, opt->seed,
+             b->headset.ipd_m, b->headset.refresh_hz, fov0, fov1, env);
+    /* columns=: CSVs written with other columns are rendered again, not reused. */
+    snprintf(b->config, sizeof(b->config),
+             "%s frames=%u warmup=%u score_every=%u device=%s columns=%u", b->ref_config,
+             b->frames, b->warmup, b->score_every, xrsc_context_device_name(b->ctx),
+             HS_BENCH_COLUMN_COUNT);
+}
+
 xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *diag)
 {
     if (!opt || !opt->scene_path || !opt->poses_path || !opt->out_dir || !opt->out_dir[0] ||
@@ -722,54 +783,9 @@ xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *
     xrsc_scene_info info;
     xrsc_scene_get_info(b.scene, &info);
 
-    double period_ns =
-        NS_PER_S / (b.headset.refresh_hz > 0 ? b.headset.refresh_hz : DEFAULT_REFRESH_HZ);
-    int64_t start_ns = (int64_t)(opt->start_s * NS_PER_S);
-    int64_t span_ns = hs_pose_stream_duration_ns(stream) - start_ns;
-    if (span_ns < 0) {
-        res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->poses_path, 0, "--start",
-                         "the stream ends at %.3f s, before --start %.3f s",
-                         hs_pose_stream_duration_ns(stream) / NS_PER_S, opt->start_s);
+    if ((res = bench_frames(&b, stream, &info, diag)) != XRSC_OK)
         goto done;
-    }
-    b.frames = opt->frames ? opt->frames : (uint32_t)(span_ns / period_ns) + 1;
-    if (opt->anchor == HS_BENCH_ANCHOR_FIRST) {
-        hs_pose_stream_anchor(stream, info.viewpoint);
-    } else if (opt->anchor == HS_BENCH_ANCHOR_START && stream->count > 0) {
-        /* viewpoint * inverse(pose at start) * p, through hs_pose_stream_anchor's
-         * viewpoint' * inverse(first) * p with viewpoint' = viewpoint * inverse(at) * first. */
-        XrPosef at;
-        hs_pose_stream_sample(stream, start_ns, &at);
-        XrPosef first = stream->samples[0].pose;
-        hs_pose_stream_anchor(stream, xrsc_pose_mul(xrsc_pose_mul(info.viewpoint,
-                                                                  xrsc_pose_inverse(at)),
-                                                    first));
-    }
-    b.frame = calloc(b.frames, sizeof(*b.frame));
-    if (!b.frame) {
-        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "--frames", "%u frames", b.frames);
-        goto done;
-    }
-    for (uint32_t k = 0; k < b.frames; k++)
-        make_frame(&b, stream, k, start_ns, period_ns, &b.frame[k]);
-
-    static const char *const anchor_name[] = {"start", "first", "none"};
-    char fov0[96], fov1[96], env[96] = "scene";
-    fov_text(&b.headset.fov[0], fov0, sizeof(fov0));
-    fov_text(&b.headset.fov[1], fov1, sizeof(fov1));
-    if (opt->scene.env_set)
-        snprintf(env, sizeof(env), "%g/%g/%g", opt->scene.environment[0],
-                 opt->scene.environment[1], opt->scene.environment[2]);
-    snprintf(b.ref_config, sizeof(b.ref_config),
-             "scene=%s poses=%s format=%s anchor=%s start=%.9g res=%ux%u ref_spp=%u seed=%u "
-             "ipd=%g refresh=%g fov=%s,%s env=%s",
-             opt->scene_path, opt->poses_path, hs_pose_format_name(opt->pose_format),
-             anchor_name[opt->anchor], opt->start_s, b.w, b.h, b.ref_spp, opt->seed,
-             b.headset.ipd_m, b.headset.refresh_hz, fov0, fov1, env);
-    /* columns=: CSVs written with other columns are rendered again, not reused. */
-    snprintf(b.config, sizeof(b.config),
-             "%s frames=%u warmup=%u score_every=%u device=%s columns=%u", b.ref_config, b.frames,
-             b.warmup, b.score_every, xrsc_context_device_name(b.ctx), HS_BENCH_COLUMN_COUNT);
+    bench_config(&b);
 
     char dir[HS_BENCH_PATH_MAX];
     snprintf(b.ref_dir, sizeof(b.ref_dir), "%s/ref", opt->out_dir);
