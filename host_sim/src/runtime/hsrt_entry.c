@@ -296,15 +296,31 @@ static bool parse_fov_deg(const char *v, XrFovf out[2])
     return true;
 }
 
-static XrResult config_from_env(hsrt_config *cfg)
+/* A number from environment variable name in [lo, hi] into *out (*out_set: it was given;
+ * unset or empty leaves *out); what = how the error names a valid value. */
+static XrResult env_number(const char *name, double lo, double hi, const char *what,
+                           double *out, bool *out_set)
 {
-    memset(cfg, 0, sizeof(*cfg));
-    xrsc_headset_default(&cfg->headset);
+    const char *v = getenv(name);
+    *out_set = false;
+    if (!v || !*v)
+        return XR_SUCCESS;
+    char *end = NULL;
+    double x = strtod(v, &end);
+    if (*end || !(x >= lo && x <= hi))
+        return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
+                         "%s='%s' is not %s", name, v, what);
+    *out = x;
+    *out_set = true;
+    return XR_SUCCESS;
+}
+
+/* The stream and its pacing: XRSC_RT_POSES, _FRAMES, _LOSE_AFTER, _PACE, _START_S. */
+static XrResult config_stream(hsrt_config *cfg)
+{
     const char *v = getenv("XRSC_RT_POSES");
     snprintf(cfg->poses_path, sizeof(cfg->poses_path), "%s",
              v && *v ? v : XRSC_SOURCE_DIR "/poses/orbit_cornell.xrpose");
-    v = getenv("XRSC_RT_OUT");
-    snprintf(cfg->out_dir, sizeof(cfg->out_dir), "%s", v ? v : "");
     v = getenv("XRSC_RT_FRAMES");
     if (v && *v && !parse_u64(v, &cfg->frames))
         return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
@@ -321,6 +337,18 @@ static XrResult config_from_env(hsrt_config *cfg)
     else
         return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
                          "XRSC_RT_PACE='%s' is neither realtime nor fast", v);
+    double sec = 0.0;
+    bool set;
+    XrResult r = env_number("XRSC_RT_START_S", 0.0, 1e9, "seconds >= 0", &sec, &set);
+    cfg->start_ns = (int64_t)(sec * 1e9);
+    return r;
+}
+
+/* What is written: XRSC_RT_OUT, _WRITE (eyes, sbs, linear, none), _EXPOSURE (or auto). */
+static XrResult config_outputs(hsrt_config *cfg)
+{
+    const char *v = getenv("XRSC_RT_OUT");
+    snprintf(cfg->out_dir, sizeof(cfg->out_dir), "%s", v ? v : "");
     v = getenv("XRSC_RT_WRITE");
     if (!v || !*v) {
         cfg->write_eyes = cfg->write_sbs = true;
@@ -335,9 +363,7 @@ static XrResult config_from_env(hsrt_config *cfg)
                 cfg->write_sbs = true;
             else if (!strcmp(tok, "linear"))
                 cfg->write_linear = true;
-            else if (!strcmp(tok, "none"))
-                continue;
-            else
+            else if (strcmp(tok, "none"))
                 return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
                                  "XRSC_RT_WRITE: unknown item '%s' (eyes, sbs, linear, none)", tok);
         }
@@ -346,7 +372,9 @@ static XrResult config_from_env(hsrt_config *cfg)
     cfg->exposure = 1.0f;
     if (v && !strcmp(v, "auto")) {
         cfg->exposure = 0.0f; /* automatic (hs_autoexposure, hsrt_vk_capture) */
-    } else if (v && *v) {
+        return XR_SUCCESS;
+    }
+    if (v && *v) {
         char *end = NULL;
         double e = strtod(v, &end);
         if (*end || !(e > 0.0) || !isfinite(e))
@@ -354,7 +382,13 @@ static XrResult config_from_env(hsrt_config *cfg)
                              "XRSC_RT_EXPOSURE='%s' is not a positive number or auto", v);
         cfg->exposure = (float)e;
     }
-    v = getenv("XRSC_RT_EYE_SIZE");
+    return XR_SUCCESS;
+}
+
+/* The simulated headset: XRSC_RT_EYE_SIZE, _REFRESH_HZ, _IPD_MM, _FOV_DEG. */
+static XrResult config_headset(hsrt_config *cfg)
+{
+    const char *v = getenv("XRSC_RT_EYE_SIZE");
     if (v && *v) {
         unsigned w = 0, h = 0;
         char tail = 0;
@@ -364,24 +398,18 @@ static XrResult config_from_env(hsrt_config *cfg)
         cfg->headset.width_px = w;
         cfg->headset.height_px = h;
     }
-    v = getenv("XRSC_RT_REFRESH_HZ");
-    if (v && *v) {
-        char *end = NULL;
-        double hz = strtod(v, &end);
-        if (*end || !(hz >= 1.0 && hz <= 1000.0))
-            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
-                             "XRSC_RT_REFRESH_HZ='%s' is not a rate in 1..1000 Hz", v);
+    double hz, mm;
+    bool hz_set, mm_set;
+    XrResult r;
+    if ((r = env_number("XRSC_RT_REFRESH_HZ", 1.0, 1000.0, "a rate in 1..1000 Hz", &hz,
+                        &hz_set)) != XR_SUCCESS ||
+        (r = env_number("XRSC_RT_IPD_MM", 0.0, 200.0, "millimetres in 0..200", &mm, &mm_set)) !=
+            XR_SUCCESS)
+        return r;
+    if (hz_set)
         cfg->headset.refresh_hz = (float)hz;
-    }
-    v = getenv("XRSC_RT_IPD_MM");
-    if (v && *v) {
-        char *end = NULL;
-        double mm = strtod(v, &end);
-        if (*end || !(mm >= 0.0 && mm <= 200.0))
-            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
-                             "XRSC_RT_IPD_MM='%s' is not millimetres in 0..200", v);
+    if (mm_set)
         cfg->headset.ipd_m = (float)(mm * 1e-3);
-    }
     v = getenv("XRSC_RT_FOV_DEG");
     if (v && *v && !parse_fov_deg(v, cfg->headset.fov))
         return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
@@ -389,17 +417,19 @@ static XrResult config_from_env(hsrt_config *cfg)
                          "right, up, down, then the right eye's; left < right, down < up, "
                          "each within +-89.9)",
                          v);
-    v = getenv("XRSC_RT_START_S");
-    if (v && *v) {
-        char *end = NULL;
-        double sec = strtod(v, &end);
-        if (*end || !(sec >= 0.0 && sec <= 1e9))
-            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
-                             "XRSC_RT_START_S='%s' is not seconds >= 0", v);
-        cfg->start_ns = (int64_t)(sec * 1e9);
-    }
+    return XR_SUCCESS;
+}
+
+static XrResult config_from_env(hsrt_config *cfg)
+{
+    memset(cfg, 0, sizeof(*cfg));
+    xrsc_headset_default(&cfg->headset);
+    XrResult r;
+    if ((r = config_stream(cfg)) != XR_SUCCESS || (r = config_outputs(cfg)) != XR_SUCCESS ||
+        (r = config_headset(cfg)) != XR_SUCCESS)
+        return r;
     /* The same selector as the plugin's --device: XRSC_RT_DEVICE, else XRSC_DEVICE. */
-    v = getenv("XRSC_RT_DEVICE");
+    const char *v = getenv("XRSC_RT_DEVICE");
     if (!v || !*v)
         v = getenv("XRSC_DEVICE");
     snprintf(cfg->device, sizeof(cfg->device), "%s", v ? v : "");
