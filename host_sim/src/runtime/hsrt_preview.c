@@ -566,10 +566,10 @@ static void destroy_swapchain(hsrt_preview *p)
 }
 
 /** (Re)creates the swapchain at the framebuffer's size; false with extent 0 when minimised. */
-static bool create_swapchain(hsrt_preview *p)
+/* Waits for the last frame and the presents still using the swapchain, drops its
+ * semaphores; returns it, detached from p (the new one is created from it). */
+static VkSwapchainKHR swapchain_detach(hsrt_preview *p)
 {
-    int fw = 0, fh = 0;
-    glfwGetFramebufferSize(p->win, &fw, &fh);
     if (p->vk.fence_pending) {
         vkWaitForFences(p->vk.device, 1, &p->vk.fence, VK_TRUE, UINT64_MAX);
         vkResetFences(p->vk.device, 1, &p->vk.fence);
@@ -584,70 +584,103 @@ static bool create_swapchain(hsrt_preview *p)
     }
     p->vk.image_count = 0;
     p->vk.extent = (VkExtent2D){0, 0};
-    VkSurfaceCapabilitiesKHR caps;
-    VkResult vr = vkGetPhysicalDeviceSurfaceCapabilitiesKHR(p->vk.physical, p->vk.surface, &caps);
-    if (vr != VK_SUCCESS) {
-        if (old)
-            vkDestroySwapchainKHR(p->vk.device, old, NULL);
-        PV_VK(vr, "vkGetPhysicalDeviceSurfaceCapabilitiesKHR");
-    }
-    VkExtent2D ext = caps.currentExtent;
-    if (ext.width == UINT32_MAX) {
-        ext.width = (uint32_t)(fw > 0 ? fw : 0);
-        ext.height = (uint32_t)(fh > 0 ? fh : 0);
-        ext.width = ext.width < caps.minImageExtent.width ? caps.minImageExtent.width : ext.width;
-        ext.width = ext.width > caps.maxImageExtent.width ? caps.maxImageExtent.width : ext.width;
-        ext.height =
-            ext.height < caps.minImageExtent.height ? caps.minImageExtent.height : ext.height;
-        ext.height =
-            ext.height > caps.maxImageExtent.height ? caps.maxImageExtent.height : ext.height;
-    }
-    if (!ext.width || !ext.height) {
-        if (old)
-            vkDestroySwapchainKHR(p->vk.device, old, NULL);
-        return true; /* minimised: nothing to present to */
-    }
-    if (!(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT)) {
-        if (old)
-            vkDestroySwapchainKHR(p->vk.device, old, NULL);
-        U_LOG_E("runtime: preview: the surface's images cannot be transfer destinations");
-        return false;
-    }
+    return old;
+}
+
+/* The surface's extent, or the framebuffer's clamped to the surface's limits. */
+static VkExtent2D surface_extent(const VkSurfaceCapabilitiesKHR *caps, int fw, int fh)
+{
+    VkExtent2D ext = caps->currentExtent;
+    if (ext.width != UINT32_MAX)
+        return ext;
+    uint32_t w = (uint32_t)(fw > 0 ? fw : 0), h = (uint32_t)(fh > 0 ? fh : 0);
+    w = w < caps->minImageExtent.width ? caps->minImageExtent.width : w;
+    w = w > caps->maxImageExtent.width ? caps->maxImageExtent.width : w;
+    h = h < caps->minImageExtent.height ? caps->minImageExtent.height : h;
+    h = h > caps->maxImageExtent.height ? caps->maxImageExtent.height : h;
+    return (VkExtent2D){w, h};
+}
+
+/* An 8-bit RGBA/BGRA sRGB-colour-space format of the surface (format UNDEFINED: none). The
+ * bytes copied are display sRGB values: a UNORM format stores them as they are; an _SRGB
+ * format would too (copies do not convert), but UNORM says what is meant. */
+static VkSurfaceFormatKHR choose_format(const hsrt_preview *p)
+{
     uint32_t nf = 0;
     vkGetPhysicalDeviceSurfaceFormatsKHR(p->vk.physical, p->vk.surface, &nf, NULL);
     VkSurfaceFormatKHR fmts[64];
     nf = nf > 64 ? 64 : nf;
     vkGetPhysicalDeviceSurfaceFormatsKHR(p->vk.physical, p->vk.surface, &nf, fmts);
-    /* The bytes copied are display sRGB values: a UNORM format stores them as they are; an
-     * _SRGB format would too (copies do not convert), but UNORM says what is meant. */
     static const VkFormat prefer[] = {VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM,
                                       VK_FORMAT_B8G8R8A8_SRGB, VK_FORMAT_R8G8B8A8_SRGB};
-    VkSurfaceFormatKHR chosen = {VK_FORMAT_UNDEFINED, VK_COLOR_SPACE_SRGB_NONLINEAR_KHR};
-    for (size_t k = 0; k < sizeof(prefer) / sizeof(prefer[0]) && !chosen.format; k++) {
-        for (uint32_t i = 0; i < nf; i++) {
+    for (size_t k = 0; k < sizeof(prefer) / sizeof(prefer[0]); k++)
+        for (uint32_t i = 0; i < nf; i++)
             if (fmts[i].format == prefer[k] &&
-                fmts[i].colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR) {
-                chosen = fmts[i];
-                break;
-            }
-        }
-    }
-    if (!chosen.format) {
-        if (old)
-            vkDestroySwapchainKHR(p->vk.device, old, NULL);
-        U_LOG_E("runtime: preview: the surface offers no 8-bit RGBA/BGRA sRGB format");
-        return false;
-    }
+                fmts[i].colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR)
+                return fmts[i];
+    return (VkSurfaceFormatKHR){VK_FORMAT_UNDEFINED, VK_COLOR_SPACE_SRGB_NONLINEAR_KHR};
+}
+
+/* Mailbox when the surface has it, else FIFO (always there). */
+static VkPresentModeKHR choose_present_mode(const hsrt_preview *p)
+{
     uint32_t nm = 0;
     vkGetPhysicalDeviceSurfacePresentModesKHR(p->vk.physical, p->vk.surface, &nm, NULL);
     VkPresentModeKHR modes[16];
     nm = nm > 16 ? 16 : nm;
     vkGetPhysicalDeviceSurfacePresentModesKHR(p->vk.physical, p->vk.surface, &nm, modes);
-    VkPresentModeKHR mode = VK_PRESENT_MODE_FIFO_KHR; /* always there */
-    for (uint32_t i = 0; i < nm; i++) {
+    for (uint32_t i = 0; i < nm; i++)
         if (modes[i] == VK_PRESENT_MODE_MAILBOX_KHR)
-            mode = modes[i];
+            return modes[i];
+    return VK_PRESENT_MODE_FIFO_KHR;
+}
+
+/* The new swapchain's images and a `rendered` semaphore for each. */
+static bool fetch_images(hsrt_preview *p)
+{
+    uint32_t ni = 0;
+    PV_VK(vkGetSwapchainImagesKHR(p->vk.device, p->vk.swapchain, &ni, NULL),
+          "vkGetSwapchainImagesKHR");
+    if (ni > 8) {
+        U_LOG_E("runtime: preview: %u swapchain images (at most 8 handled)", ni);
+        return false;
     }
+    PV_VK(vkGetSwapchainImagesKHR(p->vk.device, p->vk.swapchain, &ni, p->vk.images),
+          "vkGetSwapchainImagesKHR");
+    VkSemaphoreCreateInfo semi = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    for (uint32_t i = 0; i < ni; i++) {
+        PV_VK(vkCreateSemaphore(p->vk.device, &semi, NULL, &p->vk.rendered[i]),
+              "vkCreateSemaphore");
+        p->vk.image_count = i + 1;
+    }
+    return true;
+}
+
+static bool create_swapchain(hsrt_preview *p)
+{
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(p->win, &fw, &fh);
+    VkSwapchainKHR old = swapchain_detach(p);
+    VkSurfaceCapabilitiesKHR caps;
+    VkResult vr = vkGetPhysicalDeviceSurfaceCapabilitiesKHR(p->vk.physical, p->vk.surface, &caps);
+    VkExtent2D ext = vr == VK_SUCCESS ? surface_extent(&caps, fw, fh) : (VkExtent2D){0, 0};
+    VkSurfaceFormatKHR chosen = choose_format(p);
+    bool minimised = vr == VK_SUCCESS && (!ext.width || !ext.height);
+    bool usable = vr == VK_SUCCESS && !minimised &&
+                  (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT) && chosen.format;
+    if (!usable) {
+        if (old)
+            vkDestroySwapchainKHR(p->vk.device, old, NULL);
+        PV_VK(vr, "vkGetPhysicalDeviceSurfaceCapabilitiesKHR");
+        if (minimised)
+            return true; /* nothing to present to */
+        if (!(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT))
+            U_LOG_E("runtime: preview: the surface's images cannot be transfer destinations");
+        else
+            U_LOG_E("runtime: preview: the surface offers no 8-bit RGBA/BGRA sRGB format");
+        return false;
+    }
+    VkPresentModeKHR mode = choose_present_mode(p);
     uint32_t count = caps.minImageCount + 1;
     if (caps.maxImageCount && count > caps.maxImageCount)
         count = caps.maxImageCount;
@@ -671,25 +704,12 @@ static bool create_swapchain(hsrt_preview *p)
     if (old)
         vkDestroySwapchainKHR(p->vk.device, old, NULL);
     PV_VK(vr, "vkCreateSwapchainKHR");
-    uint32_t ni = 0;
-    PV_VK(vkGetSwapchainImagesKHR(p->vk.device, p->vk.swapchain, &ni, NULL),
-          "vkGetSwapchainImagesKHR");
-    if (ni > 8) {
-        U_LOG_E("runtime: preview: %u swapchain images (at most 8 handled)", ni);
+    if (!fetch_images(p))
         return false;
-    }
-    PV_VK(vkGetSwapchainImagesKHR(p->vk.device, p->vk.swapchain, &ni, p->vk.images),
-          "vkGetSwapchainImagesKHR");
-    VkSemaphoreCreateInfo semi = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-    for (uint32_t i = 0; i < ni; i++) {
-        PV_VK(vkCreateSemaphore(p->vk.device, &semi, NULL, &p->vk.rendered[i]),
-              "vkCreateSemaphore");
-        p->vk.image_count = i + 1;
-    }
     p->vk.format = chosen.format;
     p->vk.extent = ext;
     U_LOG_D("runtime: preview: swapchain %ux%u, %u images, format %d, present mode %d", ext.width,
-            ext.height, ni, (int)chosen.format, (int)mode);
+            ext.height, p->vk.image_count, (int)chosen.format, (int)mode);
     return true;
 }
 
@@ -750,6 +770,66 @@ static bool ensure_staging(hsrt_preview *p, VkDeviceSize size)
 }
 
 /** Composes the current picture and presents it; false on a Vulkan failure. */
+/* Composes the picture into the staging buffer, copies it into swapchain image index and
+ * submits that (waiting for the acquisition, signalling the image's `rendered`). */
+static bool submit_picture(hsrt_preview *p, const hsrt_preview_frame *f,
+                           const hsrt_view_state *vs, uint32_t index)
+{
+    uint32_t w = p->vk.extent.width, h = p->vk.extent.height;
+    if (!ensure_staging(p, (VkDeviceSize)w * h * 4))
+        return false;
+    bool bgra =
+        p->vk.format == VK_FORMAT_B8G8R8A8_UNORM || p->vk.format == VK_FORMAT_B8G8R8A8_SRGB;
+    if (!hsrt_view_compose(f, vs, p->vk.staging_map, w, h, bgra)) {
+        U_LOG_E("runtime: preview: out of memory composing the picture");
+        return false;
+    }
+    if (!p->vk.staging_coherent) {
+        VkMappedMemoryRange mr = {.sType = VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE,
+                                  .memory = p->vk.staging_mem,
+                                  .size = VK_WHOLE_SIZE};
+        vkFlushMappedMemoryRanges(p->vk.device, 1, &mr);
+    }
+    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    PV_VK(vkResetCommandBuffer(p->vk.cmd, 0), "vkResetCommandBuffer");
+    PV_VK(vkBeginCommandBuffer(p->vk.cmd, &bi), "vkBeginCommandBuffer");
+    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                              .srcAccessMask = 0,
+                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                              .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+                              .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .image = p->vk.images[index],
+                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1}};
+    vkCmdPipelineBarrier(p->vk.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL, 1, &b);
+    VkBufferImageCopy copy = {.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+                              .imageExtent = {w, h, 1}};
+    vkCmdCopyBufferToImage(p->vk.cmd, p->vk.staging, p->vk.images[index],
+                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+    b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    b.dstAccessMask = 0;
+    b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    b.newLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    vkCmdPipelineBarrier(p->vk.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, NULL, 0, NULL, 1, &b);
+    PV_VK(vkEndCommandBuffer(p->vk.cmd), "vkEndCommandBuffer");
+    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+                       .waitSemaphoreCount = 1,
+                       .pWaitSemaphores = &p->vk.acquired,
+                       .pWaitDstStageMask = &wait_stage,
+                       .commandBufferCount = 1,
+                       .pCommandBuffers = &p->vk.cmd,
+                       .signalSemaphoreCount = 1,
+                       .pSignalSemaphores = &p->vk.rendered[index]};
+    PV_VK(vkQueueSubmit(p->vk.queue, 1, &si, p->vk.fence), "vkQueueSubmit");
+    p->vk.fence_pending = true;
+    return true;
+}
+
 static bool draw(hsrt_preview *p, const hsrt_preview_frame *f, const hsrt_view_state *vs)
 {
     for (int attempt = 0; attempt < 2; attempt++) {
@@ -778,58 +858,8 @@ static bool draw(hsrt_preview *p, const hsrt_preview_frame *f, const hsrt_view_s
         }
         if (vr != VK_SUCCESS && vr != VK_SUBOPTIMAL_KHR)
             PV_VK(vr, "vkAcquireNextImageKHR");
-        uint32_t w = p->vk.extent.width, h = p->vk.extent.height;
-        if (!ensure_staging(p, (VkDeviceSize)w * h * 4))
+        if (!submit_picture(p, f, vs, index))
             return false;
-        bool bgra =
-            p->vk.format == VK_FORMAT_B8G8R8A8_UNORM || p->vk.format == VK_FORMAT_B8G8R8A8_SRGB;
-        if (!hsrt_view_compose(f, vs, p->vk.staging_map, w, h, bgra)) {
-            U_LOG_E("runtime: preview: out of memory composing the picture");
-            return false;
-        }
-        if (!p->vk.staging_coherent) {
-            VkMappedMemoryRange mr = {.sType = VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE,
-                                      .memory = p->vk.staging_mem,
-                                      .size = VK_WHOLE_SIZE};
-            vkFlushMappedMemoryRanges(p->vk.device, 1, &mr);
-        }
-        VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
-                                       .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
-        PV_VK(vkResetCommandBuffer(p->vk.cmd, 0), "vkResetCommandBuffer");
-        PV_VK(vkBeginCommandBuffer(p->vk.cmd, &bi), "vkBeginCommandBuffer");
-        VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-                                  .srcAccessMask = 0,
-                                  .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-                                  .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-                                  .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                                  .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                  .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                  .image = p->vk.images[index],
-                                  .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1}};
-        vkCmdPipelineBarrier(p->vk.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL, 1, &b);
-        VkBufferImageCopy copy = {.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
-                                  .imageExtent = {w, h, 1}};
-        vkCmdCopyBufferToImage(p->vk.cmd, p->vk.staging, p->vk.images[index],
-                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
-        b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        b.dstAccessMask = 0;
-        b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-        b.newLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
-        vkCmdPipelineBarrier(p->vk.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, NULL, 0, NULL, 1, &b);
-        PV_VK(vkEndCommandBuffer(p->vk.cmd), "vkEndCommandBuffer");
-        VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
-        VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-                           .waitSemaphoreCount = 1,
-                           .pWaitSemaphores = &p->vk.acquired,
-                           .pWaitDstStageMask = &wait_stage,
-                           .commandBufferCount = 1,
-                           .pCommandBuffers = &p->vk.cmd,
-                           .signalSemaphoreCount = 1,
-                           .pSignalSemaphores = &p->vk.rendered[index]};
-        PV_VK(vkQueueSubmit(p->vk.queue, 1, &si, p->vk.fence), "vkQueueSubmit");
-        p->vk.fence_pending = true;
         VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
                                .waitSemaphoreCount = 1,
                                .pWaitSemaphores = &p->vk.rendered[index],
