@@ -45,6 +45,29 @@ bool hs_parse_f(const char *s, double *out)
     return true;
 }
 
+bool hs_parse_size(const char *s, unsigned min, unsigned max, unsigned *w, unsigned *h)
+{
+    unsigned x = 0, y = 0;
+    char tail;
+    if (sscanf(s, "%ux%u%c", &x, &y, &tail) != 2 || x < min || y < min || x > max || y > max)
+        return false;
+    *w = x;
+    *h = y;
+    return true;
+}
+
+bool hs_parse_rgb(const char *s, float out[3])
+{
+    float r, g, b;
+    char tail;
+    if (sscanf(s, "%f,%f,%f%c", &r, &g, &b, &tail) != 3 || r < 0 || g < 0 || b < 0)
+        return false;
+    out[0] = r;
+    out[1] = g;
+    out[2] = b;
+    return true;
+}
+
 bool hs_arg_in(const char *flag, const char *const *list, size_t count)
 {
     for (size_t k = 0; k < count; k++)

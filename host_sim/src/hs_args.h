@@ -33,6 +33,17 @@ bool hs_parse_u32(const char *s, uint32_t *out);
  *  is set only on success. */
 bool hs_parse_f(const char *s, double *out);
 
+/** "WxH", each in [min, max]; *w, *h set only on success. */
+bool hs_parse_size(const char *s, unsigned min, unsigned max, unsigned *w, unsigned *h);
+
+/** "R,G,B", each >= 0; out set only on success. */
+bool hs_parse_rgb(const char *s, float out[3]);
+
+/* The results of a command's parse steps besides an exit status (>= 0): go on with the next
+ * argument, or the option is not this step's (main.c, hs_bench_cmd.c). */
+#define HS_ARG_NEXT (-1)
+#define HS_ARG_NOT_MINE (-2)
+
 /** Whether flag is one of the count options in list. */
 bool hs_arg_in(const char *flag, const char *const *list, size_t count);
 

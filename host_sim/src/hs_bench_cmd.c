@@ -140,9 +140,8 @@ typedef struct bench_args {
     bool warmup_given;
 } bench_args;
 
-/* The parse steps' results besides an exit status (>= 0). */
-#define ARG_NEXT (-1)
-#define ARG_NOT_MINE (-2)
+#define ARG_NEXT HS_ARG_NEXT
+#define ARG_NOT_MINE HS_ARG_NOT_MINE
 
 /* Options without a value. */
 static int parse_flag(const char *a, bench_args *ba)
@@ -177,18 +176,8 @@ static int parse_run_option(const char *a, const char *v, bench_args *ba)
     } else if (!strcmp(a, "--poses")) {
         opt->poses_path = v;
     } else if (!strcmp(a, "--pose-format")) {
-        static const struct {
-            const char *name;
-            hs_pose_format f;
-        } fm[] = {{"auto", HS_POSE_FORMAT_AUTO},         {"xrsc", HS_POSE_FORMAT_XRSC},
-                  {"pred6dof", HS_POSE_FORMAT_PRED6DOF}, {"360video", HS_POSE_FORMAT_360VIDEO},
-                  {"librnr", HS_POSE_FORMAT_LIBRNR}};
-        for (size_t k = 0; k < sizeof(fm) / sizeof(fm[0]); k++)
-            if (!strcmp(v, fm[k].name)) {
-                opt->pose_format = fm[k].f;
-                return ARG_NEXT;
-            }
-        return bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
+        if (!hs_pose_format_from_name(v, &opt->pose_format))
+            return bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
     } else if (!strcmp(a, "--anchor")) {
         if (!strcmp(v, "start"))
             opt->anchor = HS_BENCH_ANCHOR_START;
@@ -235,9 +224,8 @@ static int parse_render_option(const char *a, const char *v, bench_args *ba)
     uint32_t u;
     double d;
     if (!strcmp(a, "--resolution")) {
-        unsigned w = 0, h = 0;
-        char tail;
-        if (sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192)
+        unsigned w, h;
+        if (!hs_parse_size(v, 16, 8192, &w, &h))
             return bad_arg(a, v, "expected WxH, each 16..8192");
         opt->width = w;
         opt->height = h;
@@ -249,14 +237,9 @@ static int parse_render_option(const char *a, const char *v, bench_args *ba)
         if (!hs_parse_u32(v, &opt->seed))
             return bad_arg(a, v, "expected an unsigned integer");
     } else if (!strcmp(a, "--env")) {
-        float r, g, b;
-        char tail;
-        if (sscanf(v, "%f,%f,%f%c", &r, &g, &b, &tail) != 3 || r < 0 || g < 0 || b < 0)
+        if (!hs_parse_rgb(v, opt->scene.environment))
             return bad_arg(a, v, "expected R,G,B >= 0");
         opt->scene.env_set = true;
-        opt->scene.environment[0] = r;
-        opt->scene.environment[1] = g;
-        opt->scene.environment[2] = b;
     } else if (!strcmp(a, "--ipd")) {
         if (!hs_parse_f(v, &d) || d < 0 || d > 200)
             return bad_arg(a, v, "expected millimetres 0..200");

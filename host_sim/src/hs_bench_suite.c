@@ -977,7 +977,6 @@ static const char *const suite_value_options[] = {"--suite",      "--case",    "
 static int suite_option(suite_opts *o, const char *a, const char *v)
 {
     unsigned w = 0, h = 0;
-    char tail;
     if (!strcmp(a, "--suite"))
         return strcmp(v, "stability") ? suite_bad(a, v, "the only suite is 'stability'") : 0;
     if (!strcmp(a, "--case"))
@@ -987,7 +986,7 @@ static int suite_option(suite_opts *o, const char *a, const char *v)
     else if (!strcmp(a, "--device"))
         o->context.device = v;
     else if (!strcmp(a, "--resolution")) {
-        if (sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 4096 || h > 4096)
+        if (!hs_parse_size(v, 16, 4096, &w, &h))
             return suite_bad(a, v, "expected WxH, each 16..4096");
         o->w = w;
         o->h = h;

@@ -449,10 +449,8 @@ typedef struct main_args {
     const char *headset_name, *headsets_path; /* --headset, --headsets */
 } main_args;
 
-/* The parse steps' results besides an exit status (>= 0): go on with the next argument, or
- * the option is not this step's. */
-#define ARG_NEXT (-1)
-#define ARG_NOT_MINE (-2)
+#define ARG_NEXT HS_ARG_NEXT
+#define ARG_NOT_MINE HS_ARG_NOT_MINE
 
 /* Options without a value. */
 static int parse_flag(const char *a, main_args *m)
@@ -495,17 +493,7 @@ static int parse_input_option(const char *a, const char *v, main_args *m)
     } else if (!strcmp(a, "--poses")) {
         opt->poses_path = v;
     } else if (!strcmp(a, "--pose-format")) {
-        if (!strcmp(v, "auto"))
-            opt->pose_format = HS_POSE_FORMAT_AUTO;
-        else if (!strcmp(v, "xrsc"))
-            opt->pose_format = HS_POSE_FORMAT_XRSC;
-        else if (!strcmp(v, "pred6dof"))
-            opt->pose_format = HS_POSE_FORMAT_PRED6DOF;
-        else if (!strcmp(v, "360video"))
-            opt->pose_format = HS_POSE_FORMAT_360VIDEO;
-        else if (!strcmp(v, "librnr"))
-            opt->pose_format = HS_POSE_FORMAT_LIBRNR;
-        else
+        if (!hs_pose_format_from_name(v, &opt->pose_format))
             return bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
     } else if (!strcmp(a, "--pose-columns")) {
         m->pose_columns = v;
@@ -572,9 +560,8 @@ static int parse_method_option(const char *a, const char *v, main_args *m)
         ro->samplecache.max_bounces = ro->spp.max_bounces;
         ro->hashcache.max_bounces = ro->spp.max_bounces;
     } else if (!strcmp(a, "--resolution")) {
-        unsigned w = 0, h = 0;
-        char tail;
-        if (sscanf(v, "%ux%u%c", &w, &h, &tail) != 2 || w < 8 || h < 8 || w > 8192 || h > 8192)
+        unsigned w, h;
+        if (!hs_parse_size(v, 8, 8192, &w, &h))
             return bad_arg(a, v, "expected WxH, each 8..8192");
         ro->width = w;
         ro->height = h;
@@ -600,14 +587,9 @@ static int parse_world_option(const char *a, const char *v, main_args *m)
     hs_replay_options *opt = &m->opt;
     double d;
     if (!strcmp(a, "--env")) {
-        float r, g, b;
-        char tail;
-        if (sscanf(v, "%f,%f,%f%c", &r, &g, &b, &tail) != 3 || r < 0 || g < 0 || b < 0)
+        if (!hs_parse_rgb(v, opt->scene.environment))
             return bad_arg(a, v, "expected R,G,B >= 0");
         opt->scene.env_set = true;
-        opt->scene.environment[0] = r;
-        opt->scene.environment[1] = g;
-        opt->scene.environment[2] = b;
     } else if (hs_arg_in(a, hs_light_value_options, hs_light_value_option_count)) {
         int r = hs_light_parse("xrsc", a, v, &opt->scene);
         if (r)

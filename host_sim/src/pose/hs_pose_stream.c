@@ -1132,6 +1132,19 @@ const char *hs_pose_format_name(hs_pose_format format)
     return "unknown";
 }
 
+bool hs_pose_format_from_name(const char *name, hs_pose_format *out)
+{
+    static const hs_pose_format named[] = {HS_POSE_FORMAT_AUTO, HS_POSE_FORMAT_XRSC,
+                                           HS_POSE_FORMAT_PRED6DOF, HS_POSE_FORMAT_360VIDEO,
+                                           HS_POSE_FORMAT_LIBRNR};
+    for (size_t k = 0; k < sizeof(named) / sizeof(named[0]); k++)
+        if (!strcmp(name, hs_pose_format_name(named[k]))) {
+            *out = named[k];
+            return true;
+        }
+    return false;
+}
+
 static xrsc_result parse_any(const char *name, const char *data, size_t size,
                              hs_pose_format format, const hs_pose_columns *columns,
                              hs_pose_stream **out, xrsc_diag *diag);

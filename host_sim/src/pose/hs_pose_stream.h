@@ -127,6 +127,9 @@ xrsc_result hs_pose_stream_load_columns(const char *path, const hs_pose_columns 
 
 /** A short lower-case name of the format ("auto", "xrsc", "pred6dof", "360video", "librnr"). */
 const char *hs_pose_format_name(hs_pose_format format);
+/** The format named auto, xrsc, pred6dof, 360video or librnr (the --pose-format values);
+ *  false for anything else (*out unchanged). */
+bool hs_pose_format_from_name(const char *name, hs_pose_format *out);
 
 /** Loads a stream; on error returns a negative result with file/line/field in diag. */
 xrsc_result hs_pose_stream_load(const char *path, hs_pose_format format, hs_pose_stream **out,
