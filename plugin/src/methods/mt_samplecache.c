@@ -209,6 +209,102 @@ static void cmd_trace_list(gpu_context *ctx, VkCommandBuffer cmd, const gpu_rt_p
     gpu_rt_program_cmd_trace(ctx, cmd, program, NULL, w, XS_SC_SHADE_STRIPES * stripe_rows, 1);
 }
 
+/* Stage "reproject": this copy's masks, statistics and depth words cleared (and on the first
+ * frame the previous copy's), then sc_reproject.comp (+ sc_copy.comp: 2-pass, isrt). */
+static void record_reproject(mt_samplecache *s, VkCommandBuffer cmd)
+{
+    VkDeviceSize plane = s->plane, cur = s->p.cur;
+    if (s->frames == 0) { /* empty history: clear the previous copy's masks and statistics */
+        cmd_fill(cmd, &s->mask, 0, VK_WHOLE_SIZE, 0);
+        cmd_fill(cmd, &s->stats, 0, VK_WHOLE_SIZE, 0);
+    }
+    cmd_fill(cmd, &s->mask, cur * plane * sizeof(uint32_t), plane * sizeof(uint32_t), 0);
+    cmd_fill(cmd, &s->stats, cur * 2 * sizeof(xs_sc_stats), 2 * sizeof(xs_sc_stats), 0);
+    cmd_fill(cmd, &s->depth_min, 0, VK_WHOLE_SIZE, MT_SC_DEPTH_MIN_NONE);
+    cmd_fill(cmd, &s->depth_max, 0, VK_WHOLE_SIZE, 0);
+    if (s->p.two_pass)
+        cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0);
+    if (s->p.isrt_m) /* the isrt keys: all ones = nothing arrived (XS_SC_ISRT_KEY_*) */
+        cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+    vkCmdFillBuffer(cmd, s->trace.ray_counter.buffer, 0, sizeof(uint64_t), 0);
+    gpu_cmd_barrier_all(cmd);
+    dispatch(cmd, s, PROG_REPROJECT);
+    if (s->p.two_pass || s->p.isrt_m) {
+        gpu_cmd_barrier_all(cmd);
+        dispatch(cmd, s, PROG_COPY);
+    }
+}
+
+/* Records frame stage `stage` (STAGE_*), the work inside its timer pass. */
+static void record_stage(mt_samplecache *s, VkCommandBuffer cmd, uint32_t stage)
+{
+    gpu_context *ctx = s->trace.env.gpu;
+    uint32_t w = s->trace.env.width, h = s->trace.env.height;
+    switch (stage) {
+    case STAGE_REPROJECT:
+        record_reproject(s, cmd);
+        break;
+    case STAGE_TRACE_MASK:
+        dispatch(cmd, s, PROG_TRACE_MASK);
+        break;
+    case STAGE_DENSITY:
+        cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0); /* the trace list's count */
+        gpu_cmd_barrier_all(cmd);
+        dispatch(cmd, s, PROG_DENSITY);
+        break;
+    case STAGE_TRACE:
+        if (s->p.trace_mode == XS_SC_TRACE_ADAPTIVE) /* the trace list: each pixel at most once */
+            cmd_trace_list(ctx, cmd, &s->trace.program, w, s->plane);
+        else
+            gpu_rt_program_cmd_trace(ctx, cmd, &s->trace.program, NULL, w, h, 2);
+        break;
+    case STAGE_SHADE:
+        cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0);
+        gpu_cmd_barrier_all(cmd);
+        if (s->p.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE) { /* this frame's histogram */
+            dispatch(cmd, s, PROG_SHADE_IMPORTANCE);
+            gpu_cmd_barrier_all(cmd);
+        }
+        dispatch(cmd, s, PROG_SHADE_SELECT);
+        gpu_cmd_barrier_all(cmd);
+        cmd_trace_list(ctx, cmd, &s->shade, w, s->p.shade_capacity);
+        break;
+    case STAGE_RECONSTRUCT:
+        dispatch(cmd, s, PROG_RECONSTRUCT);
+        break;
+    }
+}
+
+/* Ends the frame's command buffer (the hybrid's statistics, the ray and shade counts, the
+ * outputs read last frame), submits it, waits, and reads the counts and timings back. */
+static xrsc_result sc_finish(mt_samplecache *s, VkCommandBuffer cmd, xrsc_diag *diag)
+{
+    mt_trace *t = &s->trace;
+    gpu_context *ctx = t->env.gpu;
+    if (s->hybrid) /* hybrid: the hash table's statistics */
+        s->hybrid->record_end(s->hybrid->user, cmd);
+    VkBufferCopy region = {0, 0, sizeof(uint64_t)};
+    vkCmdCopyBuffer(cmd, t->ray_counter.buffer, t->ray_readback.buffer, 1, &region);
+    VkBufferCopy count = {0, 0, sizeof(uint32_t)};
+    vkCmdCopyBuffer(cmd, s->shade_list.buffer, s->shade_readback.buffer, 1, &count);
+    mt_trace_cmd_stage_outputs(t, cmd);
+    gpu_cmd_barrier_all(cmd);
+    xrsc_result res = gpu_cmd_submit_wait(ctx, cmd, diag);
+    mt_trace_frame_done(t, res == XRSC_OK);
+    if (res != XRSC_OK)
+        return res;
+    s->frames++;
+    if ((res = gpu_timer_resolve(ctx, &t->timer, diag)) != XRSC_OK)
+        return res;
+    gpu_buffer_invalidate(ctx, &t->ray_readback);
+    memcpy(&t->rays, t->ray_readback.mapped, sizeof(uint64_t));
+    gpu_buffer_invalidate(ctx, &s->shade_readback);
+    memcpy(&s->shaded, s->shade_readback.mapped, sizeof(uint32_t));
+    if (s->shaded > s->p.shade_capacity) /* the rest were dropped, not shaded */
+        s->shaded = s->p.shade_capacity;
+    return XRSC_OK;
+}
+
 static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *diag)
 {
     mt_samplecache *s = (mt_samplecache *)m;
@@ -233,104 +329,15 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
         return res;
     if (s->hybrid) /* hybrid: the hash table's frame start */
         s->hybrid->record_begin(s->hybrid->user, cmd);
-
-    VkDeviceSize plane = s->plane;
-    VkDeviceSize cur = s->p.cur;
-    uint32_t pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_REPROJECT);
-    if (s->frames == 0) { /* empty history: clear the previous copy's masks and statistics */
-        cmd_fill(cmd, &s->mask, 0, VK_WHOLE_SIZE, 0);
-        cmd_fill(cmd, &s->stats, 0, VK_WHOLE_SIZE, 0);
-    }
-    cmd_fill(cmd, &s->mask, cur * plane * sizeof(uint32_t), plane * sizeof(uint32_t), 0);
-    cmd_fill(cmd, &s->stats, cur * 2 * sizeof(xs_sc_stats), 2 * sizeof(xs_sc_stats), 0);
-    cmd_fill(cmd, &s->depth_min, 0, VK_WHOLE_SIZE, MT_SC_DEPTH_MIN_NONE);
-    cmd_fill(cmd, &s->depth_max, 0, VK_WHOLE_SIZE, 0);
-    if (s->p.two_pass)
-        cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0);
-    if (s->p.isrt_m) /* the isrt keys: all ones = nothing arrived (XS_SC_ISRT_KEY_*) */
-        cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
-    vkCmdFillBuffer(cmd, t->ray_counter.buffer, 0, sizeof(uint64_t), 0);
-    gpu_cmd_barrier_all(cmd);
-    dispatch(cmd, s, PROG_REPROJECT);
-    if (s->p.two_pass || s->p.isrt_m) {
-        gpu_cmd_barrier_all(cmd);
-        dispatch(cmd, s, PROG_COPY);
-    }
-    gpu_timer_cmd_end(cmd, &t->timer, pass);
-    gpu_cmd_barrier_all(cmd);
-    if (s->stop_after == STAGE_REPROJECT)
-        goto submit;
-
-    pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_TRACE_MASK);
-    dispatch(cmd, s, PROG_TRACE_MASK);
-    gpu_timer_cmd_end(cmd, &t->timer, pass);
-    gpu_cmd_barrier_all(cmd);
-    if (s->stop_after == STAGE_TRACE_MASK)
-        goto submit;
-
-    pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_DENSITY);
-    cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0); /* the trace list's count */
-    gpu_cmd_barrier_all(cmd);
-    dispatch(cmd, s, PROG_DENSITY);
-    gpu_timer_cmd_end(cmd, &t->timer, pass);
-    gpu_cmd_barrier_all(cmd);
-    if (s->stop_after == STAGE_DENSITY)
-        goto submit;
-
-    pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_TRACE);
-    if (s->p.trace_mode == XS_SC_TRACE_ADAPTIVE) /* the trace list: each pixel at most once */
-        cmd_trace_list(ctx, cmd, &t->program, w, s->plane);
-    else
-        gpu_rt_program_cmd_trace(ctx, cmd, &t->program, NULL, w, h, 2);
-    gpu_timer_cmd_end(cmd, &t->timer, pass);
-    gpu_cmd_barrier_all(cmd);
-    if (s->stop_after == STAGE_TRACE)
-        goto submit;
-
-    pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_SHADE);
-    cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0);
-    gpu_cmd_barrier_all(cmd);
-    if (s->p.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE) { /* this frame's histogram */
-        dispatch(cmd, s, PROG_SHADE_IMPORTANCE);
+    for (uint32_t stage = 0; stage <= s->stop_after; stage++) {
+        uint32_t pass = gpu_timer_cmd_begin(cmd, &t->timer, stage_name[stage]);
+        record_stage(s, cmd, stage);
+        gpu_timer_cmd_end(cmd, &t->timer, pass);
         gpu_cmd_barrier_all(cmd);
     }
-    dispatch(cmd, s, PROG_SHADE_SELECT);
-    gpu_cmd_barrier_all(cmd);
-    cmd_trace_list(ctx, cmd, &s->shade, w, s->p.shade_capacity);
-    gpu_timer_cmd_end(cmd, &t->timer, pass);
-    gpu_cmd_barrier_all(cmd);
-    if (s->stop_after == STAGE_SHADE)
-        goto submit;
-
-    pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_SC_PASS_RECONSTRUCT);
-    dispatch(cmd, s, PROG_RECONSTRUCT);
-    gpu_timer_cmd_end(cmd, &t->timer, pass);
-    gpu_cmd_barrier_all(cmd);
-    mt_post_record(t->env.post, cmd, &t->timer, &xf); /* the stereo blend, if any */
-
-submit:;
-    if (s->hybrid) /* hybrid: the hash table's statistics */
-        s->hybrid->record_end(s->hybrid->user, cmd);
-    VkBufferCopy region = {0, 0, sizeof(uint64_t)};
-    vkCmdCopyBuffer(cmd, t->ray_counter.buffer, t->ray_readback.buffer, 1, &region);
-    VkBufferCopy count = {0, 0, sizeof(uint32_t)};
-    vkCmdCopyBuffer(cmd, s->shade_list.buffer, s->shade_readback.buffer, 1, &count);
-    mt_trace_cmd_stage_outputs(t, cmd);
-    gpu_cmd_barrier_all(cmd);
-    res = gpu_cmd_submit_wait(ctx, cmd, diag);
-    mt_trace_frame_done(t, res == XRSC_OK);
-    if (res != XRSC_OK)
-        return res;
-    s->frames++;
-    if ((res = gpu_timer_resolve(ctx, &t->timer, diag)) != XRSC_OK)
-        return res;
-    gpu_buffer_invalidate(ctx, &t->ray_readback);
-    memcpy(&t->rays, t->ray_readback.mapped, sizeof(uint64_t));
-    gpu_buffer_invalidate(ctx, &s->shade_readback);
-    memcpy(&s->shaded, s->shade_readback.mapped, sizeof(uint32_t));
-    if (s->shaded > s->p.shade_capacity) /* the rest were dropped, not shaded */
-        s->shaded = s->p.shade_capacity;
-    return XRSC_OK;
+    if (s->stop_after == STAGE_RECONSTRUCT)
+        mt_post_record(t->env.post, cmd, &t->timer, &xf); /* the stereo blend, if any */
+    return sc_finish(s, cmd, diag);
 }
 
 /* Counters: the shading work (seed 000 Fig. 14 compares shading rates) and the cache's size. */
