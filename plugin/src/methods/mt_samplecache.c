@@ -415,6 +415,117 @@ xrsc_result mt_samplecache_create(const mt_env *env, const xrsc_samplecache_opti
     return mt_samplecache_create_variant(env, options, NULL, out, diag);
 }
 
+/* The options' limits: slots (mask bits, 31-bit addresses), materials (Listing 1's 16 bits),
+ * ranges. */
+static xrsc_result check_options(const mt_env *env, const xrsc_samplecache_options *o,
+                                 uint64_t plane, xrsc_diag *diag)
+{
+    if (o->slots > XS_SC_MAX_SLOTS)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "slots",
+                          "%u slots > %u (2 mask bits per slot in 32 bits)", o->slots,
+                          XS_SC_MAX_SLOTS);
+    if (o->slots * plane >= XS_SC_SRC_ADDR_MASK)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "slots",
+                          "%u slots x %ux%u x 2 eyes exceed the 31-bit sample addresses",
+                          o->slots, env->width, env->height);
+    if (env->cpu_scene && env->cpu_scene->material_count > XS_SC_MAX_MATERIALS)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "materials",
+                          "%u materials > %u (Listing 1 packs 16 material bits)",
+                          env->cpu_scene->material_count, XS_SC_MAX_MATERIALS);
+    if (o->n_target < 1.0f || o->delta < 0.0f || o->eps0 < 0.0f || o->eps1 < 0.0f ||
+        o->shade_rate < 0.0f || !(o->alpha_fixed > 0.0f && o->alpha_fixed <= 1.0f) ||
+        o->trace > XRSC_SC_TRACE_ADAPTIVE || o->reproject > XRSC_SC_REPROJECT_2PASS ||
+        o->shade > XRSC_SC_SHADE_ADAPTIVE_VARIANCE || o->alpha > XRSC_SC_ALPHA_FIXED)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "samplecache",
+                          "option out of range");
+    return XRSC_OK;
+}
+
+/* The cache's buffers (xs_samplecache.h) and the moment images. */
+static xrsc_result create_buffers(mt_samplecache *s, xrsc_diag *diag)
+{
+    gpu_context *ctx = s->trace.env.gpu;
+    VkDeviceSize plane = s->plane, slot_plane = (VkDeviceSize)s->opt.slots * plane;
+    /* the 2-pass address buffer only when used (a 16-byte stub keeps the binding valid); isrt
+     * keeps its 64-bit keys there */
+    VkDeviceSize src_size = s->p.two_pass ? slot_plane * sizeof(uint32_t) : 0;
+    if (s->p.isrt_m)
+        src_size = slot_plane * sizeof(uint64_t);
+    VkDeviceSize rad_size =
+        s->hybrid ? 16 : (s->p.shade_cache ? 2 : 1) * slot_plane * XS_SC_RAD_BYTES;
+    VkDeviceSize list_size =
+        (XS_SC_SHADE_LIST_HEADER + (VkDeviceSize)s->p.shade_capacity) * sizeof(uint32_t);
+    xrsc_result res;
+    if ((res = gpu_buffer_create(ctx, sizeof(xs_sc_params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                 GPU_MEMORY_UPLOAD, &s->params, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create(ctx, sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                 GPU_MEMORY_READBACK, &s->shade_readback, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, 2 * plane * sizeof(uint32_t), &s->mask, diag)) !=
+            XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, 2 * slot_plane * 16, &s->fh, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, rad_size, &s->rad, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, plane * sizeof(uint64_t), &s->depth_min, diag)) !=
+            XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, plane * sizeof(uint32_t), &s->depth_max, diag)) !=
+            XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, src_size, &s->src, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, plane * 16, &s->plan, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, 4 * sizeof(xs_sc_stats), &s->stats, diag)) !=
+            XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, list_size, &s->shade_list, diag)) != XRSC_OK)
+        return res;
+    return mt_trace_create_moments(&s->trace, diag);
+}
+
+/* The shade program and the compute programs (hybrid: its shade and reconstruct programs,
+ * with the cache's bindings and its own). */
+static xrsc_result create_programs(mt_samplecache *s, xrsc_diag *diag)
+{
+    gpu_context *ctx = s->trace.env.gpu;
+    gpu_rt_program_desc shade_desc = {
+        .raygen = "sc_shade.rgen", .set1 = cache_bindings, .set1_count = CACHE_BINDING_COUNT};
+    gpu_binding cb[GPU_MAX_BINDINGS], sb[GPU_MAX_BINDINGS], hb[GPU_MAX_BINDINGS];
+    uint32_t cb_count = compute_bindings(cb), hb_count = cb_count;
+    const struct mt_sc_hybrid *hy = s->hybrid;
+    if (hy) {
+        memcpy(sb, cache_bindings, sizeof(cache_bindings));
+        memcpy(sb + CACHE_BINDING_COUNT, hy->bindings, hy->binding_count * sizeof(gpu_binding));
+        shade_desc = (gpu_rt_program_desc){.raygen = hy->shade_raygen, .set1 = sb,
+                                           .set1_count = CACHE_BINDING_COUNT + hy->binding_count};
+        memcpy(hb, cb, cb_count * sizeof(gpu_binding));
+        memcpy(hb + cb_count, hy->bindings, hy->binding_count * sizeof(gpu_binding));
+        hb_count = cb_count + hy->binding_count;
+    }
+    xrsc_result res = gpu_rt_program_create(ctx, &shade_desc, &s->shade, diag);
+    for (int i = 0; res == XRSC_OK && i < PROG_COUNT; i++) {
+        bool own = hy && i == PROG_RECONSTRUCT;
+        res = gpu_compute_program_create(ctx, own ? hy->reconstruct_shader : prog_shader[i],
+                                         own ? hb : cb, own ? hb_count : cb_count, 0, &s->prog[i],
+                                         diag);
+    }
+    return res;
+}
+
+/* Every program's descriptors: the scene's set 0, the cache's bindings, the moment images. */
+static void write_descriptors(mt_samplecache *s)
+{
+    gpu_context *ctx = s->trace.env.gpu;
+    write_cache(s, &s->trace.program.set1);
+    mt_trace_write_set0(&s->trace, &s->shade.set0);
+    write_cache(s, &s->shade.set1);
+    for (int i = 0; i < PROG_COUNT; i++) {
+        gpu_descriptors *d = &s->prog[i].set0;
+        mt_trace_write_set0(&s->trace, d);
+        write_cache(s, d);
+        gpu_descriptors_write_storage_image(ctx, d, XS_SC_BIND_OUT_MU1, &s->trace.mu1);
+        gpu_descriptors_write_storage_image(ctx, d, XS_SC_BIND_OUT_MU2, &s->trace.mu2);
+    }
+    if (s->hybrid) {
+        s->hybrid->write(s->hybrid->user, &s->shade.set1);
+        s->hybrid->write(s->hybrid->user, &s->prog[PROG_RECONSTRUCT].set0);
+    }
+}
+
 xrsc_result mt_samplecache_create_variant(const mt_env *env,
                                           const xrsc_samplecache_options *options,
                                           const mt_sc_variant *variant, mt_method **out,
@@ -436,24 +547,9 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         o.reproject = XRSC_SC_REPROJECT_1PASS;
     }
     uint64_t plane = 2ull * env->width * env->height;
-    if (o.slots > XS_SC_MAX_SLOTS)
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "slots",
-                          "%u slots > %u (2 mask bits per slot in 32 bits)", o.slots,
-                          XS_SC_MAX_SLOTS);
-    if (o.slots * plane >= XS_SC_SRC_ADDR_MASK)
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "slots",
-                          "%u slots x %ux%u x 2 eyes exceed the 31-bit sample addresses", o.slots,
-                          env->width, env->height);
-    if (env->cpu_scene && env->cpu_scene->material_count > XS_SC_MAX_MATERIALS)
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "materials",
-                          "%u materials > %u (Listing 1 packs 16 material bits)",
-                          env->cpu_scene->material_count, XS_SC_MAX_MATERIALS);
-    if (o.n_target < 1.0f || o.delta < 0.0f || o.eps0 < 0.0f || o.eps1 < 0.0f ||
-        o.shade_rate < 0.0f || !(o.alpha_fixed > 0.0f && o.alpha_fixed <= 1.0f) ||
-        o.trace > XRSC_SC_TRACE_ADAPTIVE || o.reproject > XRSC_SC_REPROJECT_2PASS ||
-        o.shade > XRSC_SC_SHADE_ADAPTIVE_VARIANCE || o.alpha > XRSC_SC_ALPHA_FIXED)
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "samplecache",
-                          "option out of range");
+    xrsc_result res = check_options(env, &o, plane, diag);
+    if (res != XRSC_OK)
+        return res;
 
     mt_samplecache *s = calloc(1, sizeof(*s));
     if (!s)
@@ -492,8 +588,6 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         .output_image = sc_output_image,
         .counters = sc_counters,
     };
-    gpu_context *ctx = env->gpu;
-    xrsc_result res;
     gpu_rt_program_desc trace_desc = {
         .raygen = "sc_trace.rgen", .set1 = cache_bindings, .set1_count = CACHE_BINDING_COUNT};
     if ((res = mt_trace_init_program(&s->trace, env, &trace_desc, diag)) != XRSC_OK) {
@@ -501,77 +595,9 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         return res;
     }
     /* from here on sc_destroy frees whatever was created */
-    VkDeviceSize slot_plane = (VkDeviceSize)o.slots * plane;
-    /* the 2-pass address buffer only when used (a 16-byte stub keeps the binding valid); isrt
-     * keeps its 64-bit keys there */
-    VkDeviceSize src_size = s->p.two_pass ? slot_plane * sizeof(uint32_t) : 0;
-    if (s->p.isrt_m)
-        src_size = slot_plane * sizeof(uint64_t);
-    if ((res = gpu_buffer_create(ctx, sizeof(xs_sc_params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                                 GPU_MEMORY_UPLOAD, &s->params, diag)) != XRSC_OK ||
-        (res = gpu_buffer_create(ctx, sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                 GPU_MEMORY_READBACK, &s->shade_readback, diag)) != XRSC_OK ||
-        (res = gpu_buffer_create_storage(ctx, 2 * plane * sizeof(uint32_t), &s->mask, diag)) !=
-            XRSC_OK ||
-        (res = gpu_buffer_create_storage(ctx, 2 * slot_plane * 16, &s->fh, diag)) != XRSC_OK ||
-        (res = gpu_buffer_create_storage(
-             ctx, s->hybrid ? 16 : (s->p.shade_cache ? 2 : 1) * slot_plane * XS_SC_RAD_BYTES,
-             &s->rad, diag)) !=
-            XRSC_OK ||
-        (res = gpu_buffer_create_storage(ctx, plane * sizeof(uint64_t), &s->depth_min, diag)) !=
-            XRSC_OK ||
-        (res = gpu_buffer_create_storage(ctx, plane * sizeof(uint32_t), &s->depth_max, diag)) !=
-            XRSC_OK ||
-        (res = gpu_buffer_create_storage(ctx, src_size, &s->src, diag)) != XRSC_OK ||
-        (res = gpu_buffer_create_storage(ctx, plane * 16, &s->plan, diag)) != XRSC_OK ||
-        (res = gpu_buffer_create_storage(ctx, 4 * sizeof(xs_sc_stats), &s->stats, diag)) !=
-            XRSC_OK ||
-        (res = gpu_buffer_create_storage(
-             ctx, (XS_SC_SHADE_LIST_HEADER + (VkDeviceSize)s->p.shade_capacity) * sizeof(uint32_t),
-             &s->shade_list, diag)) != XRSC_OK ||
-        (res = mt_trace_create_moments(&s->trace, diag)) != XRSC_OK)
+    if ((res = create_buffers(s, diag)) != XRSC_OK || (res = create_programs(s, diag)) != XRSC_OK)
         goto fail;
-
-    gpu_rt_program_desc shade_desc = {
-        .raygen = "sc_shade.rgen", .set1 = cache_bindings, .set1_count = CACHE_BINDING_COUNT};
-    gpu_binding cb[GPU_MAX_BINDINGS], sb[GPU_MAX_BINDINGS], hb[GPU_MAX_BINDINGS];
-    uint32_t cb_count = compute_bindings(cb), hb_count = cb_count;
-    if (s->hybrid) { /* hybrid: its programs, the cache's bindings + its own */
-        const struct mt_sc_hybrid *hy = s->hybrid;
-        memcpy(sb, cache_bindings, sizeof(cache_bindings));
-        memcpy(sb + CACHE_BINDING_COUNT, hy->bindings, hy->binding_count * sizeof(gpu_binding));
-        shade_desc = (gpu_rt_program_desc){.raygen = hy->shade_raygen, .set1 = sb,
-                                           .set1_count = CACHE_BINDING_COUNT + hy->binding_count};
-    }
-    if ((res = gpu_rt_program_create(ctx, &shade_desc, &s->shade, diag)) != XRSC_OK)
-        goto fail;
-    if (s->hybrid) {
-        memcpy(hb, cb, cb_count * sizeof(gpu_binding));
-        memcpy(hb + cb_count, s->hybrid->bindings, s->hybrid->binding_count * sizeof(gpu_binding));
-        hb_count = cb_count + s->hybrid->binding_count;
-    }
-    for (int i = 0; i < PROG_COUNT; i++) {
-        bool hy = s->hybrid && i == PROG_RECONSTRUCT;
-        if ((res = gpu_compute_program_create(
-                 ctx, hy ? s->hybrid->reconstruct_shader : prog_shader[i], hy ? hb : cb,
-                 hy ? hb_count : cb_count, 0, &s->prog[i], diag)) != XRSC_OK)
-            goto fail;
-    }
-
-    write_cache(s, &s->trace.program.set1);
-    mt_trace_write_set0(&s->trace, &s->shade.set0);
-    write_cache(s, &s->shade.set1);
-    for (int i = 0; i < PROG_COUNT; i++) {
-        gpu_descriptors *d = &s->prog[i].set0;
-        mt_trace_write_set0(&s->trace, d);
-        write_cache(s, d);
-        gpu_descriptors_write_storage_image(ctx, d, XS_SC_BIND_OUT_MU1, &s->trace.mu1);
-        gpu_descriptors_write_storage_image(ctx, d, XS_SC_BIND_OUT_MU2, &s->trace.mu2);
-    }
-    if (s->hybrid) {
-        s->hybrid->write(s->hybrid->user, &s->shade.set1);
-        s->hybrid->write(s->hybrid->user, &s->prog[PROG_RECONSTRUCT].set0);
-    }
+    write_descriptors(s);
     *out = &s->base;
     return XRSC_OK;
 fail:
