@@ -137,13 +137,6 @@ static int parse_args(int argc, char **argv, compare_args *a)
 
 /* ---- the picture ---- */
 
-static uint8_t linear_to_srgb8(float v)
-{
-    float c = v <= 0.0f ? 0.0f : v >= 1.0f ? 1.0f : v;
-    c = c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
-    return (uint8_t)lrintf(c * 255.0f);
-}
-
 /* The display picture of a frame: linear frames tone-mapped, PNG frames re-encoded as read. */
 static void display(const float *rgba, uint32_t w, uint32_t h, hs_run_kind kind, double exposure,
                     uint8_t *out_rgb)
@@ -155,7 +148,7 @@ static void display(const float *rgba, uint32_t w, uint32_t h, hs_run_kind kind,
     }
     for (size_t i = 0; i < (size_t)w * h; i++)
         for (int c = 0; c < 3; c++)
-            out_rgb[i * 3 + c] = linear_to_srgb8(rgba[i * 4 + c]);
+            out_rgb[i * 3 + c] = hs_srgb8(rgba[i * 4 + c]);
 }
 
 /* RMS over R, G, B of b - a per pixel. */

@@ -53,10 +53,19 @@ static float aces(float x)
     return y < 1.0f ? y : 1.0f;
 }
 
-/* sRGB transfer function (IEC 61966-2-1). */
-static float srgb_oetf(float x)
+uint8_t hs_srgb8(float c)
 {
-    return x <= 0.0031308f ? 12.92f * x : 1.055f * powf(x, 1.0f / 2.4f) - 0.055f;
+    if (!(c > 0.0f))
+        return 0;
+    if (c >= 1.0f)
+        return 255;
+    float s = c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
+    return (uint8_t)lrintf(s * 255.0f);
+}
+
+float hs_srgb_to_linear(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
 }
 
 void hs_tonemap_rgba(const hs_tonemap *tm, const float *rgba, uint32_t w, uint32_t h,
@@ -65,10 +74,8 @@ void hs_tonemap_rgba(const hs_tonemap *tm, const float *rgba, uint32_t w, uint32
     float exposure = (tm && tm->exposure > 0.0f) ? tm->exposure : 1.0f;
     size_t n = (size_t)w * h;
     for (size_t i = 0; i < n; i++) {
-        for (int c = 0; c < 3; c++) {
-            float v = srgb_oetf(aces(rgba[i * 4 + c] * exposure));
-            out_rgb[i * 3 + c] = (uint8_t)lrintf(v * 255.0f);
-        }
+        for (int c = 0; c < 3; c++)
+            out_rgb[i * 3 + c] = hs_srgb8(aces(rgba[i * 4 + c] * exposure));
     }
 }
 

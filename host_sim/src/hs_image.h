@@ -51,6 +51,12 @@ typedef struct hs_autoexposure {
 float hs_autoexposure_update(hs_autoexposure *ae, const float *const *rgba, uint32_t count,
                              uint32_t w, uint32_t h);
 
+/** The sRGB transfer function (IEC 61966-2-1) of a display value, clamped to [0, 1] (NaN to
+ *  0) and quantised to 8 bits. */
+uint8_t hs_srgb8(float linear);
+/** The inverse of the sRGB transfer function: the linear value of display value c in [0, 1]. */
+float hs_srgb_to_linear(float c);
+
 /** Converts w*h RGBA float pixels to w*h RGB 8-bit sRGB pixels. */
 void hs_tonemap_rgba(const hs_tonemap *tm, const float *rgba, uint32_t w, uint32_t h,
                      uint8_t *out_rgb);

@@ -133,12 +133,6 @@ hs_run_kind hs_run_kind_of(const char *dir)
     return HS_RUN_NONE;
 }
 
-static float srgb_to_linear(uint8_t v)
-{
-    float c = (float)v / 255.0f;
-    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
-}
-
 static xrsc_result read_png(const char *path, float **out_rgba, uint32_t *out_w, uint32_t *out_h,
                             xrsc_diag *diag)
 {
@@ -161,7 +155,7 @@ static xrsc_result read_png(const char *path, float **out_rgba, uint32_t *out_w,
     }
     for (size_t i = 0; i < n; i++) {
         for (int c = 0; c < 3; c++)
-            rgba[i * 4 + c] = srgb_to_linear(rgb[i * 3 + c]);
+            rgba[i * 4 + c] = hs_srgb_to_linear((float)rgb[i * 3 + c] / 255.0f);
         rgba[i * 4 + 3] = 1.0f;
     }
     free(rgb);

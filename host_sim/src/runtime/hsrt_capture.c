@@ -46,20 +46,6 @@ bool hsrt_format_is_depth(VkFormat format)
     return format == VK_FORMAT_D32_SFLOAT || format == VK_FORMAT_D16_UNORM;
 }
 
-static float srgb_to_linear(float c)
-{
-    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
-}
-
-static uint8_t linear_to_srgb8(float c)
-{
-    if (!(c > 0.0f))
-        return 0;
-    if (c >= 1.0f)
-        return 255;
-    float s = c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
-    return (uint8_t)lrintf(s * 255.0f);
-}
 
 void hsrt_eye_image_free(hsrt_eye_image *img)
 {
@@ -88,7 +74,7 @@ bool hsrt_convert(VkFormat format, const void *texels, uint32_t w, uint32_t h, f
     case VK_FORMAT_B8G8R8A8_SRGB: {
         float lut[256];
         for (int i = 0; i < 256; i++)
-            lut[i] = srgb_to_linear((float)i / 255.0f);
+            lut[i] = hs_srgb_to_linear((float)i / 255.0f);
         for (size_t i = 0; i < n; i++) {
             for (int c = 0; c < 3; c++) {
                 uint8_t v = b[i * 4 + (bgr ? 2 - c : c)];
@@ -105,7 +91,7 @@ bool hsrt_convert(VkFormat format, const void *texels, uint32_t w, uint32_t h, f
             for (int c = 0; c < 3; c++) {
                 float v = (float)b[i * 4 + (bgr ? 2 - c : c)] / 255.0f;
                 out->rgba[i * 4 + c] = v;
-                out->rgb[i * 3 + c] = linear_to_srgb8(v);
+                out->rgb[i * 3 + c] = hs_srgb8(v);
             }
             out->rgba[i * 4 + 3] = (float)b[i * 4 + 3] / 255.0f;
         }
