@@ -21,6 +21,7 @@
 #include "gpu_scene.h"
 #include "mt_trace.h"
 #include "sc_scene.h"
+#include "t_context.h"
 #include "testing.h"
 #include "xrsc/xrsc.h"
 
@@ -478,20 +479,11 @@ static void test_front_face(void)
 
 int main(void)
 {
-    xrsc_context_options o = {.validation = true};
-    xrsc_diag diag;
-    char buf[1024];
-    if (xrsc_context_create(&o, &g_ctx, &diag) != XRSC_OK) {
-        fprintf(stderr, "no context: %s\n", xrsc_diag_format(&diag, buf, sizeof(buf)));
+    if (!(g_ctx = t_context_open()))
         return 1;
-    }
     RUN(test_primary_hits);
     RUN(test_spp_no_jitter_same_first_hits);
     RUN(test_front_face);
-    uint32_t errors = xrsc_context_validation_errors(g_ctx);
-    xrsc_context_destroy(&g_ctx);
-    CHECK_MSG(errors == 0, "%u validation errors", errors);
-    if (errors)
-        t_g.cases_failed++;
+    t_context_close(&g_ctx);
     return t_finish();
 }

@@ -14,6 +14,7 @@
  * Method spp, 2 x 32 x 32 (the furnace cases) and 2 x 24 x 24 (the helmet-like case).
  */
 #include "hs_image.h"
+#include "t_context.h"
 #include "testing.h"
 #include "xrsc/xrsc.h"
 
@@ -360,21 +361,12 @@ static void test_sky(void)
 
 int main(void)
 {
-    xrsc_context_options o = {.validation = true};
-    xrsc_diag diag;
-    char buf[1024];
-    if (xrsc_context_create(&o, &g_ctx, &diag) != XRSC_OK) {
-        fprintf(stderr, "no context: %s\n", xrsc_diag_format(&diag, buf, sizeof(buf)));
+    if (!(g_ctx = t_context_open()))
         return 1;
-    }
     RUN(test_emissive_only_scene_is_lit);
     RUN(test_constant_map_equals_env);
     RUN(test_importance_sampling_variance);
     RUN(test_sky);
-    uint32_t errors = xrsc_context_validation_errors(g_ctx);
-    xrsc_context_destroy(&g_ctx);
-    CHECK_MSG(errors == 0, "%u validation errors", errors);
-    if (errors)
-        t_g.cases_failed++;
+    t_context_close(&g_ctx);
     return t_finish();
 }
