@@ -88,6 +88,11 @@ typedef struct hs_args {
  */
 int hs_args_prepare(hs_args *out, const hs_args_spec *spec, int argc, char **argv);
 
+/** hs_args_prepare for a command without config files (--opt=value only): the spec from cmd
+ *  and its value options; on success *argc, *argv are out's. Returns as hs_args_prepare. */
+int hs_args_normalize(hs_args *out, const char *cmd, const char *const *value_options,
+                      size_t value_count, int *argc, char ***argv);
+
 /**
  * The config-file part of hs_args_prepare on text in memory (terminated; changed in place):
  * appends its options to out (copies: text may go afterwards). Errors fill diag with path,

@@ -332,13 +332,12 @@ int hs_bench_main(int argc, char **argv)
         .settings_text = HS_BENCH_DEFAULT_SETTINGS,
     };
     xrsc_headset_default(&ba.opt.headset);
-    hs_args args; /* --opt=value (hs_args_prepare) */
-    const hs_args_spec spec = {.cmd = "xrsc bench", .value_options = value_options,
-                               .value_count = sizeof(value_options) / sizeof(value_options[0])};
-    int r = hs_args_prepare(&args, &spec, argc, argv);
+    hs_args args; /* --opt=value */
+    int r = hs_args_normalize(&args, "xrsc bench", value_options,
+                              sizeof(value_options) / sizeof(value_options[0]), &argc, &argv);
     if (r)
         return r;
-    r = parse_args(args.argc, args.argv, &ba);
+    r = parse_args(argc, argv, &ba);
     if (r == ARG_NEXT)
         r = run_bench(&ba);
     free(ba.settings_file);

@@ -1008,16 +1008,12 @@ int hs_bench_suite_main(int argc, char **argv)
                     .h = SUITE_DEFAULT_SIZE_PX,
                     .ref_spp = SUITE_DEFAULT_REF_SPP,
                     .progress = true};
-    hs_args args;
-    const hs_args_spec spec = {
-        .cmd = "xrsc bench --suite",
-        .value_options = suite_value_options,
-        .value_count = sizeof(suite_value_options) / sizeof(suite_value_options[0])};
-    int prep = hs_args_prepare(&args, &spec, argc, argv);
+    hs_args args; /* --opt=value */
+    int prep = hs_args_normalize(&args, "xrsc bench --suite", suite_value_options,
+                                 sizeof(suite_value_options) / sizeof(suite_value_options[0]),
+                                 &argc, &argv);
     if (prep)
         return prep;
-    argc = args.argc;
-    argv = args.argv;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {

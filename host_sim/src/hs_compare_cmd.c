@@ -76,16 +76,10 @@ static int parse_args(int argc, char **argv, compare_args *a)
 {
     static const char *const with_value[] = {"--out",   "--first",    "--frames",
                                              "--scale", "--exposure", "--relmse-eps"};
-    /* --opt=value (hs_args_prepare); without config files the values stay in argv. */
-    hs_args args;
-    const hs_args_spec spec = {.cmd = "xrsc compare",
-                               .value_options = with_value,
-                               .value_count = sizeof(with_value) / sizeof(with_value[0])};
-    int prep = hs_args_prepare(&args, &spec, argc, argv);
+    hs_args args; /* --opt=value; without config files the values stay in argv */
+    int prep = hs_args_normalize(&args, "xrsc compare", with_value, sizeof(with_value) / sizeof(with_value[0]), &argc, &argv);
     if (prep)
         return prep;
-    argc = args.argc;
-    argv = args.argv;
     for (int i = 1; i < argc; i++) {
         const char *f = argv[i];
         double d;

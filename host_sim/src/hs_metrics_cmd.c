@@ -201,16 +201,10 @@ static int parse_args(int argc, char **argv, metrics_args *a)
     static const char *const with_value[] = {"--ref",   "--test",       "--pattern",
                                              "--first", "--frames",     "--csv",
                                              "--floor", "--relmse-eps", "--range"};
-    /* --opt=value (hs_args_prepare); without config files the values stay in argv. */
-    hs_args args;
-    const hs_args_spec spec = {.cmd = "xrsc metrics",
-                               .value_options = with_value,
-                               .value_count = sizeof(with_value) / sizeof(with_value[0])};
-    int prep = hs_args_prepare(&args, &spec, argc, argv);
+    hs_args args; /* --opt=value; without config files the values stay in argv */
+    int prep = hs_args_normalize(&args, "xrsc metrics", with_value, sizeof(with_value) / sizeof(with_value[0]), &argc, &argv);
     if (prep)
         return prep;
-    argc = args.argc;
-    argv = args.argv;
     for (int i = 1; i < argc; i++) {
         const char *f = argv[i];
         if (!strcmp(f, "-h") || !strcmp(f, "--help")) {

@@ -87,16 +87,12 @@ static const char *const poses_value_options[] = {"--fastest", "--refresh", "--f
 
 int hs_poses_main(int argc, char **argv)
 {
-    hs_args args;
-    const hs_args_spec spec = {
-        .cmd = POSES_CMD,
-        .value_options = poses_value_options,
-        .value_count = sizeof(poses_value_options) / sizeof(poses_value_options[0])};
-    int prep = hs_args_prepare(&args, &spec, argc, argv);
+    hs_args args; /* --opt=value */
+    int prep = hs_args_normalize(&args, POSES_CMD, poses_value_options,
+                                 sizeof(poses_value_options) / sizeof(poses_value_options[0]),
+                                 &argc, &argv);
     if (prep)
         return prep;
-    argc = args.argc;
-    argv = args.argv;
     if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help")) {
         usage(argc < 2 ? stderr : stdout);
         return argc < 2 ? HS_EXIT_BAD_ARGS : 0;
