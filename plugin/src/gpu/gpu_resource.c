@@ -153,6 +153,27 @@ xrsc_result gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, VkDeviceSize of
     return res;
 }
 
+xrsc_result gpu_buffer_download(gpu_context *ctx, const gpu_buffer *buf, VkDeviceSize offset,
+                                void *dst, VkDeviceSize size, xrsc_diag *diag)
+{
+    gpu_buffer rb = {0};
+    xrsc_result res = gpu_buffer_create(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                        GPU_MEMORY_READBACK, &rb, diag);
+    VkCommandBuffer cmd;
+    if (res == XRSC_OK && (res = gpu_cmd_begin(ctx, &cmd, diag)) == XRSC_OK) {
+        gpu_cmd_barrier_all(cmd);
+        VkBufferCopy region = {offset, 0, size};
+        vkCmdCopyBuffer(cmd, buf->buffer, rb.buffer, 1, &region);
+        gpu_cmd_barrier_all(cmd);
+        if ((res = gpu_cmd_submit_wait(ctx, cmd, diag)) == XRSC_OK) {
+            gpu_buffer_invalidate(ctx, &rb);
+            memcpy(dst, rb.mapped, size);
+        }
+    }
+    gpu_buffer_destroy(ctx, &rb);
+    return res;
+}
+
 xrsc_result gpu_buffer_create_storage(gpu_context *ctx, VkDeviceSize size, gpu_buffer *out,
                                       xrsc_diag *diag)
 {

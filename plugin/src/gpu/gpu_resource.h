@@ -41,6 +41,10 @@ xrsc_result gpu_buffer_create_storage(gpu_context *ctx, VkDeviceSize size, gpu_b
 /** Copies size bytes into buf at offset through a temporary staging buffer (waits). */
 xrsc_result gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, VkDeviceSize offset,
                               const void *data, VkDeviceSize size, xrsc_diag *diag);
+/** Copies size bytes at offset of buf (created with TRANSFER_SRC usage) into dst: one
+ *  submission after all earlier work, waited for (read-backs for tests and self-tests). */
+xrsc_result gpu_buffer_download(gpu_context *ctx, const gpu_buffer *buf, VkDeviceSize offset,
+                                void *dst, VkDeviceSize size, xrsc_diag *diag);
 /** Creates a device-local buffer and uploads data (usage gets TRANSFER_DST added). */
 xrsc_result gpu_buffer_create_with_data(gpu_context *ctx, const void *data, VkDeviceSize size,
                                         VkBufferUsageFlags usage, gpu_buffer *out,

@@ -226,29 +226,6 @@ uint32_t mt_hctable_counters(mt_hctable *t, xrsc_counter *out, uint32_t max_coun
     return n;
 }
 
-
-/** Copies a device buffer into dst (one submission, waits). */
-static xrsc_result read_back(gpu_context *ctx, const gpu_buffer *b, void *dst, VkDeviceSize size,
-                             xrsc_diag *diag)
-{
-    gpu_buffer rb = {0};
-    xrsc_result res = gpu_buffer_create(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                        GPU_MEMORY_READBACK, &rb, diag);
-    VkCommandBuffer cmd;
-    if (res == XRSC_OK && (res = gpu_cmd_begin(ctx, &cmd, diag)) == XRSC_OK) {
-        gpu_cmd_barrier_all(cmd);
-        VkBufferCopy region = {0, 0, size};
-        vkCmdCopyBuffer(cmd, b->buffer, rb.buffer, 1, &region);
-        gpu_cmd_barrier_all(cmd);
-        if ((res = gpu_cmd_submit_wait(ctx, cmd, diag)) == XRSC_OK) {
-            gpu_buffer_invalidate(ctx, &rb);
-            memcpy(dst, rb.mapped, size);
-        }
-    }
-    gpu_buffer_destroy(ctx, &rb);
-    return res;
-}
-
 xrsc_result mt_hctable_selftest_run(mt_hctable *t, xs_hc_selftest_io *io, uint32_t count,
                                     xrsc_diag *diag)
 {
@@ -283,7 +260,7 @@ xrsc_result mt_hctable_selftest_run(mt_hctable *t, xs_hc_selftest_io *io, uint32
     res = gpu_cmd_submit_wait(ctx, cmd, diag);
     mt_hctable_frame_done(t, res == XRSC_OK);
     if (res == XRSC_OK)
-        res = read_back(ctx, &buf, io, size, diag);
+        res = gpu_buffer_download(ctx, &buf, 0, io, size, diag);
 done:
     gpu_buffer_destroy(ctx, &buf);
     gpu_compute_program_destroy(ctx, &prog);

@@ -640,31 +640,6 @@ xrsc_result mt_samplecache_debug_stop_after(mt_method *m, const char *pass, xrsc
 
 /* ---- read-back for tests ---- */
 
-/** Copies size bytes at offset of a device buffer to dst (one submission, waits). */
-static xrsc_result read_buffer(gpu_context *ctx, const gpu_buffer *b, VkDeviceSize offset,
-                               VkDeviceSize size, void *dst, xrsc_diag *diag)
-{
-    gpu_buffer rb = {0};
-    xrsc_result res = gpu_buffer_create(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                        GPU_MEMORY_READBACK, &rb, diag);
-    if (res != XRSC_OK)
-        return res;
-    VkCommandBuffer cmd;
-    if ((res = gpu_cmd_begin(ctx, &cmd, diag)) != XRSC_OK)
-        goto done;
-    gpu_cmd_barrier_all(cmd);
-    VkBufferCopy region = {offset, 0, size};
-    vkCmdCopyBuffer(cmd, b->buffer, rb.buffer, 1, &region);
-    gpu_cmd_barrier_all(cmd);
-    if ((res = gpu_cmd_submit_wait(ctx, cmd, diag)) != XRSC_OK)
-        goto done;
-    gpu_buffer_invalidate(ctx, &rb);
-    memcpy(dst, rb.mapped, size);
-done:
-    gpu_buffer_destroy(ctx, &rb);
-    return res;
-}
-
 /** Reads px radiance records (XS_SC_RAD_BYTES each: four halves) at offset as float rgba. */
 static xrsc_result read_radiance(gpu_context *ctx, const gpu_buffer *b, VkDeviceSize offset,
                                  size_t px, float *dst, xrsc_diag *diag)
@@ -673,7 +648,7 @@ static xrsc_result read_radiance(gpu_context *ctx, const gpu_buffer *b, VkDevice
     uint16_t *h = malloc(px * XS_SC_RAD_BYTES);
     if (!h)
         return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
-    xrsc_result res = read_buffer(ctx, b, offset, px * XS_SC_RAD_BYTES, h, diag);
+    xrsc_result res = gpu_buffer_download(ctx, b, offset, h, px * XS_SC_RAD_BYTES, diag);
     for (size_t i = 0; res == XRSC_OK && i < 4 * px; i++)
         dst[i] = u_half_to_float(h[i]);
     free(h);
@@ -722,17 +697,18 @@ xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *
         goto fail;
     }
     VkDeviceSize plane = s->plane, eye_off = (VkDeviceSize)eye * px;
-    if ((res = read_buffer(ctx, &s->mask, (cur * plane + eye_off) * 4, px * 4, out->mask, diag)) !=
+    if ((res = gpu_buffer_download(ctx, &s->mask, (cur * plane + eye_off) * 4, out->mask, px * 4,
+                                   diag)) != XRSC_OK ||
+        (res = gpu_buffer_download(ctx, &s->depth_min, eye_off * 8, out->depth_min, px * 8,
+                                   diag)) != XRSC_OK ||
+        (res = gpu_buffer_download(ctx, &s->depth_max, eye_off * 4, out->depth_max, px * 4,
+                                   diag)) != XRSC_OK ||
+        (res = gpu_buffer_download(ctx, &s->plan, eye_off * 16, out->plan, px * 16, diag)) !=
             XRSC_OK ||
-        (res = read_buffer(ctx, &s->depth_min, eye_off * 8, px * 8, out->depth_min, diag)) !=
-            XRSC_OK ||
-        (res = read_buffer(ctx, &s->depth_max, eye_off * 4, px * 4, out->depth_max, diag)) !=
-            XRSC_OK ||
-        (res = read_buffer(ctx, &s->plan, eye_off * 16, px * 16, out->plan, diag)) != XRSC_OK ||
-        (res = read_buffer(ctx, &s->stats, (cur * 2 + eye) * sizeof(xs_sc_stats),
-                           sizeof(xs_sc_stats), &out->stats, diag)) != XRSC_OK ||
-        (res = read_buffer(ctx, &s->shade_list, 0, sizeof(uint32_t), &out->shade_count, diag)) !=
-            XRSC_OK)
+        (res = gpu_buffer_download(ctx, &s->stats, (cur * 2 + eye) * sizeof(xs_sc_stats),
+                                   &out->stats, sizeof(xs_sc_stats), diag)) != XRSC_OK ||
+        (res = gpu_buffer_download(ctx, &s->shade_list, 0, &out->shade_count, sizeof(uint32_t),
+                                   diag)) != XRSC_OK)
         goto fail;
     for (uint32_t k = 0; k < n; k++) {
         VkDeviceSize fh_off = ((VkDeviceSize)(cur * n + k) * plane + eye_off) * 16;
@@ -741,8 +717,8 @@ xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *
         bool no_rad = s->p.shade_cache == XS_SC_RAD_NONE; /* hybrid: radiance all zeros */
         if (no_rad)
             memset(out->rad + (size_t)k * px * 4, 0, px * 16);
-        if ((res = read_buffer(ctx, &s->fh, fh_off, px * 16, out->fh + (size_t)k * px * 4, diag)) !=
-                XRSC_OK ||
+        if ((res = gpu_buffer_download(ctx, &s->fh, fh_off, out->fh + (size_t)k * px * 4, px * 16,
+                                       diag)) != XRSC_OK ||
             (!no_rad && (res = read_radiance(ctx, &s->rad, rad_off, px,
                                              out->rad + (size_t)k * px * 4, diag)) != XRSC_OK))
             goto fail;
@@ -779,7 +755,7 @@ xrsc_result mt_sc_selftest_run(gpu_context *ctx, xs_sc_selftest_io *io, uint32_t
         cmd, &prog, &count, (count + MT_SC_SELFTEST_GROUP - 1) / MT_SC_SELFTEST_GROUP, 1, 1);
     if ((res = gpu_cmd_submit_wait(ctx, cmd, diag)) != XRSC_OK)
         goto done;
-    res = read_buffer(ctx, &buf, 0, size, io, diag);
+    res = gpu_buffer_download(ctx, &buf, 0, io, size, diag);
 done:
     gpu_buffer_destroy(ctx, &buf);
     gpu_compute_program_destroy(ctx, &prog);
