@@ -45,7 +45,7 @@ static xrsc_result hc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     if (res != XRSC_OK)
         return res;
     mt_hctable_cmd_begin(&s->table, cmd);
-    vkCmdFillBuffer(cmd, t->ray_counter.buffer, 0, sizeof(uint64_t), 0);
+    mt_trace_cmd_rays_reset(t, cmd);
     gpu_cmd_barrier_all(cmd);
     uint32_t pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_HC_PASS_TRACE);
     gpu_rt_program_cmd_trace(ctx, cmd, &t->program, NULL, w, h, 2);
@@ -58,8 +58,7 @@ static xrsc_result hc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     mt_hctable_cmd_end(&s->table, cmd);
     mt_post_record(t->env.post, cmd, &t->timer, &xf); /* TAA, stereo blend, if any */
     gpu_cmd_barrier_all(cmd);
-    VkBufferCopy region = {0, 0, sizeof(uint64_t)};
-    vkCmdCopyBuffer(cmd, t->ray_counter.buffer, t->ray_readback.buffer, 1, &region);
+    mt_trace_cmd_rays_copy(t, cmd);
     mt_trace_cmd_stage_outputs(t, cmd);
     gpu_cmd_barrier_all(cmd);
     res = gpu_cmd_submit_wait(ctx, cmd, diag);
@@ -69,8 +68,7 @@ static xrsc_result hc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
         return res;
     if ((res = gpu_timer_resolve(ctx, &t->timer, diag)) != XRSC_OK)
         return res;
-    gpu_buffer_invalidate(ctx, &t->ray_readback);
-    memcpy(&t->rays, t->ray_readback.mapped, sizeof(uint64_t));
+    mt_trace_rays_collect(t);
     return XRSC_OK;
 }
 

@@ -226,7 +226,7 @@ static void record_reproject(mt_samplecache *s, VkCommandBuffer cmd)
         cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0);
     if (s->p.isrt_m) /* the isrt keys: all ones = nothing arrived (XS_SC_ISRT_KEY_*) */
         cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
-    vkCmdFillBuffer(cmd, s->trace.ray_counter.buffer, 0, sizeof(uint64_t), 0);
+    mt_trace_cmd_rays_reset(&s->trace, cmd);
     gpu_cmd_barrier_all(cmd);
     dispatch(cmd, s, PROG_REPROJECT);
     if (s->p.two_pass || s->p.isrt_m) {
@@ -283,8 +283,7 @@ static xrsc_result sc_finish(mt_samplecache *s, VkCommandBuffer cmd, xrsc_diag *
     gpu_context *ctx = t->env.gpu;
     if (s->hybrid) /* hybrid: the hash table's statistics */
         s->hybrid->record_end(s->hybrid->user, cmd);
-    VkBufferCopy region = {0, 0, sizeof(uint64_t)};
-    vkCmdCopyBuffer(cmd, t->ray_counter.buffer, t->ray_readback.buffer, 1, &region);
+    mt_trace_cmd_rays_copy(t, cmd);
     VkBufferCopy count = {0, 0, sizeof(uint32_t)};
     vkCmdCopyBuffer(cmd, s->shade_list.buffer, s->shade_readback.buffer, 1, &count);
     mt_trace_cmd_stage_outputs(t, cmd);
@@ -296,8 +295,7 @@ static xrsc_result sc_finish(mt_samplecache *s, VkCommandBuffer cmd, xrsc_diag *
     s->frames++;
     if ((res = gpu_timer_resolve(ctx, &t->timer, diag)) != XRSC_OK)
         return res;
-    gpu_buffer_invalidate(ctx, &t->ray_readback);
-    memcpy(&t->rays, t->ray_readback.mapped, sizeof(uint64_t));
+    mt_trace_rays_collect(t);
     gpu_buffer_invalidate(ctx, &s->shade_readback);
     memcpy(&s->shaded, s->shade_readback.mapped, sizeof(uint32_t));
     if (s->shaded > s->p.shade_capacity) /* the rest were dropped, not shaded */

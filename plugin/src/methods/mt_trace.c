@@ -189,7 +189,7 @@ xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc
         return res;
     if (clear_accum)
         gpu_image_cmd_clear(cmd, &t->accum);
-    vkCmdFillBuffer(cmd, t->ray_counter.buffer, 0, sizeof(uint64_t), 0);
+    mt_trace_cmd_rays_reset(t, cmd);
     cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR,
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
@@ -199,8 +199,7 @@ xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc
     mt_post_record(t->env.post, cmd, &t->timer, xf); /* the stereo blend, if any */
     cmd_barrier(cmd, VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferCopy region = {0, 0, sizeof(uint64_t)};
-    vkCmdCopyBuffer(cmd, t->ray_counter.buffer, t->ray_readback.buffer, 1, &region);
+    mt_trace_cmd_rays_copy(t, cmd);
     cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
     mt_trace_cmd_stage_outputs(t, cmd);
@@ -211,9 +210,25 @@ xrsc_result mt_trace_run(mt_trace *t, const xs_frame *xf, bool clear_accum, xrsc
     res = gpu_timer_resolve(ctx, &t->timer, diag);
     if (res != XRSC_OK)
         return res;
-    gpu_buffer_invalidate(ctx, &t->ray_readback);
-    memcpy(&t->rays, t->ray_readback.mapped, sizeof(uint64_t));
+    mt_trace_rays_collect(t);
     return XRSC_OK;
+}
+
+void mt_trace_cmd_rays_reset(mt_trace *t, VkCommandBuffer cmd)
+{
+    vkCmdFillBuffer(cmd, t->ray_counter.buffer, 0, sizeof(uint64_t), 0);
+}
+
+void mt_trace_cmd_rays_copy(mt_trace *t, VkCommandBuffer cmd)
+{
+    VkBufferCopy region = {0, 0, sizeof(uint64_t)};
+    vkCmdCopyBuffer(cmd, t->ray_counter.buffer, t->ray_readback.buffer, 1, &region);
+}
+
+void mt_trace_rays_collect(mt_trace *t)
+{
+    gpu_buffer_invalidate(t->env.gpu, &t->ray_readback);
+    memcpy(&t->rays, t->ray_readback.mapped, sizeof(uint64_t));
 }
 
 static const gpu_image *output_image(const mt_trace *t, xrsc_output output)

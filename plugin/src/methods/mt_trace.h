@@ -84,6 +84,13 @@ void mt_trace_frame_constants(const mt_trace *t, const xrsc_frame *frame, xs_fra
 xrsc_result mt_trace_cmd_frame_begin(mt_trace *t, const xs_frame *xf, VkCommandBuffer *out_cmd,
                                      xrsc_diag *diag);
 
+/** Records the zeroing of the ray counter (before the frame's first ray). */
+void mt_trace_cmd_rays_reset(mt_trace *t, VkCommandBuffer cmd);
+/** Records the copy of the ray counter to its read-back buffer (after the last ray). */
+void mt_trace_cmd_rays_copy(mt_trace *t, VkCommandBuffer cmd);
+/** After the submission completed: t->rays = the counter copied by mt_trace_cmd_rays_copy. */
+void mt_trace_rays_collect(mt_trace *t);
+
 /** Records the copies of the outputs read during the last frame into their read-back
  *  buffers (after the passes that write them; the command buffer's last work). */
 void mt_trace_cmd_stage_outputs(mt_trace *t, VkCommandBuffer cmd);
