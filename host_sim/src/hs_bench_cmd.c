@@ -140,9 +140,6 @@ typedef struct bench_args {
     bool warmup_given;
 } bench_args;
 
-#define ARG_NEXT HS_ARG_NEXT
-#define ARG_NOT_MINE HS_ARG_NOT_MINE
-
 /* Options without a value. */
 static int parse_flag(const char *a, bench_args *ba)
 {
@@ -162,8 +159,8 @@ static int parse_flag(const char *a, bench_args *ba)
     else if (!strcmp(a, "--validation"))
         opt->context.validation = true;
     else
-        return ARG_NOT_MINE;
-    return ARG_NEXT;
+        return HS_ARG_NOT_MINE;
+    return HS_ARG_NEXT;
 }
 
 /* What is run: scene, poses, frames and scoring, the settings and the baseline. */
@@ -212,9 +209,9 @@ static int parse_run_option(const char *a, const char *v, bench_args *ba)
     } else if (!strcmp(a, "--baseline")) {
         opt->baseline = v;
     } else {
-        return ARG_NOT_MINE;
+        return HS_ARG_NOT_MINE;
     }
-    return ARG_NEXT;
+    return HS_ARG_NEXT;
 }
 
 /* How it is rendered and written: size, references, seed, environment, headset, device, out. */
@@ -255,20 +252,20 @@ static int parse_render_option(const char *a, const char *v, bench_args *ba)
             return bad_arg(a, v, "empty folder name");
         opt->out_dir = v;
     } else {
-        return ARG_NOT_MINE;
+        return HS_ARG_NOT_MINE;
     }
-    return ARG_NEXT;
+    return HS_ARG_NEXT;
 }
 
-/* Reads argv[1..argc) into ba: ARG_NEXT when all of it was read, else the exit status. */
+/* Reads argv[1..argc) into ba: HS_ARG_NEXT when all of it was read, else the exit status. */
 static int parse_args(int argc, char **argv, bench_args *ba)
 {
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         int r = parse_flag(a, ba);
-        if (r == ARG_NEXT)
+        if (r == HS_ARG_NEXT)
             continue;
-        if (r != ARG_NOT_MINE)
+        if (r != HS_ARG_NOT_MINE)
             return r;
         if (!hs_arg_in(a, value_options, sizeof(value_options) / sizeof(value_options[0])))
             return bad_arg(a, NULL, a[0] == '-' ? "unknown option" : "unexpected argument");
@@ -276,9 +273,9 @@ static int parse_args(int argc, char **argv, bench_args *ba)
             return bad_arg(a, NULL, "needs a value");
         const char *v = argv[++i];
         r = parse_run_option(a, v, ba);
-        if (r == ARG_NOT_MINE)
+        if (r == HS_ARG_NOT_MINE)
             r = parse_render_option(a, v, ba);
-        if (r != ARG_NEXT && r != ARG_NOT_MINE)
+        if (r != HS_ARG_NEXT && r != HS_ARG_NOT_MINE)
             return r;
     }
     if (ba->opt.frames && ba->opt.warmup >= ba->opt.frames) {
@@ -286,7 +283,7 @@ static int parse_args(int argc, char **argv, bench_args *ba)
             return bad_arg("--warmup", NULL, "must be less than --frames");
         ba->opt.warmup = ba->opt.frames / 2; /* short runs keep half of their frames */
     }
-    return ARG_NEXT;
+    return HS_ARG_NEXT;
 }
 
 /* Parses the settings and runs the bench: the exit status. */
@@ -338,7 +335,7 @@ int hs_bench_main(int argc, char **argv)
     if (r)
         return r;
     r = parse_args(argc, argv, &ba);
-    if (r == ARG_NEXT)
+    if (r == HS_ARG_NEXT)
         r = run_bench(&ba);
     free(ba.settings_file);
     return r;

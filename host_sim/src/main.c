@@ -449,9 +449,6 @@ typedef struct main_args {
     const char *headset_name, *headsets_path; /* --headset, --headsets */
 } main_args;
 
-#define ARG_NEXT HS_ARG_NEXT
-#define ARG_NOT_MINE HS_ARG_NOT_MINE
-
 /* Options without a value. */
 static int parse_flag(const char *a, main_args *m)
 {
@@ -479,8 +476,8 @@ static int parse_flag(const char *a, main_args *m)
     } else if (!strcmp(a, "--overwrite"))
         m->overwrite = true;
     else
-        return ARG_NOT_MINE;
-    return ARG_NEXT;
+        return HS_ARG_NOT_MINE;
+    return HS_ARG_NEXT;
 }
 
 /* The input: scene, pose stream, which part of it, and the views' FOV. */
@@ -513,9 +510,9 @@ static int parse_input_option(const char *a, const char *v, main_args *m)
         if (!hs_parse_u32(v, &opt->frames))
             return bad_arg(a, v, "expected a count");
     } else {
-        return ARG_NOT_MINE;
+        return HS_ARG_NOT_MINE;
     }
-    return ARG_NEXT;
+    return HS_ARG_NEXT;
 }
 
 /* The method, its blend and TAA, and what every method shares (samples, bounces, size). */
@@ -571,14 +568,14 @@ static int parse_method_option(const char *a, const char *v, main_args *m)
             return bad_arg(a, v, "expected an unsigned integer");
     } else if (!strncmp(a, "--sc-", 5)) {
         int r = parse_samplecache(a, v, &ro->samplecache);
-        return r ? r : ARG_NEXT;
+        return r ? r : HS_ARG_NEXT;
     } else if (!strncmp(a, "--hc-", 5)) {
         int r = parse_hashcache(a, v, &ro->hashcache);
-        return r ? r : ARG_NEXT;
+        return r ? r : HS_ARG_NEXT;
     } else {
-        return ARG_NOT_MINE;
+        return HS_ARG_NOT_MINE;
     }
-    return ARG_NEXT;
+    return HS_ARG_NEXT;
 }
 
 /* The world around the scene and the simulated headset: lighting, device, IPD, refresh. */
@@ -611,9 +608,9 @@ static int parse_world_option(const char *a, const char *v, main_args *m)
     } else if (!strcmp(a, "--headsets")) {
         m->headsets_path = v;
     } else {
-        return ARG_NOT_MINE;
+        return HS_ARG_NOT_MINE;
     }
-    return ARG_NEXT;
+    return HS_ARG_NEXT;
 }
 
 /* What is written: the folder, the image files, the video, tone mapping, the preview. */
@@ -652,12 +649,12 @@ static int parse_output_option(const char *a, const char *v, main_args *m)
         else
             opt->exposure = (float)d;
     } else {
-        return ARG_NOT_MINE;
+        return HS_ARG_NOT_MINE;
     }
-    return ARG_NEXT;
+    return HS_ARG_NEXT;
 }
 
-/* Reads argv[1..argc) into m: ARG_NEXT when all of it was read, else the exit status. */
+/* Reads argv[1..argc) into m: HS_ARG_NEXT when all of it was read, else the exit status. */
 static int parse_args(int argc, char **argv, main_args *m)
 {
     typedef int (*value_step)(const char *, const char *, main_args *);
@@ -669,9 +666,9 @@ static int parse_args(int argc, char **argv, main_args *m)
     for (; i < argc; i++) {
         const char *a = argv[i];
         int r = parse_flag(a, m);
-        if (r == ARG_NEXT)
+        if (r == HS_ARG_NEXT)
             continue;
-        if (r != ARG_NOT_MINE)
+        if (r != HS_ARG_NOT_MINE)
             return r;
         if (a[0] != '-' || a[1] != '-')
             return bad_arg(a, NULL, "unexpected argument");
@@ -680,15 +677,15 @@ static int parse_args(int argc, char **argv, main_args *m)
         if (i + 1 >= argc)
             return bad_arg(a, NULL, "needs a value");
         const char *v = argv[++i];
-        r = ARG_NOT_MINE;
-        for (size_t k = 0; r == ARG_NOT_MINE && k < sizeof(steps) / sizeof(steps[0]); k++)
+        r = HS_ARG_NOT_MINE;
+        for (size_t k = 0; r == HS_ARG_NOT_MINE && k < sizeof(steps) / sizeof(steps[0]); k++)
             r = steps[k](a, v, m);
-        if (r == ARG_NOT_MINE)
+        if (r == HS_ARG_NOT_MINE)
             return bad_arg(a, NULL, "unknown option");
-        if (r != ARG_NEXT)
+        if (r != HS_ARG_NEXT)
             return r;
     }
-    return ARG_NEXT;
+    return HS_ARG_NEXT;
 }
 
 /* What the options mean together: pose columns, the headset profile, the method's default
@@ -718,7 +715,7 @@ static int finish_args(main_args *m)
                        "the preview window is the OpenXR runtime's: drop --direct");
     if (m->quiet) /* errors only, also from the library and the OpenXR runtime (u_diag.h) */
         setenv("XRSC_LOG", "error", 1);
-    return ARG_NEXT;
+    return HS_ARG_NEXT;
 }
 
 /* Runs the replay with run.json / run.conf: the given options as parsed (args), and the
@@ -798,9 +795,9 @@ int main(int argc, char **argv)
     int r = hs_args_prepare(&args, &spec, argc, argv);
     if (r)
         return r;
-    if ((r = parse_args(args.argc, args.argv, &m)) != ARG_NEXT)
+    if ((r = parse_args(args.argc, args.argv, &m)) != HS_ARG_NEXT)
         return r;
-    if ((r = finish_args(&m)) != ARG_NEXT)
+    if ((r = finish_args(&m)) != HS_ARG_NEXT)
         return r;
     return run_with_record(&m, &args, &run);
 }
