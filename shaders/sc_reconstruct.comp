@@ -102,9 +102,8 @@ void main()
         float c;
         n_vis += 1.0;
         if (sc_is_background(fh)) {
-            /* what the sample's own ray sees: the map (and sun disk) when there is one */
-            x = frame.env_width > 0u ? xs_env_escape(sc_background_dir(fh), true, 0.0)
-                                     : frame.environment.rgb;
+            /* what the sample's own ray sees: the map and sun disk, or the constant */
+            x = xs_env_escape(sc_background_dir(fh), true, 0.0);
             c = 1.0;
             albedo_sum += vec3(1.0);
         } else {
