@@ -63,8 +63,15 @@ layout(set = XS_SC_SET, binding = XS_SC_BIND_STATS, std430) buffer XsScStatsBloc
 layout(set = XS_SC_SET, binding = XS_SC_BIND_SHADE_LIST, std430) buffer XsScShadeListBlock
 {
     uint sc_shade_count;
-    uint sc_shade_pad[XS_SC_SHADE_LIST_HEADER - 1u];
+    uint sc_shade_pad;
+    uint64_t sc_shade_rays; /* rays the shading pass traced (XS_SC_SHADE_LIST_HEADER) */
     uint sc_shade_list[];
+};
+
+/* Cross-eye reuse (scp.cross_eye): bit s of foreign[c][pix] = slot s is the other eye's copy. */
+layout(set = XS_SC_SET, binding = XS_SC_BIND_FOREIGN, std430) buffer XsScForeignBlock
+{
+    uint sc_foreign[];
 };
 
 /* Background depth: distance of samples that hit the environment (sorted after every
@@ -99,6 +106,12 @@ void sc_rad_store(uint at, vec4 v)
 {
     v = min(v, vec4(XS_SC_RAD_HALF_MAX));
     sc_rad[at] = uvec2(packHalf2x16(v.xy), packHalf2x16(v.zw));
+}
+
+/** Cross-eye reuse: the slots of pixel pix in copy c that are the other eye's (0 when off). */
+uint sc_foreign_bits(uint c, uint pix)
+{
+    return scp.cross_eye != 0u ? sc_foreign[c * sc_plane() + pix] : 0u;
 }
 
 uint sc_occ(uint m) { return m & XS_SC_OCC_MASK; }

@@ -22,6 +22,11 @@
  * (plan.y). Reads the visible counts of the 5 x 5 neighbourhood from plan.w (written by
  * sc_trace_mask.comp; each once) and writes only its own pixel.
  *
+ * Cross-eye reuse (scp.cross_eye): the other eye's copies count as visible samples and may be
+ * pruned like own ones (a pruned copy comes back next frame; pruning at random among all
+ * visible samples lets both eyes settle at n_target together, where pruning own samples first
+ * would make both eyes empty the same pixels at once); new samples are own.
+ *
  * `isrt` (scp.isrt_m > 0): no density control, the M x M layout fixes the count [DSK*17]:
  * every cell without a visible sample gets a new one (traced through the cell's centre by
  * sc_trace.rgen), nothing is pruned.
@@ -133,6 +138,9 @@ void main()
     /* new samples start invisible (sc_trace.rgen sets the bit); pruned ones are gone */
     vis &= ~newbits;
     sc_mask[mi] = occ | (vis << XS_SC_MAX_SLOTS);
+    /* cross-eye reuse: new samples are this eye's own; pruned copies are gone */
+    if (scp.cross_eye != 0u)
+        sc_foreign[sc_mask_at(scp.cur, pix)] &= occ & ~newbits;
     /* x and y only: neighbours read w concurrently */
     uint trace = plan.x & occ & ~newbits;
     sc_plan[pix].x = trace;

@@ -40,12 +40,13 @@ struct rc_material {
     vec3 albedo;   /* xs_demod_albedo */
     vec3 emission; /* xs_mat.emission */
     bool double_sided;
+    bool specific; /* xs_sc_eye_specific (cross-eye reuse) */
 };
 
 /** Albedo (xs_demod_albedo) and emitted radiance towards the eye (xs_emitted) of the sample of
  *  material id at uv, seen from its outside or not. */
 void rc_material_at(inout rc_material c, uint id, vec2 uv, bool outside, out vec3 albedo,
-                    out vec3 emitted)
+                    out vec3 emitted, out bool specific)
 {
     if (c.id != id) {
         xs_material m = materials[id];
@@ -57,16 +58,37 @@ void rc_material_at(inout rc_material c, uint id, vec2 uv, bool outside, out vec
             c.albedo = xs_demod_albedo(mt);
             c.emission = mt.emission;
             c.double_sided = mt.double_sided;
+            c.specific = xs_sc_eye_specific(mt.metallic, mt.transmission, mt.roughness, mt.ior) != 0u;
         }
     }
     if (c.constant) {
         albedo = c.albedo;
         emitted = (outside || c.double_sided) ? c.emission : vec3(0.0);
+        specific = c.specific;
         return;
     }
     xs_mat mt = xs_material_at(id, uv);
     albedo = xs_demod_albedo(mt);
     emitted = xs_emitted(mt, outside);
+    specific = xs_sc_eye_specific(mt.metallic, mt.transmission, mt.roughness, mt.ior) != 0u;
+}
+
+/**
+ * Cross-eye reuse: the other eye's copies are only of eye-independent surfaces and the
+ * background, so in a pixel that also shows an eye-specific surface (a metal sphere's
+ * silhouette) they would outweigh it. The pixel is then estimated per stratum, each stratum's
+ * share of the pixel taken from this eye's OWN samples (placed by its own rays, so in
+ * proportion to coverage): value = (1 - phi) x shared mean + phi x eye-specific mean.
+ * own_spec, own_all: own visible samples (eye-specific, all); a_*: the stratum's value (colour
+ * mean or moment) over all observed samples, s_*: over the eye-specific ones (n_* observed).
+ */
+vec3 rc_strata(vec3 a_sum, float a_n, vec3 s_sum, float s_n, float own_spec, float own_all)
+{
+    float sh_n = a_n - s_n;
+    if (!(s_n > 0.0) || !(sh_n > 0.0) || !(own_all > 0.0))
+        return a_n > 0.0 ? a_sum / a_n : vec3(0.0);
+    float phi = own_spec / own_all;
+    return (1.0 - phi) * ((a_sum - s_sum) / sh_n) + phi * (s_sum / s_n);
 }
 
 void main()
@@ -94,12 +116,18 @@ void main()
     mc.constant = false;
     mc.albedo = mc.emission = vec3(0.0);
     mc.double_sided = false;
+    mc.specific = false;
+    /* cross-eye reuse (rc_strata): the eye-specific stratum's sums, the own samples' counts */
+    uint foreign = sc_foreign_bits(cur, pix);
+    vec3 sp_sum = vec3(0.0), sp_w1 = vec3(0.0), sp_w2 = vec3(0.0);
+    float sp_obs = 0.0, sp_c = 0.0, own_spec = 0.0, own_all = 0.0;
     for (uint bits = sc_vis(m) & sc_occ(m) & sc_all_slots(); bits != 0u; bits &= bits - 1u) {
         uint s = uint(findLSB(bits));
         uint at = sc_slot_at(cur, s, pix);
         uvec4 fh = sc_fh[at];
         vec3 x;
         float c;
+        bool specific = false;
         n_vis += 1.0;
         if (sc_is_background(fh)) {
             /* what the sample's own ray sees: the map and sun disk, or the constant */
@@ -113,7 +141,7 @@ void main()
             float t = length(d);
             bool outside = sc_tri_outside(tri, fh, -d / max(t, 1e-30));
             vec3 a, emitted;
-            rc_material_at(mc, sc_material(fh), sc_tri_uv(tri, fh), outside, a, emitted);
+            rc_material_at(mc, sc_material(fh), sc_tri_uv(tri, fh), outside, a, emitted, specific);
             albedo_sum += a;
             if (t < best_t) {
                 best_t = t;
@@ -125,8 +153,19 @@ void main()
             c = rad.w;
             x = emitted + sc_demod(a) * rad.rgb;
         }
+        if ((foreign & sc_obit(s)) == 0u) {
+            own_all += 1.0;
+            own_spec += specific ? 1.0 : 0.0;
+        }
         if (!(c > 0.0 && xs_finite(x)))
             continue;
+        if (specific) {
+            sp_sum += x;
+            sp_obs += 1.0;
+            sp_w1 += c * x;
+            sp_w2 += c * x * x;
+            sp_c += c;
+        }
         sum += x;
         n_obs += 1.0;
         if (sc_is_background(fh)) {
@@ -149,6 +188,11 @@ void main()
     vec3 albedo = n_vis > 0.0 ? albedo_sum / n_vis : vec3(1.0);
     vec3 mu1 = c_total > 0.0 ? sum_w1 / c_total : vec3(0.0);
     vec3 mu2 = c_total > 0.0 ? sum_w2 / c_total : vec3(0.0);
+    if (scp.cross_eye != 0u) {
+        color = rc_strata(sum, n_obs, sp_sum, sp_obs, own_spec, own_all);
+        mu1 = rc_strata(sum_w1, c_total, sp_w1, sp_c, own_spec, own_all);
+        mu2 = rc_strata(sum_w2, c_total, sp_w2, sp_c, own_spec, own_all);
+    }
     ivec3 coord = ivec3(g);
     imageStore(out_color, coord, vec4(color, 1.0));
     imageStore(out_albedo, coord, vec4(albedo, 1.0));

@@ -20,6 +20,14 @@
  * 64-bit atomicMin and its farthest distance (atomicMax on the float bits), §3.4; the 1-pass
  * variant counts importance (§3.5) here, the 2-pass one in sc_copy.comp.
  *
+ * Cross-eye reuse (scp.cross_eye): after its own samples, each invocation sends a copy of every
+ * visible sample whose radiance does not depend on the eye (background, or a surface that is
+ * not xs_sc_eye_specific) into the OTHER eye's view, reserved there like any visible sample
+ * and marked foreign (xs_samplecache.h); the previous copy's foreign samples are not carried
+ * (their owner sent fresh copies). A copy carries the radiance the owner's last shading left.
+ * The own samples' loop is the same code with cross-eye reuse off, so the default's images
+ * are those of before (the copies come after it).
+ *
  * `isrt` (scp.isrt_m = M > 0, [DSK*17] as seed 000 §5 / Fig. 10 uses it): no reservation; the
  * slot is the sub-pixel cell of the M x M grid that contains the reprojected position, and of
  * the samples arriving in one cell the one with the smallest key (XS_SC_ISRT_KEY_*: visible
@@ -96,6 +104,99 @@ void isrt_offer(uint s, uint pix, uint tpix, vec2 pos, bool visible, float t)
     atomicMin(sc_src_key[key_at], key);
 }
 
+/** Listing 2, write_sample's reservation: a slot of target mask tmask for a (visible) sample;
+ *  false when none is left. */
+bool reserve_slot(uint tmask, bool visible, out uint slot)
+{
+    uint m = sc_mask[tmask];
+    slot = 0u;
+    for (uint tries = 0u; tries < SC_MAX_RESERVE_TRIES; tries++) {
+        int i = choose_target_slot(visible, m);
+        if (i < 0)
+            return false;
+        if (try_reserve(tmask, uint(i), visible, m)) {
+            slot = uint(i);
+            return true;
+        }
+    }
+    return false;
+}
+
+/** Cross-eye reuse: whether the surface sample fh on tri (fetched with attributes) is shaded
+ *  per eye only (metal, glass, sharp specular: xs_sc_eye_specific). */
+bool eye_specific(sc_tri tri, uvec4 fh)
+{
+    xs_mat mt = xs_material_at(sc_material(fh), sc_tri_uv(tri, fh));
+    return xs_sc_eye_specific(mt.metallic, mt.transmission, mt.roughness, mt.ior) != 0u;
+}
+
+/** Listing 2, write_sample after the reservation: source sample (slot s of pix in the previous
+ *  copy, first hit fh) into slot `slot` of target pixel tpix of eye teye. */
+void write_sample(uint teye, uint tpix, uint slot, uint s, uint pix, uvec4 fh, bool visible)
+{
+    uint prev = sc_prev();
+    if (scp.two_pass != 0u) {
+        uint addr = s * sc_plane() + pix;
+        atomicMax(sc_src[slot * sc_plane() + tpix],
+                  (visible ? XS_SC_SRC_VISIBLE : 0u) | (addr + 1u));
+    } else {
+        sc_fh[sc_slot_at(scp.cur, slot, tpix)] = fh;
+        uvec2 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_at(prev, s, pix)] : uvec2(0u);
+        sc_rad[sc_rad_at(scp.cur, slot, tpix)] = rad; /* the halves as they are */
+        if (visible && !sc_is_background(fh) && scp.shade_mode == XS_SC_SHADE_ADAPTIVE)
+            sc_count_importance(teye, xs_sc_importance(unpackHalf2x16(rad.y).y));
+    }
+}
+
+/**
+ * Cross-eye reuse: a copy of visible source sample (slot s of pix, first hit fh, world position
+ * or direction pw, on tri unless background) in eye teye, the other eye, marked foreign. It is
+ * visible, so no later sample takes its slot over.
+ */
+void send_copy(uint teye, uint s, uint pix, uvec4 fh, vec4 pw, sc_tri tri)
+{
+    bool background = pw.w == 0.0;
+    vec2 pos;
+    if (!sc_project(teye, pw, pos))
+        return;
+    float t = SC_T_BACKGROUND;
+    float slope = 0.0;
+    if (!background) {
+        vec3 to_eye = sc_eye_pos(teye) - pw.xyz;
+        t = length(to_eye);
+        slope = xs_sc_slope(t, abs(dot(tri.ng_unsigned, to_eye / max(t, 1e-30))), sc_phi(teye));
+    }
+    uint tpix = sc_pix(teye, uvec2(pos));
+    uint slot;
+    if (!reserve_slot(sc_mask_at(scp.cur, tpix), true, slot))
+        return;
+    atomicOr(sc_foreign[sc_mask_at(scp.cur, tpix)], sc_obit(slot));
+    write_sample(teye, tpix, slot, s, pix, fh, true);
+    update_depth_words(tpix, background, t, slope);
+}
+
+/** Cross-eye reuse: the copies of pixel pix's visible own samples (vis: their bits in the
+ *  previous copy's mask layout) in the other eye, surfaces of eye-independent materials and
+ *  background samples (the environment is the same for both eyes). */
+void send_copies(uint eye, uint pix, uint pm)
+{
+    uint prev = sc_prev();
+    sc_tri tri;
+    sc_tri_init(tri);
+    for (uint vis = sc_vis(pm) & sc_occ(pm) & sc_all_slots(); vis != 0u; vis &= vis - 1u) {
+        uint s = uint(findLSB(vis));
+        uvec4 fh = sc_fh[sc_slot_at(prev, s, pix)];
+        vec4 pw = vec4(sc_background_dir(fh), 0.0);
+        if (!sc_is_background(fh)) {
+            sc_tri_fetch(tri, fh, true);
+            if (eye_specific(tri, fh))
+                continue;
+            pw = vec4(sc_tri_position(tri, fh), 1.0);
+        }
+        send_copy(1u - eye, s, pix, fh, pw, tri);
+    }
+}
+
 void main()
 {
     uvec3 g = gl_GlobalInvocationID;
@@ -106,7 +207,8 @@ void main()
     uint prev = sc_prev();
     uint cur = scp.cur;
     uint pm = sc_mask[sc_mask_at(prev, pix)];
-    uint occ = sc_occ(pm) & sc_all_slots();
+    /* cross-eye copies are not carried: their owner sends fresh ones */
+    uint occ = sc_occ(pm) & sc_all_slots() & ~sc_foreign_bits(prev, pix);
     vec3 eye_pos = sc_eye_pos(eye);
     sc_tri tri;
     sc_tri_init(tri);
@@ -146,35 +248,14 @@ void main()
         }
 
         /* Listing 2, write_sample */
-        uint m = sc_mask[tmask];
-        bool reserved = false;
-        uint slot = 0u;
-        for (uint tries = 0u; tries < SC_MAX_RESERVE_TRIES; tries++) {
-            int i = choose_target_slot(visible, m);
-            if (i < 0)
-                break;
-            if (try_reserve(tmask, uint(i), visible, m)) {
-                reserved = true;
-                slot = uint(i);
-                break;
-            }
-        }
-        if (!reserved)
+        uint slot;
+        if (!reserve_slot(tmask, visible, slot))
             continue;
 
-        uint dst_at = sc_slot_at(cur, slot, tpix);
-        if (scp.two_pass != 0u) {
-            uint addr = s * sc_plane() + pix;
-            atomicMax(sc_src[slot * sc_plane() + tpix],
-                      (visible ? XS_SC_SRC_VISIBLE : 0u) | (addr + 1u));
-        } else {
-            sc_fh[dst_at] = fh;
-            uvec2 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_at(prev, s, pix)] : uvec2(0u);
-            sc_rad[sc_rad_at(cur, slot, tpix)] = rad; /* the halves as they are */
-            if (visible && !background && scp.shade_mode == XS_SC_SHADE_ADAPTIVE)
-                sc_count_importance(eye, xs_sc_importance(unpackHalf2x16(rad.y).y));
-        }
+        write_sample(eye, tpix, slot, s, pix, fh, visible);
         if (visible)
             update_depth_words(tpix, background, t, slope);
     }
+    if (scp.cross_eye != 0u)
+        send_copies(eye, pix, pm & ~(sc_foreign_bits(prev, pix) << XS_SC_MAX_SLOTS));
 }

@@ -91,6 +91,10 @@ void main()
                 bits |= sc_obit(s);
         }
     }
+    /* cross-eye reuse: the other eye's copies are shaded by their owner (its round robin and
+     * its budget); choosing among all of a pixel's samples and skipping the copies keeps each
+     * sample's shading rate while each eye shades only its share */
+    bits &= ~sc_foreign_bits(cur, pix);
     sc_plan[pix].z = bits;
 
     /* compaction (§3.5: "writes out sample indices for the shading pass") */

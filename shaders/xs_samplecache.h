@@ -19,10 +19,13 @@
  *   src[slot][pix]               2-pass reprojection: source address of each reserved slot
  *   plan[pix]                    uvec4: trace bits, new-sample bits, shade bits, visible count
  *   stats[c][eye]                xs_sc_stats: importance bounds and histogram (§3.5)
- *   shade list                   a work list: a count, then entries. From the density pass
- *                                to the trace pass the pixels with rays to trace (pix); then
- *                                the samples chosen for shading, compacted (§3.5):
+ *   shade list                   a work list: a count, a pad, the shading pass's ray count
+ *                                (uint64), then entries. From the density pass to the trace
+ *                                pass the pixels with rays to trace (pix); then the samples
+ *                                chosen for shading, compacted (§3.5):
  *                                pix << XS_SC_SHADE_SLOT_BITS | slot
+ *   foreign[c][pix]              cross-eye reuse (xs_sc_params.cross_eye): bit s = slot s holds
+ *                                a copy of the OTHER eye's sample (a 16-byte stub when off)
  * Slot s of a pixel lives in "layer" s, as in the paper's array of textures (Fig. 3).
  */
 #ifndef XS_SAMPLECACHE_H
@@ -46,6 +49,7 @@
 #define XS_SC_BIND_OUT_MU2 26    /* rgba32f image2DArray: mu_2 per pixel (Eq. 5) */
 #define XS_SC_BIND_SHADE_LIST 27 /* buffer: uint count, 3 pads, uint entries[capacity] */
 #define XS_SC_BIND_SELFTEST 28   /* buffer xs_sc_selftest_io[] (sc_selftest.comp only) */
+#define XS_SC_BIND_FOREIGN 31    /* buffer uint[2][plane]: cross-eye copies (bit s = slot s) */
 
 /* Descriptor set of the cache bindings in ray-tracing programs (compute programs: 0). */
 #define XS_SC_RT_SET 1
@@ -84,6 +88,21 @@
  * is a one-entry dummy that every sc_rad_at index maps to (0: one copy, 1: two copies). */
 #define XS_SC_RAD_NONE 2u
 
+/* Cross-eye reuse (issue 12; seed 000 keeps the eyes apart until the blend): a visible sample
+ * is also forward-reprojected into the other eye's view, where it is a "foreign" copy:
+ * traced for visibility there like any sample, counted by density control, reconstructed, but
+ * never shaded there and never carried to the next frame (its owner sends a fresh copy, with
+ * the radiance its own shading gave it, every frame). Only samples whose radiance does not
+ * depend on the eye are sent: background samples (the environment is the same for both eyes)
+ * and surfaces that are not xs_sc_eye_specific (xs_sc_math.h): no metal or glass (App. C's
+ * view-dependent weight above XS_SC_CROSS_EYE_VIEW_DEP) and no dielectric whose specular layer
+ * is sharper than XS_SC_CROSS_EYE_ROUGHNESS: its lobe (GGX alpha 0.25 at the threshold) must be
+ * wide against the ~0.065 rad the eyes' baseline subtends at 1 m. Reconstruction weighs the
+ * shared and the eye-specific samples of a pixel by the share of the pixel's OWN samples on
+ * each (sc_reconstruct.comp: rc_strata), since copies never come from eye-specific surfaces. */
+#define XS_SC_CROSS_EYE_VIEW_DEP 0.05
+#define XS_SC_CROSS_EYE_ROUGHNESS 0.5
+
 /* Bytes of one slot's radiance record: L_s and c_s as half floats. Half precision (11
  * significant bits) is below the noise of any cached estimate; radiance above
  * XS_SC_RAD_HALF_MAX (the largest finite half) is clamped to it; c_s stops growing at 2048,
@@ -113,7 +132,8 @@
 /* Shade-list entries: pixel index (both eyes' planes) above the slot. */
 #define XS_SC_SHADE_SLOT_BITS 4u
 #define XS_SC_SHADE_SLOT_MASK 0xFu
-/* uints before the entries of the shade list (count + padding to 16 bytes) */
+/* uints before the entries of the shade list (count, pad, the shading pass's 64-bit ray
+ * count: 16 bytes) */
 #define XS_SC_SHADE_LIST_HEADER 4u
 /* The shading launch is width x (XS_SC_SHADE_STRIPES * q) invocations; launch row r shades
  * list row (r % q) * XS_SC_SHADE_STRIPES + r / q, so every contiguous band of launch rows
@@ -145,7 +165,8 @@ XS_STRUCT(xs_sc_params)
     xs_uint shade_capacity; /* entries of the shade list (more chosen samples are dropped) */
     xs_uint isrt_m; /* `isrt` (mt_isrt.c): M > 0 = slot s is sub-pixel cell (s % M, s / M) of
                        an M x M grid, see XS_SC_ISRT_* (0: the plain sample cache) */
-    xs_uint pad1, pad2;
+    xs_uint cross_eye; /* 1: cross-eye reuse (XS_SC_BIND_FOREIGN) */
+    xs_uint pad2;
 }
 XS_END(xs_sc_params);
 

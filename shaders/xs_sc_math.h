@@ -200,4 +200,17 @@ XS_SCM_FN xs_float xs_sc_alpha_min_material(xs_float metallic, xs_float transmis
     return view_dep * xs_sc_alpha_min(roughness * roughness);
 }
 
+/**
+ * Cross-eye reuse: true when a sample's radiance differs between the eyes, so it is shaded per
+ * eye only (xs_samplecache.h, XS_SC_CROSS_EYE_*): metal and glass (App. C's view-dependent
+ * weight), and dielectrics with a specular layer (ior != 1) smoother than the threshold.
+ */
+XS_SCM_FN xs_uint xs_sc_eye_specific(xs_float metallic, xs_float transmission, xs_float roughness,
+                                     xs_float ior)
+{
+    xs_float view_dep = metallic + (1.0f - metallic) * transmission;
+    xs_uint specular = ior != 1.0f && roughness < XS_SC_CROSS_EYE_ROUGHNESS ? 1u : 0u;
+    return view_dep > XS_SC_CROSS_EYE_VIEW_DEP || specular != 0u ? 1u : 0u;
+}
+
 #endif /* XS_SC_MATH_H */

@@ -112,6 +112,17 @@ static const char *set_shade(xrsc_renderer_options *o, const char *v)
     return NULL;
 }
 
+static const char *set_cross_eye(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "on"))
+        o->samplecache.cross_eye = true;
+    else if (!strcmp(v, "off"))
+        o->samplecache.cross_eye = false;
+    else
+        return "on, off";
+    return NULL;
+}
+
 static const char *set_alpha(xrsc_renderer_options *o, const char *v)
 {
     if (!strcmp(v, "clamped"))
@@ -272,6 +283,8 @@ static const bench_key keys[] = {
     {"shade_rate", M_SC | M_ISRT, set_shade_rate, "rate", "adaptive shading rate, percent [100]"},
     {"alpha", M_SC | M_ISRT, set_alpha, "alpha", "clamped | fixed [clamped]"},
     {"alpha_fixed", M_SC | M_ISRT, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},
+    {"cross_eye", M_SC, set_cross_eye, "xeye",
+     "on | off: view-independent samples serve both eyes, shaded once [off]"},
     {"m", M_ISRT, set_isrt_m, "m", "isrt: M x M fixed sub-pixel slots per pixel, 1..4 [2]"},
     {"hc_table", M_HC | M_HY, set_hc_table, "tab", "hash cache entries, 16..2^27 [4194304]"},
     {"hc_lod", M_HC | M_HY, set_hc_lod, "", "voxel LoD distance | distance-normal [distance]"},

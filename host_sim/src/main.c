@@ -98,6 +98,8 @@ HS_LIGHT_USAGE
 "  --sc-shade-rate P   adaptive shading rate, percent of the pixels [100]\n"
 "  --sc-alpha A        clamped | fixed (temporal blend, App. C) [clamped]\n"
 "  --sc-alpha-fixed X  alpha of --sc-alpha fixed      [0.1]\n"
+"  --sc-cross-eye      on | off: each eye's view-independent samples also serve the other\n"
+"                      eye, traced and shaded once for both (beyond seed 000) [off]\n"
 "  --isrt-m N          --method isrt: M x M fixed sub-pixel slots, 1..4 [2] (interactive\n"
 "                      stable ray tracing's layout, seed 000 Fig. 10; the --sc-* shading and\n"
 "                      --sc-trace options apply, slots/target/delta/reproject do not)\n"
@@ -200,7 +202,7 @@ static const char *const value_options[] = {
     "--env-map", "--env-intensity", "--env-rotation", "--sky-turbidity", "--sun-dir",
     "--sc-slots", "--sc-target", "--sc-delta", "--sc-eps0", "--sc-eps1", "--sc-block",
     "--sc-trace", "--sc-reproject", "--sc-shading-cache", "--sc-shade", "--sc-shade-rate",
-    "--sc-alpha", "--sc-alpha-fixed", "--blend", "--blend-r", "--blend-estimate", "--taa", "--taa-alpha",
+    "--sc-alpha", "--sc-alpha-fixed", "--sc-cross-eye", "--blend", "--blend-r", "--blend-estimate", "--taa", "--taa-alpha",
     "--isrt-m", "--hc-table", "--hc-lod", "--hc-voxel-scale", "--hc-max-age",
     "--hc-voxel-jitter",
 };
@@ -276,6 +278,13 @@ static int parse_samplecache(const char *a, const char *v, xrsc_samplecache_opti
             sc->shade = XRSC_SC_SHADE_ADAPTIVE_VARIANCE;
         else
             return bad_arg(a, v, "expected uniform, adaptive or adaptive-variance");
+    } else if (!strcmp(a, "--sc-cross-eye")) {
+        if (!strcmp(v, "on"))
+            sc->cross_eye = true;
+        else if (!strcmp(v, "off"))
+            sc->cross_eye = false;
+        else
+            return bad_arg(a, v, "expected on or off");
     } else if (!strcmp(a, "--sc-alpha")) {
         if (!strcmp(v, "clamped"))
             sc->alpha = XRSC_SC_ALPHA_CLAMPED;

@@ -220,6 +220,15 @@ typedef enum xrsc_sc_alpha {
  * cannot be asked for: use a tiny value (e.g. delta 1e-6).
  * no_shading_cache: radiance is not kept between frames (only visibility is cached; each
  * frame's shaded samples alone make the colour).
+ * cross_eye: cross-eye reuse (issue 12, beyond seed 000, which keeps the eyes apart until the
+ * blend): each eye's visible samples whose radiance does not depend on the eye (background;
+ * surfaces that are not metal or glass and have no dielectric specular layer with roughness
+ * below 0.5: xs_sc_eye_specific) are also forward-reprojected into the other eye's cache as
+ * copies, retraced there for visibility like any sample, counted by density control and
+ * reconstructed (a pixel's eye-specific and shared samples weighed by the share of its own
+ * samples on each), but shaded only by their owner, so a surface point is traced and shaded
+ * once for both eyes; +8 B per pixel per eye.
+ * Not with `isrt` or `hybrid` (XRSC_ERROR_INVALID_ARGUMENT). Default off.
  */
 typedef struct xrsc_samplecache_options {
     uint32_t slots;
@@ -236,6 +245,7 @@ typedef struct xrsc_samplecache_options {
     xrsc_sc_alpha alpha;
     float alpha_fixed;
     uint32_t max_bounces;
+    bool cross_eye;
 } xrsc_samplecache_options;
 
 /**

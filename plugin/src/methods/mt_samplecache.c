@@ -61,6 +61,7 @@ static const gpu_binding cache_bindings[] = {
     {XS_SC_BIND_PLAN, GPU_BINDING_STORAGE_BUFFER, 1},
     {XS_SC_BIND_STATS, GPU_BINDING_STORAGE_BUFFER, 1},
     {XS_SC_BIND_SHADE_LIST, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_SC_BIND_FOREIGN, GPU_BINDING_STORAGE_BUFFER, 1},
 };
 #define CACHE_BINDING_COUNT (sizeof(cache_bindings) / sizeof(cache_bindings[0]))
 
@@ -84,9 +85,10 @@ typedef struct mt_samplecache {
     gpu_rt_program shade;
     gpu_compute_program prog[PROG_COUNT];
     gpu_buffer params; /**< xs_sc_params, host-visible */
-    gpu_buffer shade_readback; /**< the shade list's count after the last frame (host) */
+    gpu_buffer shade_readback; /**< the shade list's header after the last frame (host) */
     uint32_t shaded;           /**< samples shaded in the last frame, both eyes */
-    gpu_buffer mask, fh, rad, depth_min, depth_max, src, plan, stats, shade_list;
+    uint64_t shade_rays;       /**< rays the shading pass traced in the last frame */
+    gpu_buffer mask, fh, rad, depth_min, depth_max, src, plan, stats, shade_list, foreign;
     xrsc_samplecache_options opt; /**< defaults filled in */
     xs_sc_params p;
     uint32_t plane;      /**< 2 * width * height */
@@ -175,6 +177,7 @@ static void write_cache(mt_samplecache *s, gpu_descriptors *d)
     gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_PLAN, &s->plan);
     gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_STATS, &s->stats);
     gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_SHADE_LIST, &s->shade_list);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_FOREIGN, &s->foreign);
 }
 
 /** Angle subtended by the diagonal of the centre pixel of an eye (Eq. 1's phi). */
@@ -217,8 +220,11 @@ static void record_reproject(mt_samplecache *s, VkCommandBuffer cmd)
     if (s->frames == 0) { /* empty history: clear the previous copy's masks and statistics */
         cmd_fill(cmd, &s->mask, 0, VK_WHOLE_SIZE, 0);
         cmd_fill(cmd, &s->stats, 0, VK_WHOLE_SIZE, 0);
+        cmd_fill(cmd, &s->foreign, 0, VK_WHOLE_SIZE, 0);
     }
     cmd_fill(cmd, &s->mask, cur * plane * sizeof(uint32_t), plane * sizeof(uint32_t), 0);
+    if (s->p.cross_eye)
+        cmd_fill(cmd, &s->foreign, cur * plane * sizeof(uint32_t), plane * sizeof(uint32_t), 0);
     cmd_fill(cmd, &s->stats, cur * 2 * sizeof(xs_sc_stats), 2 * sizeof(xs_sc_stats), 0);
     cmd_fill(cmd, &s->depth_min, 0, VK_WHOLE_SIZE, MT_SC_DEPTH_MIN_NONE);
     cmd_fill(cmd, &s->depth_max, 0, VK_WHOLE_SIZE, 0);
@@ -258,8 +264,8 @@ static void record_stage(mt_samplecache *s, VkCommandBuffer cmd, uint32_t stage)
         else
             gpu_rt_program_cmd_trace(ctx, cmd, &s->trace.program, NULL, w, h, 2);
         break;
-    case STAGE_SHADE:
-        cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0);
+    case STAGE_SHADE: /* the list's count and ray count */
+        cmd_fill(cmd, &s->shade_list, 0, XS_SC_SHADE_LIST_HEADER * sizeof(uint32_t), 0);
         gpu_cmd_barrier_all(cmd);
         if (s->p.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE) { /* this frame's histogram */
             dispatch(cmd, s, PROG_SHADE_IMPORTANCE);
@@ -284,7 +290,7 @@ static xrsc_result sc_finish(mt_samplecache *s, VkCommandBuffer cmd, xrsc_diag *
     if (s->hybrid) /* hybrid: the hash table's statistics */
         s->hybrid->record_end(s->hybrid->user, cmd);
     mt_trace_cmd_rays_copy(t, cmd);
-    VkBufferCopy count = {0, 0, sizeof(uint32_t)};
+    VkBufferCopy count = {0, 0, XS_SC_SHADE_LIST_HEADER * sizeof(uint32_t)};
     vkCmdCopyBuffer(cmd, s->shade_list.buffer, s->shade_readback.buffer, 1, &count);
     mt_trace_cmd_stage_outputs(t, cmd);
     gpu_cmd_barrier_all(cmd);
@@ -297,7 +303,9 @@ static xrsc_result sc_finish(mt_samplecache *s, VkCommandBuffer cmd, xrsc_diag *
         return res;
     mt_trace_rays_collect(t);
     gpu_buffer_invalidate(ctx, &s->shade_readback);
-    memcpy(&s->shaded, s->shade_readback.mapped, sizeof(uint32_t));
+    const uint8_t *header = s->shade_readback.mapped;
+    memcpy(&s->shaded, header, sizeof(uint32_t));
+    memcpy(&s->shade_rays, header + 2 * sizeof(uint32_t), sizeof(uint64_t));
     if (s->shaded > s->p.shade_capacity) /* the rest were dropped, not shaded */
         s->shaded = s->p.shade_capacity;
     return XRSC_OK;
@@ -348,6 +356,7 @@ static uint32_t sc_counters(const mt_method *m, xrsc_counter *out, uint32_t max_
     xrsc_counter c[] = {
         {"sc_shaded", (double)s->shaded},
         {"sc_shaded_per_px", (double)s->shaded / px},
+        {"sc_shade_rays", (double)s->shade_rays},
         {"sc_bytes_per_px", resident + working},
     };
     uint32_t n = 0;
@@ -391,6 +400,7 @@ static void sc_destroy(mt_method *m)
         for (int i = 0; i < PROG_COUNT; i++)
             gpu_compute_program_destroy(ctx, &s->prog[i]);
         gpu_rt_program_destroy(ctx, &s->shade);
+        gpu_buffer_destroy(ctx, &s->foreign);
         gpu_buffer_destroy(ctx, &s->shade_list);
         gpu_buffer_destroy(ctx, &s->shade_readback);
         gpu_buffer_destroy(ctx, &s->stats);
@@ -416,7 +426,7 @@ xrsc_result mt_samplecache_create(const mt_env *env, const xrsc_samplecache_opti
 /* The options' limits: slots (mask bits, 31-bit addresses), materials (Listing 1's 16 bits),
  * ranges. */
 static xrsc_result check_options(const mt_env *env, const xrsc_samplecache_options *o,
-                                 uint64_t plane, xrsc_diag *diag)
+                                 const mt_sc_variant *var, uint64_t plane, xrsc_diag *diag)
 {
     if (o->slots > XS_SC_MAX_SLOTS)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "slots",
@@ -436,6 +446,12 @@ static xrsc_result check_options(const mt_env *env, const xrsc_samplecache_optio
         o->shade > XRSC_SC_SHADE_ADAPTIVE_VARIANCE || o->alpha > XRSC_SC_ALPHA_FIXED)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "samplecache",
                           "option out of range");
+    if (o->cross_eye && var->isrt_m)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "cross_eye",
+                          "cross-eye reuse needs free sample positions, not isrt's fixed cells");
+    if (o->cross_eye && var->hybrid)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "cross_eye",
+                          "cross-eye reuse shares per-sample radiance, which hybrid does not keep");
     return XRSC_OK;
 }
 
@@ -456,8 +472,9 @@ static xrsc_result create_buffers(mt_samplecache *s, xrsc_diag *diag)
     xrsc_result res;
     if ((res = gpu_buffer_create(ctx, sizeof(xs_sc_params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                  GPU_MEMORY_UPLOAD, &s->params, diag)) != XRSC_OK ||
-        (res = gpu_buffer_create(ctx, sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                 GPU_MEMORY_READBACK, &s->shade_readback, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create(ctx, XS_SC_SHADE_LIST_HEADER * sizeof(uint32_t),
+                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT, GPU_MEMORY_READBACK,
+                                 &s->shade_readback, diag)) != XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, 2 * plane * sizeof(uint32_t), &s->mask, diag)) !=
             XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, 2 * slot_plane * 16, &s->fh, diag)) != XRSC_OK ||
@@ -470,7 +487,9 @@ static xrsc_result create_buffers(mt_samplecache *s, xrsc_diag *diag)
         (res = gpu_buffer_create_storage(ctx, plane * 16, &s->plan, diag)) != XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, 4 * sizeof(xs_sc_stats), &s->stats, diag)) !=
             XRSC_OK ||
-        (res = gpu_buffer_create_storage(ctx, list_size, &s->shade_list, diag)) != XRSC_OK)
+        (res = gpu_buffer_create_storage(ctx, list_size, &s->shade_list, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, s->p.cross_eye ? 2 * plane * sizeof(uint32_t) : 0,
+                                         &s->foreign, diag)) != XRSC_OK)
         return res;
     return mt_trace_create_moments(&s->trace, diag);
 }
@@ -545,7 +564,7 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         o.reproject = XRSC_SC_REPROJECT_1PASS;
     }
     uint64_t plane = 2ull * env->width * env->height;
-    xrsc_result res = check_options(env, &o, plane, diag);
+    xrsc_result res = check_options(env, &o, &var, plane, diag);
     if (res != XRSC_OK)
         return res;
 
@@ -569,6 +588,7 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         .eps1 = o.eps1,
         .shade_rate = o.shade_rate,
         .alpha_fixed = o.alpha_fixed,
+        .cross_eye = o.cross_eye ? 1u : 0u,
     };
     s->p.shade_capacity = shade_capacity(&o, env->width, env->height);
     s->p.isrt_m = var.isrt_m;
@@ -614,7 +634,8 @@ void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, do
     double n = s->opt.slots;
     double rad_copies = s->p.shade_cache == XS_SC_RAD_NONE ? 0.0 : s->p.shade_cache ? 2.0 : 1.0;
     /* per copy: mask 4 B, first hits 16 B per slot, radiance XS_SC_RAD_BYTES per slot */
-    *out_resident = 2.0 * (4.0 + 16.0 * n) + rad_copies * XS_SC_RAD_BYTES * n;
+    *out_resident = 2.0 * (4.0 + 16.0 * n) + rad_copies * XS_SC_RAD_BYTES * n +
+                    (s->p.cross_eye ? 2.0 * 4.0 : 0.0); /* the foreign masks */
     /* depth_min 8 + depth_max 4 + plan 16, 4 B per slot for 2-pass addresses, the shade list */
     *out_working = 8.0 + 4.0 + 16.0 + (s->p.two_pass ? 4.0 * n : 0.0) +
                    (s->p.isrt_m ? 8.0 * n : 0.0) +
@@ -663,6 +684,7 @@ void mt_sc_snapshot_free(mt_sc_snapshot *s)
     free(s->depth_min);
     free(s->depth_max);
     free(s->plan);
+    free(s->foreign);
     memset(s, 0, sizeof(*s));
 }
 
@@ -689,8 +711,11 @@ xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *
     out->depth_min = malloc(px * sizeof(uint64_t));
     out->depth_max = malloc(px * sizeof(uint32_t));
     out->plan = malloc(px * 16);
+    out->foreign = calloc(px, sizeof(uint32_t));
+    out->shade_rays = s->shade_rays;
     xrsc_result res = XRSC_OK;
-    if (!out->mask || !out->fh || !out->rad || !out->depth_min || !out->depth_max || !out->plan) {
+    if (!out->mask || !out->fh || !out->rad || !out->depth_min || !out->depth_max || !out->plan ||
+        !out->foreign) {
         res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
         goto fail;
     }
@@ -706,7 +731,9 @@ xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *
         (res = gpu_buffer_download(ctx, &s->stats, (cur * 2 + eye) * sizeof(xs_sc_stats),
                                    &out->stats, sizeof(xs_sc_stats), diag)) != XRSC_OK ||
         (res = gpu_buffer_download(ctx, &s->shade_list, 0, &out->shade_count, sizeof(uint32_t),
-                                   diag)) != XRSC_OK)
+                                   diag)) != XRSC_OK ||
+        (s->p.cross_eye && (res = gpu_buffer_download(ctx, &s->foreign, (cur * plane + eye_off) * 4,
+                                                      out->foreign, px * 4, diag)) != XRSC_OK))
         goto fail;
     for (uint32_t k = 0; k < n; k++) {
         VkDeviceSize fh_off = ((VkDeviceSize)(cur * n + k) * plane + eye_off) * 16;

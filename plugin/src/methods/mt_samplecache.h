@@ -7,8 +7,10 @@
  * Data per eye (xs_samplecache.h has the exact layouts): a 32-bit mask per pixel (o_s = bit s,
  * v_s = bit 16 + s), N slots of a 128-bit first hit (Listing 1) and a 64-bit radiance + count
  * (L_s, c_s as halves, read back as floats), all double buffered; per frame a 64-bit closest depth + slope, a 32-bit farthest
- * depth, a 128-bit plan and (2-pass) a 32-bit source address per slot. See
- * ::mt_samplecache_bytes_per_pixel.
+ * depth, a 128-bit plan and (2-pass) a 32-bit source address per slot; with cross-eye reuse a
+ * 32-bit mask of the other eye's copies per pixel, double buffered. See
+ * ::mt_samplecache_bytes_per_pixel. Counters: sc_shaded (samples shaded in the last frame),
+ * sc_shaded_per_px, sc_shade_rays (rays the shading pass traced), sc_bytes_per_px.
  *
  * Frame: "tlas" (scene update), "reproject" (sc_reproject.comp [+ sc_copy.comp]),
  * "trace_mask" (sc_trace_mask.comp), "density" (sc_density.comp), "trace" (sc_trace.rgen),
@@ -114,6 +116,9 @@ typedef struct mt_sc_snapshot {
     uint32_t shade_count; /**< samples chosen for shading this frame, both eyes (may exceed the
                                shade list's capacity: the rest were not shaded) */
     uint32_t cur;         /**< the copy index this frame wrote */
+    uint32_t *foreign;    /**< [p]: bit s = slot s is the other eye's copy (cross-eye reuse;
+                               all 0 when off) */
+    uint64_t shade_rays;  /**< rays the shading pass traced this frame, both eyes */
 } mt_sc_snapshot;
 
 xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *out,
