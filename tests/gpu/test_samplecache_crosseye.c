@@ -5,10 +5,11 @@
  *        cross_eye, --sc-cross-eye): one shading serves both eyes.
  *
  * - test_diffuse_match: scenes/headturn.gltf (every material diffuse: all samples may be
- *   shared), 2 x 64 x 64, a still pose, T_FRAMES frames, run three times: per-eye caches with
- *   seed 7, per-eye with seed 8, cross-eye with seed 9. After the last frame, per eye:
+ *   shared), 2 x 64 x 64, a still pose, T_FRAMES frames, run four times: per-eye caches with
+ *   seed 7, per-eye with seed 8, cross-eye with seed 9 (1-pass reprojection) and 10 (2-pass).
+ *   After the last frame, for each cross-eye run, per eye:
  *   * the mean luminance of cross-eye is within T_MEAN_TOL of per-eye's (no bias);
- *   * the RMS difference cross-eye(9) - per-eye(7) is at most T_NOISE_FACTOR x the RMS
+ *   * the RMS difference cross-eye - per-eye(7) is at most T_NOISE_FACTOR x the RMS
  *     difference per-eye(8) - per-eye(7): the two caches differ by no more than the noise of
  *     T_FRAMES frames does (independent seeds);
  *   * the shading pass traced at most T_MAX_RAY_RATIO x the rays of per-eye caches over the
@@ -63,12 +64,11 @@ typedef struct t_result {
 } t_result;
 
 /** T_FRAMES frames of a still pose on headturn.gltf; colour of both eyes after the last. */
-static bool run_still(bool cross_eye, uint32_t seed, t_result *out)
+static bool run_still(const xrsc_samplecache_options *o, uint32_t seed, t_result *out)
 {
     memset(out, 0, sizeof(*out));
-    xrsc_samplecache_options o = {.cross_eye = cross_eye};
     tsc_rig rig;
-    bool ok = tsc_open(&rig, t_source_path("scenes/headturn.gltf"), T_W, T_H, &o);
+    bool ok = tsc_open(&rig, t_source_path("scenes/headturn.gltf"), T_W, T_H, o);
     if (ok) { /* the same cache with the run's random seed */
         mt_method_destroy(&rig.m);
         mt_env env = {.gpu = rig.gpu,
@@ -78,7 +78,7 @@ static bool run_still(bool cross_eye, uint32_t seed, t_result *out)
                       .height = T_H,
                       .seed = seed};
         xrsc_diag diag = {0};
-        ok = mt_samplecache_create(&env, &o, &rig.m, &diag) == XRSC_OK;
+        ok = mt_samplecache_create(&env, o, &rig.m, &diag) == XRSC_OK;
     }
     XrPosef head = ok ? tsc_viewpoint(rig.cpu) : (XrPosef){0};
     size_t bytes = (size_t)T_W * T_H * 16;
@@ -109,16 +109,15 @@ static void free_run(t_result *r)
     free(r->color[1]);
 }
 
-static void test_diffuse_match(void)
+/** Cross-eye run x against per-eye runs a and b (other seeds): bias, noise, shading rays. */
+static void compare_runs(const t_result *a, const t_result *b, const t_result *x)
 {
-    t_result a, b, x;
-    bool ok = run_still(false, 7, &a) & run_still(false, 8, &b) & run_still(true, 9, &x);
-    for (uint32_t e = 0; ok && e < 2; e++) {
+    for (uint32_t e = 0; e < 2; e++) {
         double ma = 0, mx = 0, d_noise = 0, d_cross = 0;
         size_t n = (size_t)T_W * T_H;
         for (size_t p = 0; p < n; p++) {
-            double la = lum(a.color[e] + 4 * p), lb = lum(b.color[e] + 4 * p),
-                   lx = lum(x.color[e] + 4 * p);
+            double la = lum(a->color[e] + 4 * p), lb = lum(b->color[e] + 4 * p),
+                   lx = lum(x->color[e] + 4 * p);
             ma += la;
             mx += lx;
             d_noise += (lb - la) * (lb - la);
@@ -129,25 +128,38 @@ static void test_diffuse_match(void)
         d_noise = sqrt(d_noise / n);
         d_cross = sqrt(d_cross / n);
         printf("  eye %u: mean luminance per-eye %.4f cross-eye %.4f; RMS difference to per-eye "
-               "(seed 7): per-eye seed 8 %.4f, cross-eye seed 9 %.4f\n",
+               "(seed 7): per-eye seed 8 %.4f, cross-eye %.4f\n",
                e, ma, mx, d_noise, d_cross);
         CHECK_MSG(fabs(mx - ma) <= T_MEAN_TOL * ma, "eye %u mean %.4f vs %.4f", e, mx, ma);
         CHECK_MSG(d_cross <= T_NOISE_FACTOR * d_noise, "eye %u RMS %.4f vs noise %.4f", e, d_cross,
                   d_noise);
     }
-    if (ok) {
-        printf("  shading rays over %u frames: per-eye %.0f, cross-eye %.0f (%.2fx); copies of "
-               "the other eye's samples after the last frame: %u\n",
-               T_FRAMES, a.shade_rays, x.shade_rays, x.shade_rays / a.shade_rays, x.foreign);
-        CHECK_MSG(x.shade_rays <= T_MAX_RAY_RATIO * a.shade_rays, "rays %.0f vs %.0f", x.shade_rays,
-                  a.shade_rays);
-        CHECK(a.shade_rays > 0);
-        CHECK(x.foreign > T_W * T_H);
-        CHECK_EQ_INT(a.foreign, 0);
+    printf("  shading rays over %u frames: per-eye %.0f, cross-eye %.0f (%.2fx); copies of the "
+           "other eye's samples after the last frame: %u\n",
+           T_FRAMES, a->shade_rays, x->shade_rays, x->shade_rays / a->shade_rays, x->foreign);
+    CHECK_MSG(x->shade_rays <= T_MAX_RAY_RATIO * a->shade_rays, "rays %.0f vs %.0f", x->shade_rays,
+              a->shade_rays);
+    CHECK(a->shade_rays > 0);
+    CHECK(x->foreign > T_W * T_H);
+    CHECK_EQ_INT(a->foreign, 0);
+}
+
+static void test_diffuse_match(void)
+{
+    xrsc_samplecache_options per_eye = {0},
+                             cross[2] = {{.cross_eye = true},
+                                         {.cross_eye = true, .reproject = XRSC_SC_REPROJECT_2PASS}};
+    t_result a, b;
+    bool ok = run_still(&per_eye, 7, &a) & run_still(&per_eye, 8, &b);
+    for (uint32_t i = 0; ok && i < 2; i++) {
+        t_result x;
+        printf("  cross-eye, %s reprojection (seed %u):\n", i ? "2-pass" : "1-pass", 9 + i);
+        if (run_still(&cross[i], 9 + i, &x))
+            compare_runs(&a, &b, &x);
+        free_run(&x);
     }
     free_run(&a);
     free_run(&b);
-    free_run(&x);
 }
 
 /** Checks one snapshot of the glossy run; counts copies on eye-independent materials. */
