@@ -37,6 +37,27 @@ layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1)
 /* Offset of the shading round robin against the tracing one (different slots when possible). */
 #define SC_SHADE_RR_OFFSET 1u
 
+/* RNG stream of cross-eye reuse's uniform shading coin (sample index of xs_rng_seed). */
+#define SC_SHADE_SHARE_STREAM 0x5EADE5E1u
+
+/**
+ * Uniform shading with cross-eye reuse: the pixel's share of one shading, bitCount(own) /
+ * bitCount(cand) (the other eye's copies are its owner's to shade), given to one own sample by
+ * the round robin over the own samples. The round robin over all candidates would skip to a
+ * copy whenever one sits in the slots it favours (a free-slot reservation puts samples into
+ * the lowest free slots, so slots are not equally likely).
+ */
+uint uniform_share(uvec3 g, uint pix, uint cand, uint start)
+{
+    uint own = cand & ~sc_foreign_bits(scp.cur, pix);
+    int rr = sc_round_robin(own, start);
+    if (rr < 0)
+        return 0u;
+    xs_rng rng = xs_rng_seed(g.xy, g.z, frame.frame_index, SC_SHADE_SHARE_STREAM, frame.seed);
+    float p = float(bitCount(own)) / float(bitCount(cand));
+    return xs_rng_next(rng) < p ? sc_obit(uint(rr)) : 0u;
+}
+
 void main()
 {
     uvec3 g = gl_GlobalInvocationID;
@@ -50,7 +71,9 @@ void main()
     int rr = sc_round_robin(cand, start);
     uint one = rr >= 0 ? sc_obit(uint(rr)) : 0u;
     uint bits = 0u;
-    if (scp.shade_mode == XS_SC_SHADE_UNIFORM) {
+    if (scp.shade_mode == XS_SC_SHADE_UNIFORM && scp.cross_eye != 0u) {
+        bits = uniform_share(g, pix, cand, start);
+    } else if (scp.shade_mode == XS_SC_SHADE_UNIFORM) {
         bits = one;
     } else {
         uint b = scp.block;
