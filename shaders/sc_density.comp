@@ -22,10 +22,11 @@
  * (plan.y). Reads the visible counts of the 5 x 5 neighbourhood from plan.w (written by
  * sc_trace_mask.comp; each once) and writes only its own pixel.
  *
- * Cross-eye reuse (scp.cross_eye): the other eye's copies count as visible samples and may be
- * pruned like own ones (a pruned copy comes back next frame; pruning at random among all
- * visible samples lets both eyes settle at n_target together, where pruning own samples first
- * would make both eyes empty the same pixels at once); new samples are own.
+ * Cross-eye reuse (scp.cross_eye): the other eye's copies count as visible samples but are not
+ * pruned (a pruned copy would come back next frame: the pixel's sample set would change every
+ * frame, a flicker under motion); a pixel above the band prunes half its excess from its own
+ * samples, since the other eye's pixel of the same surface prunes the other half (pruning the
+ * whole excess in both eyes would empty both the next frame); new samples are own.
  *
  * `isrt` (scp.isrt_m > 0): no density control, the M x M layout fixes the count [DSK*17]:
  * every cell without a visible sample gets a new one (traced through the cell's centre by
@@ -50,6 +51,25 @@ uint nth_bit(uint bits, uint k)
     for (uint i = 0u; i < k; i++)
         bits &= bits - 1u;
     return uint(findLSB(bits));
+}
+
+/** Cross-eye reuse: the own sample of pool with the smallest count c_s (the first from
+ *  `start` on, cyclically, on a tie). Both eyes trace new samples where a motion stretches the
+ *  view, so their pixels overflow once the copies arrive; pruning at random would replace
+ *  converged samples by young, noisy ones there. */
+uint youngest(uint pix, uint pool, uint start)
+{
+    uint best = start;
+    float c_best = sc_rad_load(sc_rad_at(scp.cur, start, pix)).w;
+    for (uint b = pool; b != 0u; b &= b - 1u) {
+        uint s = uint(findLSB(b));
+        float c = sc_rad_load(sc_rad_at(scp.cur, s, pix)).w;
+        if (c < c_best) {
+            best = s;
+            c_best = c;
+        }
+    }
+    return best;
 }
 
 void main()
@@ -108,6 +128,7 @@ void main()
     uint vis = sc_vis(m) & all_slots;
     uint nvis = uint(bitCount(vis));
     uvec4 plan = sc_plan[pix];
+    uint foreign = sc_foreign_bits(scp.cur, pix);
     xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_DENSITY_STREAM, frame.seed);
 
     uint add = 0u;
@@ -128,8 +149,16 @@ void main()
 
     if (mean_max > scp.n_target + scp.delta && float(nvis) > scp.n_target && nvis > 1u) {
         uint remove = min(uint(ceil(float(nvis) - scp.n_target)), nvis - 1u);
+        /* cross-eye reuse: own samples only, half the excess (the other eye prunes its own
+         * half); pruned copies would come back next frame, a flicker under motion */
+        uint pool = vis & ~foreign;
+        if (scp.cross_eye != 0u)
+            remove = min(uint(ceil(0.5 * (float(nvis) - scp.n_target))), uint(bitCount(pool)));
         for (uint k = 0u; k < remove; k++) {
-            uint s = nth_bit(vis, xs_rng_next_uint(rng) % uint(bitCount(vis)));
+            uint s = nth_bit(pool, xs_rng_next_uint(rng) % uint(bitCount(pool)));
+            if (scp.cross_eye != 0u)
+                s = youngest(pix, pool, s);
+            pool &= ~sc_obit(s);
             vis &= ~sc_obit(s);
             occ &= ~sc_obit(s);
         }
