@@ -9,6 +9,9 @@
  *        hit, sc_shade.rgen). Without a map or a disk sun no random number is drawn for them,
  *        so the paths of a constant environment are those of before.
  *
+ * Light samples ask XS_LIGHT_VISIBLE for their shadow ray: sc_shade.rgen (XS_PATH_VISCACHE)
+ * routes it to the visibility cache of seed 002 (xs_viscache.glsl), everyone else traces.
+ *
  * Declares the two ray payloads at locations XS_PAYLOAD_PRIMARY / XS_PAYLOAD_SHADOW. Requires
  * xs_bindings.glsl, xs_bsdf.glsl, xs_hitinfo.glsl and xs_rng.glsl.
  */
@@ -16,6 +19,7 @@
 #define XS_PATH_GLSL
 
 #include "xs_env.glsl"
+#include "xs_viscache.h"
 
 layout(location = XS_PAYLOAD_PRIMARY) rayPayloadEXT xs_hit payload;
 layout(location = XS_PAYLOAD_SHADOW) rayPayloadEXT uint shadow_visible;
@@ -36,6 +40,20 @@ float xs_visible(vec3 o, vec3 d, float tmax, inout uint rays)
     rays++;
     return float(shadow_visible);
 }
+
+/* The shadow query of a light sample. With XS_PATH_VISCACHE (sc_shade.rgen) it goes to the
+ * visibility cache (xs_viscache.glsl: X = s, the side `below`, the light end kind / lp / ln /
+ * density, seed 002 §3.5), which answers at the first vertex; otherwise (spp.rgen) it is a
+ * plain xs_visible and the extra arguments are never evaluated. */
+#ifdef XS_PATH_VISCACHE
+float xs_vc_visible(vec3 o, vec3 d, float tmax, uint bounce, xs_surface s, bool below,
+                    uint kind, vec3 lp, vec3 ln, float density, inout uint rays);
+#define XS_LIGHT_VISIBLE(o, d, tmax, bounce, s, below, kind, lp, ln, density, rays)            \
+    xs_vc_visible(o, d, tmax, bounce, s, below, kind, lp, ln, density, rays)
+#else
+#define XS_LIGHT_VISIBLE(o, d, tmax, bounce, s, below, kind, lp, ln, density, rays)            \
+    xs_visible(o, d, tmax, rays)
+#endif
 
 /** Index of the emitter whose cdf interval holds u (first i with cdf[i] > u). */
 uint xs_pick_emitter(float u)
@@ -76,7 +94,8 @@ struct xs_path_out {
 /** Next-event estimation towards infinity: light sample wi (unit, world) with solid-angle pdf
  *  pl and radiance le, power-heuristic MIS against the BSDF's pdf of wi. */
 void xs_add_light_sample(inout xs_path_out r, vec3 throughput, vec3 wi, float pl, vec3 le,
-                         xs_bsdf bsdf, vec3 wo_l, vec3 tb, vec3 bb, xs_surface s, vec3 o_up)
+                         xs_bsdf bsdf, vec3 wo_l, vec3 tb, vec3 bb, xs_surface s, vec3 o_up,
+                         uint bounce)
 {
     if (!(pl > 0.0) || !any(greaterThan(le, vec3(0.0))))
         return;
@@ -89,7 +108,8 @@ void xs_add_light_sample(inout xs_path_out r, vec3 throughput, vec3 wi, float pl
     if (!xs_finite(c))
         return;
     vec3 o = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
-    r.radiance += c * xs_visible(o, wi, XS_RAY_TMAX, r.rays);
+    r.radiance += c * XS_LIGHT_VISIBLE(o, wi, XS_RAY_TMAX, bounce, s, wi_l.z <= 0.0,
+                                       XS_VC_LIGHT_SOLID_ANGLE, wi, vec3(0.0), pl, r.rays);
 }
 
 /**
@@ -167,13 +187,15 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
             if (frame.sun_direction.w > 0.0 && frame.sun_cos_max > 0.0) {
                 float pl = 1.0 / xs_sun_solid_angle();
                 xs_add_light_sample(r, throughput, xs_sun_sample(xs_rng_next2(rng)), pl,
-                                    frame.sun_radiance.rgb * pl, bsdf, wo_l, tb, bb, s, o_up);
+                                    frame.sun_radiance.rgb * pl, bsdf, wo_l, tb, bb, s, o_up,
+                                    bounce);
             }
             if (frame.env_width > 0u && frame.env_sampling != 0u) {
                 vec3 wi;
                 float pl;
                 vec3 le = xs_env_sample(xs_rng_next2(rng), wi, pl);
-                xs_add_light_sample(r, throughput, wi, pl, le, bsdf, wo_l, tb, bb, s, o_up);
+                xs_add_light_sample(r, throughput, wi, pl, le, bsdf, wo_l, tb, bb, s, o_up,
+                                    bounce);
             }
             /* the sun: a delta light, no MIS */
             if (frame.sun_direction.w > 0.0 && frame.sun_cos_max <= 0.0) {
@@ -184,7 +206,9 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
                 if (any(greaterThan(fc, vec3(0.0))) && xs_side_ok(wi, s.ng, wi_l.z)) {
                     vec3 o = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
                     r.radiance += throughput * fc * frame.sun_radiance.rgb *
-                                  xs_visible(o, wi, XS_RAY_TMAX, r.rays);
+                                  XS_LIGHT_VISIBLE(o, wi, XS_RAY_TMAX, bounce, s, wi_l.z <= 0.0,
+                                                   XS_VC_LIGHT_DIRECTION, wi, vec3(0.0), 1.0,
+                                                   r.rays);
                 }
             }
             /* one emissive triangle */
@@ -214,7 +238,10 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
                             float w = xs_mis_power(pl, pdf_b);
                             vec3 c = throughput * fc * lle * (w / pl);
                             if (xs_finite(c))
-                                r.radiance += c * xs_visible(o, seg / len, len, r.rays);
+                                r.radiance +=
+                                    c * XS_LIGHT_VISIBLE(o, seg / len, len, bounce, s,
+                                                         wi_l.z <= 0.0, XS_VC_LIGHT_AREA, ls.p,
+                                                         ls.ng, e.pmf / ls.area, r.rays);
                         }
                     }
                 }

@@ -177,6 +177,30 @@ static const char *set_alpha_fixed(xrsc_renderer_options *o, const char *v)
     return parse_pos(v, 1, &o->samplecache.alpha_fixed) ? NULL : "(0, 1]";
 }
 
+static const char *set_vis_cache(xrsc_renderer_options *o, const char *v)
+{
+    if (strcmp(v, "on") && strcmp(v, "off"))
+        return "on, off";
+    o->samplecache.visibility.enabled = !strcmp(v, "on");
+    return NULL;
+}
+
+static const char *set_vis_tolerance(xrsc_renderer_options *o, const char *v)
+{
+    return parse_pos(v, 1024, &o->samplecache.visibility.error_px) ? NULL : "pixels in (0, 1024]";
+}
+
+static const char *set_vis_refine(xrsc_renderer_options *o, const char *v)
+{
+    static const char *const names[] = {"adaptive", "strict", "none"};
+    for (uint32_t i = 0; i < 3; i++)
+        if (!strcmp(v, names[i])) {
+            o->samplecache.visibility.refine = (xrsc_sc_vis_refine)(XRSC_SC_VIS_REFINE_ADAPTIVE + i);
+            return NULL;
+        }
+    return "adaptive, strict, none";
+}
+
 static const char *set_isrt_m(xrsc_renderer_options *o, const char *v)
 {
     return parse_u32(v, 1, 4, &o->isrt.m) ? NULL : "1..4";
@@ -285,6 +309,12 @@ static const bench_key keys[] = {
     {"alpha_fixed", M_SC | M_ISRT, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},
     {"cross_eye", M_SC, set_cross_eye, "xeye",
      "on | off: view-independent samples serve both eyes, shaded once [off]"},
+    {"vis_cache", M_SC | M_ISRT, set_vis_cache, "vc",
+     "shading pass's shadow visibility cache (seed 002) on | off [off]"},
+    {"vis_tolerance", M_SC | M_ISRT, set_vis_tolerance, "ce",
+     "visibility cache error threshold C_E, pixels [4]"},
+    {"vis_refine", M_SC | M_ISRT, set_vis_refine, "",
+     "visibility cache refinement adaptive | strict | none [adaptive]"},
     {"m", M_ISRT, set_isrt_m, "m", "isrt: M x M fixed sub-pixel slots per pixel, 1..4 [2]"},
     {"hc_table", M_HC | M_HY, set_hc_table, "tab", "hash cache entries, 16..2^27 [4194304]"},
     {"hc_lod", M_HC | M_HY, set_hc_lod, "", "voxel LoD distance | distance-normal [distance]"},

@@ -100,6 +100,12 @@ HS_LIGHT_USAGE
 "  --sc-alpha-fixed X  alpha of --sc-alpha fixed      [0.1]\n"
 "  --sc-cross-eye      on | off: each eye's view-independent samples also serve the other\n"
 "                      eye, traced and shaded once for both (beyond seed 000) [off]\n"
+"  --sc-visibility-cache on | off: shadow visibility cache of the shading pass's light\n"
+"                      samples at the first hit (seed 002, AQVC) [off]\n"
+"  --sc-visibility-tolerance C  its error threshold C_E, pixels (seed 002 Eq. 3, 7) [4]\n"
+"  --sc-visibility-refine R  adaptive | strict | none: Alg. 2, zero refinement error\n"
+"                      tolerance (trace unless all 8 neighbours agree), no refinement\n"
+"                      [adaptive]\n"
 "  --isrt-m N          --method isrt: M x M fixed sub-pixel slots, 1..4 [2] (interactive\n"
 "                      stable ray tracing's layout, seed 000 Fig. 10; the --sc-* shading and\n"
 "                      --sc-trace options apply, slots/target/delta/reproject do not)\n"
@@ -202,7 +208,9 @@ static const char *const value_options[] = {
     "--env-map", "--env-intensity", "--env-rotation", "--sky-turbidity", "--sun-dir",
     "--sc-slots", "--sc-target", "--sc-delta", "--sc-eps0", "--sc-eps1", "--sc-block",
     "--sc-trace", "--sc-reproject", "--sc-shading-cache", "--sc-shade", "--sc-shade-rate",
-    "--sc-alpha", "--sc-alpha-fixed", "--sc-cross-eye", "--blend", "--blend-r", "--blend-estimate", "--taa", "--taa-alpha",
+    "--sc-alpha", "--sc-alpha-fixed", "--sc-cross-eye", "--sc-visibility-cache",
+    "--sc-visibility-tolerance", "--sc-visibility-refine", "--blend", "--blend-r",
+    "--blend-estimate", "--taa", "--taa-alpha",
     "--isrt-m", "--hc-table", "--hc-lod", "--hc-voxel-scale", "--hc-max-age",
     "--hc-voxel-jitter",
 };
@@ -285,6 +293,22 @@ static int parse_samplecache(const char *a, const char *v, xrsc_samplecache_opti
             sc->cross_eye = false;
         else
             return bad_arg(a, v, "expected on or off");
+    } else if (!strcmp(a, "--sc-visibility-cache")) {
+        if (!strcmp(v, "on") || !strcmp(v, "off"))
+            sc->visibility.enabled = !strcmp(v, "on");
+        else
+            return bad_arg(a, v, "expected on or off");
+    } else if (!strcmp(a, "--sc-visibility-tolerance")) {
+        return parse_positive(a, v, 1024.0f, &sc->visibility.error_px);
+    } else if (!strcmp(a, "--sc-visibility-refine")) {
+        if (!strcmp(v, "adaptive"))
+            sc->visibility.refine = XRSC_SC_VIS_REFINE_ADAPTIVE;
+        else if (!strcmp(v, "strict"))
+            sc->visibility.refine = XRSC_SC_VIS_REFINE_STRICT;
+        else if (!strcmp(v, "none"))
+            sc->visibility.refine = XRSC_SC_VIS_REFINE_NONE;
+        else
+            return bad_arg(a, v, "expected adaptive, strict or none");
     } else if (!strcmp(a, "--sc-alpha")) {
         if (!strcmp(v, "clamped"))
             sc->alpha = XRSC_SC_ALPHA_CLAMPED;

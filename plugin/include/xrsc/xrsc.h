@@ -208,6 +208,52 @@ typedef enum xrsc_sc_alpha {
     XRSC_SC_ALPHA_FIXED,       /**< max(1/(c_s+1), alpha_fixed) for every sample */
 } xrsc_sc_alpha;
 
+/** Refinement of the shading pass's visibility cache (seed 002 §3.6). */
+typedef enum xrsc_sc_vis_refine {
+    XRSC_SC_VIS_REFINE_DEFAULT = 0, /**< adaptive */
+    /** Alg. 2: a cached answer stands when X's 4 neighbouring clusters agree or are unknown;
+     *  else C_E is halved, down to `levels` levels, whose finest cluster then answers */
+    XRSC_SC_VIS_REFINE_ADAPTIVE,
+    /** zero refinement error tolerance: an answer stands only when all 8 neighbours of X's
+     *  3 x 3 block are known and agree; disagreement down to the last level traces the ray.
+     *  Exact wherever shadow edges are straight across 3 x 3 clusters (a cluster cut by such
+     *  an edge always sees a disagreeing neighbour); thin shadows and penumbrae of area
+     *  lights can still be missed */
+    XRSC_SC_VIS_REFINE_STRICT,
+    XRSC_SC_VIS_REFINE_NONE, /**< Alg. 1: quantisation only, no neighbours */
+} xrsc_sc_vis_refine;
+
+/**
+ * The shadow visibility cache of the sample cache's shading pass (seed 002, AQVC): the shadow
+ * rays of the light samples (sky sun disk, environment map, delta sun, emissive triangle) at
+ * the first vertex of each shading path (the cached first hit) are answered per cluster of
+ * similar queries: quantised X (oriented grid from the normal, Eq. 4, cell edge from Eq. 7 as
+ * C_E pixel footprints) x quantised light end (§3.5), one traced ray per cluster and frame,
+ * with the adaptive refinement of §3.6. Deeper vertices always trace (their eye-path density,
+ * which Eq. 7 needs, is unknown). The table is cleared every frame: nothing persists between
+ * frames, so animated scenes never see stale visibility. No random number is drawn: when every
+ * query traces, the image equals the uncached one. Zero fields mean seed 002's defaults:
+ * - enabled: off (false): every shadow ray is traced, images as without this option;
+ * - error_px: C_E, the screen-space size (pixels) of a cluster's error region, > 0 [4; §5
+ *   uses 4..18 for directional and 4..24 for area and environment light without AA];
+ * - levels: C_MSR, refinement levels 1..8 [max(1, round(log2 C_E)), §3.6];
+ * - normal_bins: C_N of Eq. 4, 1..64 [8]; depth_ratio: C_Z of §3.3, 1..64 [8];
+ * - resolution_base: C_R of Eq. 8, in (1, 4] [1.2];
+ * - refine: ::xrsc_sc_vis_refine [adaptive];
+ * - table_entries: 64-bit words, XS_VC_MIN_ENTRIES (4096) .. 2^26 [16 per pixel of both
+ *   eyes, rounded up to a power of two].
+ */
+typedef struct xrsc_sc_visibility_options {
+    bool enabled;
+    float error_px;
+    uint32_t levels;
+    uint32_t normal_bins;
+    uint32_t depth_ratio;
+    float resolution_base;
+    xrsc_sc_vis_refine refine;
+    uint32_t table_entries;
+} xrsc_sc_visibility_options;
+
 /**
  * Options of the `samplecache` method (seed 000 §3). Zero fields mean the paper's defaults
  * (§4, §3.2, §3.4, App. C): slots N = 12 (1..16: a 32-bit mask, 2 bits per slot),
@@ -246,6 +292,7 @@ typedef struct xrsc_samplecache_options {
     float alpha_fixed;
     uint32_t max_bounces;
     bool cross_eye;
+    xrsc_sc_visibility_options visibility; /**< the shading pass's shadow visibility cache */
 } xrsc_samplecache_options;
 
 /**

@@ -8,6 +8,7 @@
 #include "mt_samplecache.h"
 
 #include "mt_trace.h"
+#include "mt_viscache.h"
 #include "u_diag.h"
 #include "u_half.h"
 #include "xs_sc_math.h"
@@ -95,6 +96,7 @@ typedef struct mt_samplecache {
     uint32_t frames;     /**< rendered so far (0: the previous copy must be cleared) */
     uint32_t stop_after; /**< last STAGE_* recorded (debug; STAGE_RECONSTRUCT = all) */
     const struct mt_sc_hybrid *hybrid; /**< `hybrid` (mt_hybrid.c, borrowed), else NULL */
+    mt_viscache vis; /**< the shading pass's visibility cache (seed 002; not in `hybrid`) */
 } mt_samplecache;
 
 _Static_assert(offsetof(mt_samplecache, base) == 0, "base first");
@@ -146,6 +148,7 @@ static void fill_defaults(xrsc_samplecache_options *o)
         o->alpha_fixed = (float)XS_SC_DEFAULT_ALPHA_FIXED;
     if (o->max_bounces == 0)
         o->max_bounces = XS_DEFAULT_MAX_BOUNCES;
+    mt_viscache_fill_defaults(&o->visibility);
 }
 
 /** The compute programs' set 0: the ray-tracing programs' set 0 (the compute shaders never
@@ -265,6 +268,8 @@ static void record_stage(mt_samplecache *s, VkCommandBuffer cmd, uint32_t stage)
             gpu_rt_program_cmd_trace(ctx, cmd, &s->trace.program, NULL, w, h, 2);
         break;
     case STAGE_SHADE: /* the list's count and ray count */
+        if (!s->hybrid)
+            mt_viscache_cmd_begin(&s->vis, cmd);
         cmd_fill(cmd, &s->shade_list, 0, XS_SC_SHADE_LIST_HEADER * sizeof(uint32_t), 0);
         gpu_cmd_barrier_all(cmd);
         if (s->p.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE) { /* this frame's histogram */
@@ -290,6 +295,8 @@ static xrsc_result sc_finish(mt_samplecache *s, VkCommandBuffer cmd, xrsc_diag *
     if (s->hybrid) /* hybrid: the hash table's statistics */
         s->hybrid->record_end(s->hybrid->user, cmd);
     mt_trace_cmd_rays_copy(t, cmd);
+    if (!s->hybrid)
+        mt_viscache_cmd_copy(&s->vis, cmd);
     VkBufferCopy count = {0, 0, XS_SC_SHADE_LIST_HEADER * sizeof(uint32_t)};
     vkCmdCopyBuffer(cmd, s->shade_list.buffer, s->shade_readback.buffer, 1, &count);
     mt_trace_cmd_stage_outputs(t, cmd);
@@ -302,6 +309,8 @@ static xrsc_result sc_finish(mt_samplecache *s, VkCommandBuffer cmd, xrsc_diag *
     if ((res = gpu_timer_resolve(ctx, &t->timer, diag)) != XRSC_OK)
         return res;
     mt_trace_rays_collect(t);
+    if (!s->hybrid)
+        mt_viscache_collect(&s->vis, ctx);
     gpu_buffer_invalidate(ctx, &s->shade_readback);
     const uint8_t *header = s->shade_readback.mapped;
     memcpy(&s->shaded, header, sizeof(uint32_t));
@@ -326,6 +335,7 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     s->p.cur = s->frames & 1u;
     s->p.phi_left = pixel_phi(&frame->views[0].fov, w, h);
     s->p.phi_right = pixel_phi(&frame->views[1].fov, w, h);
+    mt_viscache_set_views(&s->vis, frame, w, h);
     memcpy(s->params.mapped, &s->p, sizeof(s->p));
     gpu_buffer_flush(ctx, &s->params);
 
@@ -362,6 +372,8 @@ static uint32_t sc_counters(const mt_method *m, xrsc_counter *out, uint32_t max_
     uint32_t n = 0;
     for (; n < max_count && n < sizeof(c) / sizeof(c[0]); n++)
         out[n] = c[n];
+    if (!s->hybrid) /* the shading pass's shadow rays and visibility cache (seed 002) */
+        n += mt_viscache_counters(&s->vis, out + n, max_count - n);
     return n;
 }
 
@@ -412,6 +424,7 @@ static void sc_destroy(mt_method *m)
         gpu_buffer_destroy(ctx, &s->fh);
         gpu_buffer_destroy(ctx, &s->mask);
         gpu_buffer_destroy(ctx, &s->params);
+        mt_viscache_fini(&s->vis, ctx);
         mt_trace_fini(&s->trace);
     }
     free(s);
@@ -452,7 +465,22 @@ static xrsc_result check_options(const mt_env *env, const xrsc_samplecache_optio
     if (o->cross_eye && var->hybrid)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "cross_eye",
                           "cross-eye reuse shares per-sample radiance, which hybrid does not keep");
-    return XRSC_OK;
+    return mt_viscache_check(&o->visibility, diag);
+}
+
+/* The visibility cache's buffers: 2 B_R = the scene bounds' diagonal (seed 002 Eq. 5), eye
+ * samples per pixel = the shading rate (uniform shading: one per pixel). */
+static xrsc_result create_viscache(mt_samplecache *s, xrsc_diag *diag)
+{
+    const sc_scene *sc = s->trace.env.cpu_scene;
+    double diameter = 0.0;
+    for (int i = 0; sc && i < 3; i++) {
+        double e = (double)sc->bounds_max[i] - sc->bounds_min[i];
+        diameter += e > 0.0 ? e * e : 0.0;
+    }
+    float rate = s->opt.shade == XRSC_SC_SHADE_UNIFORM ? 1.0f : s->opt.shade_rate;
+    return mt_viscache_init(&s->vis, s->trace.env.gpu, &s->opt.visibility, (float)sqrt(diameter),
+                            rate, s->trace.env.width, s->trace.env.height, diag);
 }
 
 /* The cache's buffers (xs_samplecache.h) and the moment images. */
@@ -489,7 +517,8 @@ static xrsc_result create_buffers(mt_samplecache *s, xrsc_diag *diag)
             XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, list_size, &s->shade_list, diag)) != XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, s->p.cross_eye ? 2 * plane * sizeof(uint32_t) : 0,
-                                         &s->foreign, diag)) != XRSC_OK)
+                                         &s->foreign, diag)) != XRSC_OK ||
+        (res = create_viscache(s, diag)) != XRSC_OK)
         return res;
     return mt_trace_create_moments(&s->trace, diag);
 }
@@ -499,9 +528,13 @@ static xrsc_result create_buffers(mt_samplecache *s, xrsc_diag *diag)
 static xrsc_result create_programs(mt_samplecache *s, xrsc_diag *diag)
 {
     gpu_context *ctx = s->trace.env.gpu;
-    gpu_rt_program_desc shade_desc = {
-        .raygen = "sc_shade.rgen", .set1 = cache_bindings, .set1_count = CACHE_BINDING_COUNT};
     gpu_binding cb[GPU_MAX_BINDINGS], sb[GPU_MAX_BINDINGS], hb[GPU_MAX_BINDINGS];
+    memcpy(sb, cache_bindings, sizeof(cache_bindings)); /* + the visibility cache's */
+    memcpy(sb + CACHE_BINDING_COUNT, mt_viscache_bindings, sizeof(mt_viscache_bindings));
+    gpu_rt_program_desc shade_desc = {
+        .raygen = "sc_shade.rgen",
+        .set1 = sb,
+        .set1_count = CACHE_BINDING_COUNT + sizeof(mt_viscache_bindings) / sizeof(gpu_binding)};
     uint32_t cb_count = compute_bindings(cb), hb_count = cb_count;
     const struct mt_sc_hybrid *hy = s->hybrid;
     if (hy) {
@@ -530,6 +563,8 @@ static void write_descriptors(mt_samplecache *s)
     write_cache(s, &s->trace.program.set1);
     mt_trace_write_set0(&s->trace, &s->shade.set0);
     write_cache(s, &s->shade.set1);
+    if (!s->hybrid)
+        mt_viscache_write(&s->vis, ctx, &s->shade.set1);
     for (int i = 0; i < PROG_COUNT; i++) {
         gpu_descriptors *d = &s->prog[i].set0;
         mt_trace_write_set0(&s->trace, d);
