@@ -85,6 +85,9 @@ typedef struct bench_run {
     uint32_t metric_failures;
     double ref_floor_relmse; /**< --ref-floor: relMSE between the two references; else NaN */
     uint32_t floor_frame;
+    /** [frame * 2 + eye]: the colour of the --baseline setting's scored frames, kept for the
+     *  other settings' base_energy (seed 002 §5.1), NULL where not rendered in this run */
+    float **base_color;
 } bench_run;
 
 bool hs_bench_is_scored(uint32_t k, uint32_t warmup, uint32_t score_every)
@@ -405,6 +408,7 @@ const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT] = {
     "scored",     "wall_ms",      "gpu_ms",         "rays",            "rays_per_px",
     "relmse",     "rmse",         "ssim",           "cpbd",            "ref_cpbd",
     "temporal_msd", "temporal_valid", "stereo_msd", "stereo_valid", "ref_stereo_msd",
+    "base_energy",
 };
 
 /* Renders frame k with r and reads its colour, and the depth at pixel centres (the same
@@ -560,6 +564,31 @@ static void put_stereo_columns(bench_run *b, FILE *csv, const eye_images *cur, u
             true);
 }
 
+/* base_energy (scored frames, with --baseline listed before): seed 002 §5.1's change of
+ * energy against the baseline's image of the same frame, sum |I - I_base| / sum I_base over
+ * the rgb of both eyes. Every setting renders the same views with the same random numbers,
+ * so between a cache on and off it is the error the cache alone adds. */
+static void put_base_column(bench_run *b, const hs_bench_setting *s, FILE *csv,
+                            const eye_images *cur, uint32_t k, bool scored)
+{
+    const char *base = b->opt->baseline;
+    size_t n = (size_t)b->w * b->h * 4;
+    double diff = 0.0, total = 0.0;
+    bool have = scored && base && b->base_color;
+    for (int e = 0; have && e < 2; e++) {
+        float **keep = &b->base_color[2 * k + (uint32_t)e];
+        if (!strcmp(s->name, base) && !*keep && (*keep = malloc(n * sizeof(float))))
+            memcpy(*keep, cur->color[e], n * sizeof(float));
+        have = *keep != NULL;
+        for (size_t i = 0; have && i < n; i++)
+            if (i % 4 != 3) {
+                diff += fabs((double)cur->color[e][i] - (*keep)[i]);
+                total += fabs((double)(*keep)[i]);
+            }
+    }
+    put_num(csv, total > 0.0 ? diff / total : NAN, have);
+}
+
 /* One frame of setting s: rendered, measured, its CSV row written. */
 static xrsc_result bench_frame(bench_run *b, const hs_bench_setting *s, xrsc_renderer *r,
                                uint32_t k, eye_images im[2], float *ref[2], FILE *csv,
@@ -589,6 +618,7 @@ static xrsc_result bench_frame(bench_run *b, const hs_bench_setting *s, xrsc_ren
         return res;
     put_temporal_columns(b, csv, cur, prev, k);
     put_stereo_columns(b, csv, cur, k, scored, ref);
+    put_base_column(b, s, csv, cur, k, scored);
     for (uint32_t p = 0; p < np; p++)
         fprintf(csv, ",%.4f", pass[p].gpu_ms);
     for (uint32_t c = 0; c < nc; c++)
@@ -786,6 +816,7 @@ xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *
     if ((res = bench_frames(&b, stream, &info, diag)) != XRSC_OK)
         goto done;
     bench_config(&b);
+    b.base_color = calloc(2 * (size_t)b.frames, sizeof(float *)); /* NULL: no base_energy */
 
     char dir[HS_BENCH_PATH_MAX];
     snprintf(b.ref_dir, sizeof(b.ref_dir), "%s/ref", opt->out_dir);
@@ -828,6 +859,9 @@ done:
     xrsc_scene_destroy(&b.scene);
     xrsc_context_destroy(&b.ctx);
     hs_pose_stream_destroy(&stream);
+    for (uint32_t i = 0; b.base_color && i < 2 * b.frames; i++)
+        free(b.base_color[i]);
+    free(b.base_color);
     free(b.frame);
     return res;
 }

@@ -15,7 +15,7 @@
 #define HS_BENCH_PATH_MAX 1024
 
 /** The fixed leading columns of a setting's CSV (then "gpu_<pass>_ms" per pass). */
-#define HS_BENCH_COLUMN_COUNT 20
+#define HS_BENCH_COLUMN_COUNT 21
 extern const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT];
 /** Prefix of the columns that hold a method's counters (xrsc_renderer_counters), after the
  *  per-pass columns "gpu_<pass>_ms". */

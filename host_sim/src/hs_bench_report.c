@@ -136,6 +136,7 @@ typedef struct setting_summary {
     double ref_stereo; /**< the reference's own stereo discrepancy (scored frames) */
     double blend_ms;   /**< the stereo blend pass (gpu_blend_ms); NaN without a blend */
     double blend_pct;  /**< blend_ms as a percentage of gpu_ms (ratio of the means) */
+    double base_energy; /**< seed 002 §5.1's energy change vs the baseline (scored frames) */
     double pass_ms[MAX_COLS];    /**< by union pass index */
     double counter[MAX_COLS];    /**< by union counter index: means of the "c_*" columns */
 } setting_summary;
@@ -390,6 +391,7 @@ static xrsc_result summarize(report *rp, xrsc_diag *diag)
         s->ref_stereo = mean_of(t, "ref_stereo_msd", true, NULL);
         s->blend_ms = mean_of(t, "gpu_blend_ms", false, NULL);
         s->blend_pct = 100.0 * ratio(s->blend_ms, s->gpu_ms);
+        s->base_energy = mean_of(t, "base_energy", true, NULL);
         for (uint32_t p = 0; p < rp->npass; p++)
             s->pass_ms[p] = mean_of(t, rp->pass_names[p], false, NULL);
         for (uint32_t p = 0; p < rp->ncounter; p++)
@@ -423,7 +425,7 @@ static xrsc_result write_summary_csv(const report *rp, xrsc_diag *diag)
     fprintf(f, "setting,spec,r,measured_frames,scored_frames,wall_ms,gpu_ms,gpu_ms_ratio,"
                "wall_ms_ratio,rays_per_px,relmse,relmse_ratio,rmse,ssim,cpbd,ref_cpbd,"
                "temporal_msd,temporal_ratio,stereo_msd,ref_stereo_msd,blend_ms,blend_pct,"
-               "baseline");
+               "baseline,base_energy");
     extra_columns(f, rp, NULL, 0);
     fputc('\n', f);
     for (uint32_t i = 0; i < rp->ns; i++) {
@@ -440,7 +442,8 @@ static xrsc_result write_summary_csv(const report *rp, xrsc_diag *diag)
             fputc(',', f);
             fmt_value(f, v[k]);
         }
-        fprintf(f, ",%d", i == rp->base);
+        fprintf(f, ",%d,", i == rp->base);
+        fmt_value(f, s->base_energy);
         for (uint32_t p = 0; p < rp->npass; p++) {
             fputc(',', f);
             fmt_value(f, s->pass_ms[p]);
@@ -499,6 +502,15 @@ static void print_table(const report *rp, FILE *out)
     }
 }
 
+/* Whether a setting other than the baseline has a base_energy (the --baseline ran first). */
+static bool any_base_energy(const report *rp)
+{
+    for (uint32_t i = 0; i < rp->ns; i++)
+        if (i != rp->base && isfinite(rp->sum[i].base_energy))
+            return true;
+    return false;
+}
+
 /* The printed summary: the table, the reference floor, the passes and the counters. */
 static void print_summary(const report *rp, FILE *out)
 {
@@ -528,6 +540,14 @@ static void print_summary(const report *rp, FILE *out)
         fputc('\n', out);
     }
     print_counters(out, rp->opt, rp->sum, rp->counter_names, rp->ncounter);
+    if (any_base_energy(rp)) {
+        fprintf(out, "energy change vs %s (seed 002 section 5.1: sum |I - I_base| / sum I_base, "
+                     "scored frames):", rp->opt->settings[rp->base].name);
+        for (uint32_t i = 0; i < rp->ns; i++)
+            if (isfinite(rp->sum[i].base_energy))
+                fprintf(out, " %s=%.4g", rp->opt->settings[i].name, rp->sum[i].base_energy);
+        fputc('\n', out);
+    }
     fprintf(out, "files: %s/{bench.csv,summary.csv,*.png}\n", rp->opt->out_dir);
 }
 
@@ -538,9 +558,9 @@ static void plot_data_setting(const report *rp, uint32_t i, FILE *d, FILE *fr, F
     const setting_summary *s = &rp->sum[i];
     const table *t = &rp->tab[i];
     const char *name = rp->opt->settings[i].name;
-    fprintf(d, "%u %s %g %g %g %g %g %g %g %g %g\n", i + 1, name, s->gpu_ms, s->wall_ms,
+    fprintf(d, "%u %s %g %g %g %g %g %g %g %g %g %g\n", i + 1, name, s->gpu_ms, s->wall_ms,
             s->relmse, s->temporal, s->stereo, s->cpbd, s->ref_cpbd, s->rays_per_px,
-            s->ref_stereo);
+            s->ref_stereo, s->base_energy);
     fprintf(pa, "%s", name);
     for (uint32_t p = 0; p < rp->npass; p++)
         fprintf(pa, " %g", isfinite(s->pass_ms[p]) ? s->pass_ms[p] : 0.0);
@@ -575,7 +595,7 @@ static xrsc_result write_plot_data(const report *rp, xrsc_diag *diag)
         res = u_diag_set(diag, XRSC_ERROR_IO, rp->plotdir, 0, "", "cannot write plot data");
     } else {
         fprintf(fs[0], "# idx name gpu_ms wall_ms relmse temporal_msd stereo_msd cpbd ref_cpbd "
-                       "rays_per_px ref_stereo_msd\n");
+                       "rays_per_px ref_stereo_msd base_energy\n");
         fprintf(fs[3], "setting");
         for (uint32_t p = 0; p < rp->npass; p++) {
             char nm[64];
@@ -782,6 +802,30 @@ static xrsc_result chart_sequence(const report *rp, xrsc_diag *diag)
     return XRSC_OK;
 }
 
+/* Chart base_energy (with --baseline first): seed 002 §5.1's energy change against the
+ * baseline over rays per pixel, one point per setting (e.g. a cache's error against its
+ * savings, the baseline at 0). */
+static xrsc_result chart_base_energy(const report *rp, xrsc_diag *diag)
+{
+    char title[512];
+    chart_title(rp, title, sizeof(title));
+    FILE *g = hs_bench_open_script(rp->opt->out_dir, "base_energy.gp", "base_energy.png", 800,
+                                   560, diag);
+    if (!g)
+        return diag ? diag->code : XRSC_ERROR_IO;
+    names_string(g, rp->opt);
+    fprintf(g,
+            "N = words(names)\nset title '%s' font ',9'\n"
+            "set offsets graph 0.1, graph 0.1, graph 0.1, graph 0.1\n"
+            "set key outside right font ',8'\nset xlabel 'rays per pixel (mean)'\n"
+            "set ylabel 'energy change vs %s (seed 002 sec. 5.1)'\n"
+            "plot for [i=1:N] 'plot/summary.dat' every ::(i-1)::(i-1) using 10:12 with points "
+            "pt (4+i%%8) ps 1.8 lw 2 lc i title word(names, i)\n",
+            title, rp->opt->settings[rp->base].name);
+    fclose(g);
+    return XRSC_OK;
+}
+
 /* Chart passes: the mean GPU time per pass, stacked per setting. */
 static xrsc_result chart_passes(const report *rp, xrsc_diag *diag)
 {
@@ -814,13 +858,14 @@ static xrsc_result write_charts(report *rp, xrsc_diag *diag)
 {
     const hs_bench_options *opt = rp->opt;
     snprintf(rp->plotdir, sizeof(rp->plotdir), "%s/plot", opt->out_dir);
-    bool with_r = any_r(rp);
+    bool with_r = any_r(rp), with_base = any_base_energy(rp);
     xrsc_result res;
     if ((res = hs_make_dirs(rp->plotdir, "--out", diag)) != XRSC_OK ||
         (res = write_plot_data(rp, diag)) != XRSC_OK ||
         (with_r && (res = chart_stereo_r(rp, diag)) != XRSC_OK) ||
         (res = chart_error_vs_time(rp, diag)) != XRSC_OK ||
-        (res = chart_sequence(rp, diag)) != XRSC_OK || (res = chart_passes(rp, diag)) != XRSC_OK)
+        (res = chart_sequence(rp, diag)) != XRSC_OK || (res = chart_passes(rp, diag)) != XRSC_OK ||
+        (with_base && (res = chart_base_energy(rp, diag)) != XRSC_OK))
         return res;
     if (opt->no_plots)
         return XRSC_OK;
@@ -829,6 +874,9 @@ static xrsc_result write_charts(report *rp, xrsc_diag *diag)
         if (!hs_bench_run_gnuplot(opt->out_dir, scripts[k]))
             fprintf(stderr, "xrsc bench: warning: gnuplot %s failed (see %s/gnuplot.log)\n",
                     scripts[k], opt->out_dir);
+    if (with_base && !hs_bench_run_gnuplot(opt->out_dir, "base_energy.gp"))
+        fprintf(stderr, "xrsc bench: warning: gnuplot base_energy.gp failed (see %s/gnuplot.log)\n",
+                opt->out_dir);
     return XRSC_OK;
 }
 
