@@ -136,7 +136,7 @@ typedef struct setting_summary {
     double ref_stereo; /**< the reference's own stereo discrepancy (scored frames) */
     double blend_ms;   /**< the stereo blend pass (gpu_blend_ms); NaN without a blend */
     double blend_pct;  /**< blend_ms as a percentage of gpu_ms (ratio of the means) */
-    double base_energy; /**< seed 002 §5.1's energy change vs the baseline (scored frames) */
+    double base_energy; /**< seed 002 §5.1: energy change vs the baseline (scored frames) */
     double pass_ms[MAX_COLS];    /**< by union pass index */
     double counter[MAX_COLS];    /**< by union counter index: means of the "c_*" columns */
 } setting_summary;

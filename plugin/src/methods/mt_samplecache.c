@@ -672,9 +672,10 @@ void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, do
     *out_resident = 2.0 * (4.0 + 16.0 * n) + rad_copies * XS_SC_RAD_BYTES * n +
                     (s->p.cross_eye ? 2.0 * 4.0 : 0.0); /* the foreign masks */
     /* depth_min 8 + depth_max 4 + plan 16, 4 B per slot for 2-pass addresses, the shade list */
+    double plane = 2.0 * s->trace.env.width * s->trace.env.height;
     *out_working = 8.0 + 4.0 + 16.0 + (s->p.two_pass ? 4.0 * n : 0.0) +
-                   (s->p.isrt_m ? 8.0 * n : 0.0) +
-                   4.0 * s->p.shade_capacity / (2.0 * s->trace.env.width * s->trace.env.height);
+                   (s->p.isrt_m ? 8.0 * n : 0.0) + 4.0 * s->p.shade_capacity / plane +
+                   (s->vis.p.enabled ? sizeof(uint64_t) * (double)s->vis.p.entries / plane : 0.0);
 }
 
 xrsc_result mt_samplecache_debug_stop_after(mt_method *m, const char *pass, xrsc_diag *diag)

@@ -96,7 +96,8 @@ xrsc_result mt_isrt_create(const mt_env *env, const xrsc_isrt_options *isrt,
 const xrsc_samplecache_options *mt_samplecache_options(const mt_method *m);
 
 /** Cache bytes per pixel per eye: resident (both copies of mask, first hits, radiance) plus
- *  per-frame working buffers (depth words, plan, 2-pass addresses, shade list). */
+ *  per-frame working buffers (depth words, plan, 2-pass addresses, shade list, visibility
+ *  cache table). */
 void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, double *out_working);
 
 /**

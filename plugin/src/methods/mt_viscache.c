@@ -79,9 +79,9 @@ static uint32_t default_entries(uint32_t w, uint32_t h)
     return (uint32_t)n;
 }
 
-xrsc_result mt_viscache_init(mt_viscache *v, gpu_context *ctx,
-                             const xrsc_sc_visibility_options *o, float scene_diameter_m,
-                             float eye_samples_per_px, uint32_t w, uint32_t h, xrsc_diag *diag)
+xrsc_result mt_viscache_init(mt_viscache *v, gpu_context *ctx, const xrsc_sc_visibility_options *o,
+                             float scene_diameter_m, float eye_samples_per_px, uint32_t w,
+                             uint32_t h, xrsc_diag *diag)
 {
     memset(v, 0, sizeof(*v));
     v->p = (xs_vc_params){
@@ -96,8 +96,8 @@ xrsc_result mt_viscache_init(mt_viscache *v, gpu_context *ctx,
         .scene_diameter = scene_diameter_m > 0.0f ? scene_diameter_m : 1.0f,
         .eye_samples_per_px = eye_samples_per_px,
     };
-    VkDeviceSize table = o->enabled ? (VkDeviceSize)v->p.entries * sizeof(uint64_t)
-                                    : MT_VC_STUB_BYTES;
+    VkDeviceSize table =
+        o->enabled ? (VkDeviceSize)v->p.entries * sizeof(uint64_t) : MT_VC_STUB_BYTES;
     xrsc_result res;
     if ((res = gpu_buffer_create_storage(ctx, sizeof(xs_vc_state), &v->state, diag)) != XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, table, &v->table, diag)) != XRSC_OK ||

@@ -37,9 +37,9 @@ xrsc_result mt_viscache_check(const xrsc_sc_visibility_options *o, xrsc_diag *di
  * Creates the buffers for defaulted options o at w x h per eye; scene_diameter_m = 2 B_R
  * (the scene bounds' diagonal); eye_samples_per_px = shaded samples per pixel per frame.
  */
-xrsc_result mt_viscache_init(mt_viscache *v, gpu_context *ctx,
-                             const xrsc_sc_visibility_options *o, float scene_diameter_m,
-                             float eye_samples_per_px, uint32_t w, uint32_t h, xrsc_diag *diag);
+xrsc_result mt_viscache_init(mt_viscache *v, gpu_context *ctx, const xrsc_sc_visibility_options *o,
+                             float scene_diameter_m, float eye_samples_per_px, uint32_t w,
+                             uint32_t h, xrsc_diag *diag);
 /** Frees what init created (NULL-safe on a zeroed struct). */
 void mt_viscache_fini(mt_viscache *v, gpu_context *ctx);
 void mt_viscache_write(const mt_viscache *v, gpu_context *ctx, gpu_descriptors *d);
