@@ -14,6 +14,8 @@
  * edge comes from Eq. 7 with the screen-space reading of §3.4: a cluster holds C_E x C_E eye
  * samples, so h = C_E x the pixel footprint at X (distance x tan-space pixel size /
  * sqrt(|cos theta| x shaded samples per pixel)); R = 2 B_R / h is quantised by Eq. 8 (C_R).
+ * Clusters are world-space, so both eyes share them: where both see X a cluster holds about
+ * 2 C_E^2 shading samples (the error region stays C_E x C_E pixels in each eye).
  * The light end (§3.5, light samples per eye path N_P / N_S = 1 for each light):
  * - a delta sun: the direction's float bits;
  * - a sampled direction (sky sun disk, environment map) with solid-angle pdf P: the cell of an
