@@ -309,13 +309,9 @@ xrsc_result gpu_context_create_hooked(const gpu_context_options *options,
     return context_create(options, hooks, out, diag);
 }
 
-static xrsc_result context_create(const gpu_context_options *options,
-                                  const gpu_context_hooks *hooks, gpu_context **out,
-                                  xrsc_diag *diag)
+/** The caller's options with the environment applied (XRSC_VALIDATION=1, XRSC_DEVICE). */
+static gpu_context_options resolve_options(const gpu_context_options *options)
 {
-    if (!out)
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "out", "out is NULL");
-    *out = NULL;
     gpu_context_options opt = {0};
     if (options)
         opt = *options;
@@ -324,39 +320,39 @@ static xrsc_result context_create(const gpu_context_options *options,
         opt.validation = true;
     if (!opt.device || !*opt.device)
         opt.device = getenv("XRSC_DEVICE");
+    return opt;
+}
 
-    xrsc_result res = XRSC_OK;
-    gpu_device_caps *caps = NULL;
-    VkPhysicalDevice *pds = NULL;
-    gpu_context *ctx = calloc(1, sizeof(*ctx));
-    if (!ctx)
-        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
-
-    /* Instance: request 1.3 (lavapipe reports 1.4 against Debian's 1.3.239 loader). */
+/** Instance layers and extensions to enable: the validation layer and debug utils, or none. */
+typedef struct gpu_instance_layers {
     const char *layers[1];
-    uint32_t layer_count = 0;
-    const char *inst_ext[1];
-    uint32_t inst_ext_count = 0;
-    if (opt.validation) {
-        if (has_layer("VK_LAYER_KHRONOS_validation") &&
-            has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME)) {
-            layers[layer_count++] = "VK_LAYER_KHRONOS_validation";
-            inst_ext[inst_ext_count++] = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
-            ctx->validation = true;
-        } else {
-            U_LOG_W("validation requested but VK_LAYER_KHRONOS_validation or "
-                    "VK_EXT_debug_utils is not installed");
-        }
+    uint32_t layer_count;
+    const char *ext[1];
+    uint32_t ext_count;
+} gpu_instance_layers;
+
+/** Validation needs both the layer and VK_EXT_debug_utils (the messenger counts its errors);
+ *  sets ctx->validation when both are installed. */
+static void choose_instance_layers(gpu_context *ctx, bool validation, gpu_instance_layers *il)
+{
+    memset(il, 0, sizeof(*il));
+    if (!validation)
+        return;
+    if (has_layer("VK_LAYER_KHRONOS_validation") &&
+        has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME)) {
+        il->layers[il->layer_count++] = "VK_LAYER_KHRONOS_validation";
+        il->ext[il->ext_count++] = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
+        ctx->validation = true;
+    } else {
+        U_LOG_W("validation requested but VK_LAYER_KHRONOS_validation or "
+                "VK_EXT_debug_utils is not installed");
     }
-    VkApplicationInfo app = {
-        .sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
-        .pApplicationName = "xrsc",
-        .applicationVersion = 1,
-        .pEngineName = "xrsc",
-        .engineVersion = 1,
-        .apiVersion = VK_API_VERSION_1_3,
-    };
-    VkDebugUtilsMessengerCreateInfoEXT msg_info = {
+}
+
+/** Errors and warnings go to debug_callback, which counts the errors in ctx. */
+static VkDebugUtilsMessengerCreateInfoEXT messenger_info(gpu_context *ctx)
+{
+    return (VkDebugUtilsMessengerCreateInfoEXT){
         .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
         .messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT |
                            VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT,
@@ -366,86 +362,131 @@ static xrsc_result context_create(const gpu_context_options *options,
         .pfnUserCallback = debug_callback,
         .pUserData = ctx,
     };
+}
+
+/** Creates ctx->instance (directly or through hooks) and, with validation, the messenger. */
+static xrsc_result instance_create(gpu_context *ctx, bool validation,
+                                   const gpu_context_hooks *hooks, xrsc_diag *diag)
+{
+    xrsc_result res = XRSC_OK;
+    gpu_instance_layers il;
+    choose_instance_layers(ctx, validation, &il);
+    /* Request 1.3 (lavapipe reports 1.4 against Debian's 1.3.239 loader). */
+    VkApplicationInfo app = {
+        .sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
+        .pApplicationName = "xrsc",
+        .applicationVersion = 1,
+        .pEngineName = "xrsc",
+        .engineVersion = 1,
+        .apiVersion = VK_API_VERSION_1_3,
+    };
+    VkDebugUtilsMessengerCreateInfoEXT msg_info = messenger_info(ctx);
     VkInstanceCreateInfo ici = {
         .sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
         /* also catches messages from vkCreateInstance / vkDestroyInstance */
         .pNext = ctx->validation ? &msg_info : NULL,
         .pApplicationInfo = &app,
-        .enabledLayerCount = layer_count,
-        .ppEnabledLayerNames = layers,
-        .enabledExtensionCount = inst_ext_count,
-        .ppEnabledExtensionNames = inst_ext,
+        .enabledLayerCount = il.layer_count,
+        .ppEnabledLayerNames = il.layers,
+        .enabledExtensionCount = il.ext_count,
+        .ppEnabledExtensionNames = il.ext,
     };
     if (hooks)
-        GPU_CHECK(res, diag, fail, hooks->create_instance(hooks->user, &ici, &ctx->instance));
+        GPU_CHECK(res, diag, done, hooks->create_instance(hooks->user, &ici, &ctx->instance));
     else
-        GPU_CHECK(res, diag, fail, vkCreateInstance(&ici, NULL, &ctx->instance));
+        GPU_CHECK(res, diag, done, vkCreateInstance(&ici, NULL, &ctx->instance));
     if (ctx->validation) {
         ctx->vk.CreateDebugUtilsMessengerEXT = (PFN_vkCreateDebugUtilsMessengerEXT)
             vkGetInstanceProcAddr(ctx->instance, "vkCreateDebugUtilsMessengerEXT");
         ctx->vk.DestroyDebugUtilsMessengerEXT = (PFN_vkDestroyDebugUtilsMessengerEXT)
             vkGetInstanceProcAddr(ctx->instance, "vkDestroyDebugUtilsMessengerEXT");
         if (ctx->vk.CreateDebugUtilsMessengerEXT)
-            GPU_CHECK(res, diag, fail,
+            GPU_CHECK(res, diag, done,
                       ctx->vk.CreateDebugUtilsMessengerEXT(ctx->instance, &msg_info, NULL,
                                                            &ctx->messenger));
     }
+done:
+    return res;
+}
 
+/** The instance's physical devices and what each has. */
+typedef struct gpu_device_list {
+    VkPhysicalDevice *pds;
+    gpu_device_caps *caps;
+    uint32_t n;
+} gpu_device_list;
+
+/** Fills list; device_list_free frees it, also after a failure. */
+static xrsc_result device_list_query(const gpu_context *ctx, gpu_device_list *list, xrsc_diag *diag)
+{
+    xrsc_result res = XRSC_OK;
     uint32_t n = 0;
-    GPU_CHECK(res, diag, fail, vkEnumeratePhysicalDevices(ctx->instance, &n, NULL));
+    VkPhysicalDevice *pds = NULL;
+    GPU_CHECK(res, diag, done, vkEnumeratePhysicalDevices(ctx->instance, &n, NULL));
     pds = calloc(n ? n : 1, sizeof(*pds));
-    caps = calloc(n ? n : 1, sizeof(*caps));
-    if (!pds || !caps) {
+    list->pds = pds;
+    list->caps = calloc(n ? n : 1, sizeof(*list->caps));
+    if (!pds || !list->caps) {
         res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
-        goto fail;
+        goto done;
     }
-    GPU_CHECK(res, diag, fail, vkEnumeratePhysicalDevices(ctx->instance, &n, pds));
+    GPU_CHECK(res, diag, done, vkEnumeratePhysicalDevices(ctx->instance, &n, pds));
+    list->n = n;
     for (uint32_t i = 0; i < n; i++)
-        query_caps(pds[i], &caps[i]);
-    uint32_t index = 0;
-    if (hooks) {
-        /* A selector is checked against the wrapper's instance before the wrapper is asked:
-         * one that matches nothing is the direct path's XRSC_ERROR_DEVICE_NOT_FOUND naming
-         * it, not the failure of a runtime given the same selector (XRSC_RT_DEVICE). */
-        bool selected = opt.device && *opt.device;
-        uint32_t pick = 0;
-        if (selected && (res = select_device(opt.device, caps, n, &pick, diag)) != XRSC_OK)
-            goto fail;
-        VkPhysicalDevice want = VK_NULL_HANDLE;
-        GPU_CHECK(res, diag, fail, hooks->physical_device(hooks->user, ctx->instance, &want));
-        index = UINT32_MAX;
-        for (uint32_t i = 0; i < n && index == UINT32_MAX; i++)
-            if (pds[i] == want)
-                index = i;
-        if (index == UINT32_MAX) {
-            res = u_diag_set(diag, XRSC_ERROR_DEVICE_NOT_FOUND, "", 0, "device",
-                             "the required physical device is not one of the instance's %u", n);
-            goto fail;
-        }
-        if (selected && !u_device_matches(opt.device, index, caps[index].name,
-                                          caps[index].is_cpu)) {
-            res = u_diag_set(diag, XRSC_ERROR_DEVICE_NOT_FOUND, "", 0, "device",
-                             "the XR runtime requires device [%u] %s, which \"%s\" does not "
-                             "select (the runtime chooses the device: set its selector too)",
-                             index, caps[index].name, opt.device);
-            goto fail;
-        }
-        if (caps[index].lacks[0]) {
-            res = u_diag_set(diag, XRSC_ERROR_NO_RAY_TRACING_DEVICE, "", 0, "device",
-                             "the device the XR runtime requires, %s, lacks what xrsc needs (%s)",
-                             caps[index].name, caps[index].lacks);
-            goto fail;
-        }
-    } else {
-        res = select_device(opt.device, caps, n, &index, diag);
-        if (res != XRSC_OK)
-            goto fail;
-    }
-    ctx->device_index = index;
-    ctx->physical_device = pds[index];
-    ctx->is_cpu = caps[index].is_cpu;
+        query_caps(pds[i], &list->caps[i]);
+done:
+    return res;
+}
 
-    /* Properties. */
+static void device_list_free(gpu_device_list *list)
+{
+    free(list->pds);
+    free(list->caps);
+    memset(list, 0, sizeof(*list));
+}
+
+/** Through hooks the XR runtime names the device: checks it against the selector and against
+ *  what xrsc needs; fills *out_index. */
+static xrsc_result select_hooked_device(const gpu_context *ctx, const gpu_context_hooks *hooks,
+                                        const char *selector, const gpu_device_list *list,
+                                        uint32_t *out_index, xrsc_diag *diag)
+{
+    xrsc_result res = XRSC_OK;
+    const gpu_device_caps *caps = list->caps;
+    uint32_t n = list->n;
+    /* A selector is checked against the wrapper's instance before the wrapper is asked:
+     * one that matches nothing is the direct path's XRSC_ERROR_DEVICE_NOT_FOUND naming
+     * it, not the failure of a runtime given the same selector (XRSC_RT_DEVICE). */
+    bool selected = selector && *selector;
+    uint32_t pick = 0;
+    if (selected && (res = select_device(selector, caps, n, &pick, diag)) != XRSC_OK)
+        return res;
+    VkPhysicalDevice want = VK_NULL_HANDLE;
+    GPU_CHECK(res, diag, done, hooks->physical_device(hooks->user, ctx->instance, &want));
+    uint32_t index = UINT32_MAX;
+    for (uint32_t i = 0; i < n && index == UINT32_MAX; i++)
+        if (list->pds[i] == want)
+            index = i;
+    if (index == UINT32_MAX)
+        return u_diag_set(diag, XRSC_ERROR_DEVICE_NOT_FOUND, "", 0, "device",
+                          "the required physical device is not one of the instance's %u", n);
+    if (selected && !u_device_matches(selector, index, caps[index].name, caps[index].is_cpu))
+        return u_diag_set(diag, XRSC_ERROR_DEVICE_NOT_FOUND, "", 0, "device",
+                          "the XR runtime requires device [%u] %s, which \"%s\" does not "
+                          "select (the runtime chooses the device: set its selector too)",
+                          index, caps[index].name, selector);
+    if (caps[index].lacks[0])
+        return u_diag_set(diag, XRSC_ERROR_NO_RAY_TRACING_DEVICE, "", 0, "device",
+                          "the device the XR runtime requires, %s, lacks what xrsc needs (%s)",
+                          caps[index].name, caps[index].lacks);
+    *out_index = index;
+done:
+    return res;
+}
+
+/** Fills ctx's properties, ray tracing / AS properties and memory properties. */
+static void read_properties(gpu_context *ctx)
+{
     ctx->rt_properties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR;
     ctx->as_properties.sType =
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
@@ -457,8 +498,12 @@ static xrsc_result context_create(const gpu_context_options *options,
     ctx->as_properties.pNext = NULL;
     ctx->properties = p2.properties;
     vkGetPhysicalDeviceMemoryProperties(ctx->physical_device, &ctx->memory_properties);
+}
 
-    /* One queue family with compute (ray tracing runs on compute-capable queues). */
+/** One queue family with compute (ray tracing runs on compute-capable queues). */
+static xrsc_result pick_queue_family(gpu_context *ctx, bool hooked, const char *device_name,
+                                     xrsc_diag *diag)
+{
     uint32_t qn = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical_device, &qn, NULL);
     VkQueueFamilyProperties qf[16];
@@ -469,69 +514,78 @@ static xrsc_result context_create(const gpu_context_options *options,
     /* Through XR the queue is also the runtime's (XrGraphicsBindingVulkan2KHR): prefer one
      * that has graphics too. */
     const VkQueueFlags gc = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
-    for (uint32_t i = 0; hooks && i < qn && ctx->queue_family == UINT32_MAX; i++)
+    for (uint32_t i = 0; hooked && i < qn && ctx->queue_family == UINT32_MAX; i++)
         if ((qf[i].queueFlags & gc) == gc)
             ctx->queue_family = i;
     for (uint32_t i = 0; i < qn && ctx->queue_family == UINT32_MAX; i++)
         if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT)
             ctx->queue_family = i;
-    if (ctx->queue_family == UINT32_MAX) {
-        res = u_diag_set(diag, XRSC_ERROR_NO_RAY_TRACING_DEVICE, "", 0, "device",
-                         "%s has no compute queue", caps[index].name);
-        goto fail;
-    }
+    if (ctx->queue_family == UINT32_MAX)
+        return u_diag_set(diag, XRSC_ERROR_NO_RAY_TRACING_DEVICE, "", 0, "device",
+                          "%s has no compute queue", device_name);
     ctx->timestamp_valid_bits = qf[ctx->queue_family].timestampValidBits;
+    return XRSC_OK;
+}
 
-    /* Features: the required ones plus the optional ones the device has. */
-    const gpu_feature_chain *s = &caps[index].sup;
-    bool af = caps[index].has_atomic_float_ext &&
+/** Fills en with the required features plus the optional ones the device has; returns
+ *  whether VK_EXT_shader_atomic_float is enabled. */
+static bool enable_features(const gpu_device_caps *cap, gpu_feature_chain *en)
+{
+    const gpu_feature_chain *s = &cap->sup;
+    bool af = cap->has_atomic_float_ext &&
               (s->af.shaderBufferFloat32AtomicAdd || s->af.shaderImageFloat32AtomicAdd);
-    gpu_feature_chain en;
-    feature_chain_init(&en, af);
-    en.f2.features.shaderInt64 = VK_TRUE;
-    en.f2.features.shaderStorageImageWriteWithoutFormat =
+    feature_chain_init(en, af);
+    en->f2.features.shaderInt64 = VK_TRUE;
+    en->f2.features.shaderStorageImageWriteWithoutFormat =
         s->f2.features.shaderStorageImageWriteWithoutFormat;
-    en.f2.features.shaderStorageImageReadWithoutFormat =
+    en->f2.features.shaderStorageImageReadWithoutFormat =
         s->f2.features.shaderStorageImageReadWithoutFormat;
-    en.f2.features.shaderFloat64 = s->f2.features.shaderFloat64;
-    en.f2.features.samplerAnisotropy = s->f2.features.samplerAnisotropy;
-    en.f12.bufferDeviceAddress = VK_TRUE;
-    en.f12.shaderBufferInt64Atomics = VK_TRUE;
-    en.f12.shaderSharedInt64Atomics = s->f12.shaderSharedInt64Atomics;
-    en.f12.vulkanMemoryModel = VK_TRUE;
-    en.f12.vulkanMemoryModelDeviceScope = VK_TRUE;
-    en.f12.descriptorIndexing = s->f12.descriptorIndexing;
-    en.f12.runtimeDescriptorArray = VK_TRUE;
-    en.f12.descriptorBindingPartiallyBound = VK_TRUE;
-    en.f12.descriptorBindingVariableDescriptorCount =
+    en->f2.features.shaderFloat64 = s->f2.features.shaderFloat64;
+    en->f2.features.samplerAnisotropy = s->f2.features.samplerAnisotropy;
+    en->f12.bufferDeviceAddress = VK_TRUE;
+    en->f12.shaderBufferInt64Atomics = VK_TRUE;
+    en->f12.shaderSharedInt64Atomics = s->f12.shaderSharedInt64Atomics;
+    en->f12.vulkanMemoryModel = VK_TRUE;
+    en->f12.vulkanMemoryModelDeviceScope = VK_TRUE;
+    en->f12.descriptorIndexing = s->f12.descriptorIndexing;
+    en->f12.runtimeDescriptorArray = VK_TRUE;
+    en->f12.descriptorBindingPartiallyBound = VK_TRUE;
+    en->f12.descriptorBindingVariableDescriptorCount =
         s->f12.descriptorBindingVariableDescriptorCount;
-    en.f12.shaderSampledImageArrayNonUniformIndexing = VK_TRUE;
-    en.f12.scalarBlockLayout = s->f12.scalarBlockLayout;
-    en.f12.hostQueryReset = s->f12.hostQueryReset;
-    en.f12.shaderFloat16 = s->f12.shaderFloat16;
-    en.f12.shaderInt8 = s->f12.shaderInt8;
-    en.f12.uniformAndStorageBuffer8BitAccess = s->f12.uniformAndStorageBuffer8BitAccess;
-    en.f12.storageBuffer8BitAccess = s->f12.storageBuffer8BitAccess;
-    en.f11.storageBuffer16BitAccess = s->f11.storageBuffer16BitAccess;
-    en.f13.synchronization2 = s->f13.synchronization2;
-    en.f13.maintenance4 = s->f13.maintenance4;
-    en.as.accelerationStructure = VK_TRUE;
-    en.rt.rayTracingPipeline = VK_TRUE;
+    en->f12.shaderSampledImageArrayNonUniformIndexing = VK_TRUE;
+    en->f12.scalarBlockLayout = s->f12.scalarBlockLayout;
+    en->f12.hostQueryReset = s->f12.hostQueryReset;
+    en->f12.shaderFloat16 = s->f12.shaderFloat16;
+    en->f12.shaderInt8 = s->f12.shaderInt8;
+    en->f12.uniformAndStorageBuffer8BitAccess = s->f12.uniformAndStorageBuffer8BitAccess;
+    en->f12.storageBuffer8BitAccess = s->f12.storageBuffer8BitAccess;
+    en->f11.storageBuffer16BitAccess = s->f11.storageBuffer16BitAccess;
+    en->f13.synchronization2 = s->f13.synchronization2;
+    en->f13.maintenance4 = s->f13.maintenance4;
+    en->as.accelerationStructure = VK_TRUE;
+    en->rt.rayTracingPipeline = VK_TRUE;
     if (af) {
-        en.af.shaderBufferFloat32AtomicAdd = s->af.shaderBufferFloat32AtomicAdd;
-        en.af.shaderBufferFloat32Atomics = s->af.shaderBufferFloat32Atomics;
-        en.af.shaderImageFloat32AtomicAdd = s->af.shaderImageFloat32AtomicAdd;
-        en.af.shaderImageFloat32Atomics = s->af.shaderImageFloat32Atomics;
-        en.af.shaderSharedFloat32AtomicAdd = s->af.shaderSharedFloat32AtomicAdd;
-        en.af.shaderSharedFloat32Atomics = s->af.shaderSharedFloat32Atomics;
+        en->af.shaderBufferFloat32AtomicAdd = s->af.shaderBufferFloat32AtomicAdd;
+        en->af.shaderBufferFloat32Atomics = s->af.shaderBufferFloat32Atomics;
+        en->af.shaderImageFloat32AtomicAdd = s->af.shaderImageFloat32AtomicAdd;
+        en->af.shaderImageFloat32Atomics = s->af.shaderImageFloat32Atomics;
+        en->af.shaderSharedFloat32AtomicAdd = s->af.shaderSharedFloat32AtomicAdd;
+        en->af.shaderSharedFloat32Atomics = s->af.shaderSharedFloat32Atomics;
     }
-    ctx->atomic_float = af;
+    return af;
+}
 
+/** Creates ctx->device (directly or through hooks) with the features en and one queue of
+ *  ctx->queue_family, then gets the queue and loads the device functions. */
+static xrsc_result device_create(gpu_context *ctx, const gpu_context_hooks *hooks,
+                                 const gpu_feature_chain *en, xrsc_diag *diag)
+{
+    xrsc_result res = XRSC_OK;
     const char *dev_ext[GPU_REQUIRED_EXTENSION_COUNT + 1];
     uint32_t dev_ext_count = 0;
     for (size_t i = 0; i < GPU_REQUIRED_EXTENSION_COUNT; i++)
         dev_ext[dev_ext_count++] = required_extensions[i];
-    if (af)
+    if (ctx->atomic_float)
         dev_ext[dev_ext_count++] = VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME;
 
     float prio = 1.0f;
@@ -543,42 +597,85 @@ static xrsc_result context_create(const gpu_context_options *options,
     };
     VkDeviceCreateInfo dci = {
         .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
-        .pNext = &en.f2,
+        .pNext = &en->f2,
         .queueCreateInfoCount = 1,
         .pQueueCreateInfos = &qci,
         .enabledExtensionCount = dev_ext_count,
         .ppEnabledExtensionNames = dev_ext,
     };
     if (hooks)
-        GPU_CHECK(res, diag, fail,
+        GPU_CHECK(res, diag, done,
                   hooks->create_device(hooks->user, ctx->physical_device, &dci, &ctx->device));
     else
-        GPU_CHECK(res, diag, fail,
-                  vkCreateDevice(ctx->physical_device, &dci, NULL, &ctx->device));
+        GPU_CHECK(res, diag, done, vkCreateDevice(ctx->physical_device, &dci, NULL, &ctx->device));
     vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
     load_device_functions(ctx);
+done:
+    return res;
+}
 
+/** The command pool and fence of gpu_cmd_begin / gpu_cmd_submit_wait. */
+static xrsc_result command_objects_create(gpu_context *ctx, xrsc_diag *diag)
+{
+    xrsc_result res = XRSC_OK;
     VkCommandPoolCreateInfo cpci = {
         .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
         .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT |
                  VK_COMMAND_POOL_CREATE_TRANSIENT_BIT,
         .queueFamilyIndex = ctx->queue_family,
     };
-    GPU_CHECK(res, diag, fail,
-              vkCreateCommandPool(ctx->device, &cpci, NULL, &ctx->command_pool));
+    GPU_CHECK(res, diag, done, vkCreateCommandPool(ctx->device, &cpci, NULL, &ctx->command_pool));
     VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    GPU_CHECK(res, diag, fail, vkCreateFence(ctx->device, &fci, NULL, &ctx->fence));
+    GPU_CHECK(res, diag, done, vkCreateFence(ctx->device, &fci, NULL, &ctx->fence));
+done:
+    return res;
+}
+
+static xrsc_result context_create(const gpu_context_options *options,
+                                  const gpu_context_hooks *hooks, gpu_context **out,
+                                  xrsc_diag *diag)
+{
+    if (!out)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "out", "out is NULL");
+    *out = NULL;
+    gpu_context_options opt = resolve_options(options);
+
+    xrsc_result res = XRSC_OK;
+    gpu_device_list list = {0};
+    gpu_context *ctx = calloc(1, sizeof(*ctx));
+    if (!ctx)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+    if ((res = instance_create(ctx, opt.validation, hooks, diag)) != XRSC_OK ||
+        (res = device_list_query(ctx, &list, diag)) != XRSC_OK)
+        goto fail;
+    uint32_t index = 0;
+    if (hooks)
+        res = select_hooked_device(ctx, hooks, opt.device, &list, &index, diag);
+    else
+        res = select_device(opt.device, list.caps, list.n, &index, diag);
+    if (res != XRSC_OK)
+        goto fail;
+    const gpu_device_caps *cap = &list.caps[index];
+    ctx->device_index = index;
+    ctx->physical_device = list.pds[index];
+    ctx->is_cpu = cap->is_cpu;
+    read_properties(ctx);
+    if ((res = pick_queue_family(ctx, hooks != NULL, cap->name, diag)) != XRSC_OK)
+        goto fail;
+    gpu_feature_chain en; /* holds pointers into itself: filled in place, never copied */
+    ctx->atomic_float = enable_features(cap, &en);
+    if ((res = device_create(ctx, hooks, &en, diag)) != XRSC_OK ||
+        (res = command_objects_create(ctx, diag)) != XRSC_OK)
+        goto fail;
 
     U_LOG_D("device [%u] %s (validation %s)", index, ctx->properties.deviceName,
             ctx->validation ? "on" : "off");
-    free(pds);
-    free(caps);
+    device_list_free(&list);
     *out = ctx;
     return XRSC_OK;
 
 fail:
-    free(pds);
-    free(caps);
+    device_list_free(&list);
     gpu_context_destroy(&ctx);
     return res;
 }
