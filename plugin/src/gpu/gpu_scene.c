@@ -414,85 +414,123 @@ static void cmd_as_barrier(VkCommandBuffer cmd)
                          0, 1, &mb, 0, NULL, 0, NULL);
 }
 
-static xrsc_result build_accels(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
-                                xrsc_diag *diag)
-{
-    xrsc_result res = XRSC_OK;
-    uint32_t nm = scene->mesh_count;
-    VkDeviceSize scratch_align = ctx->as_properties.minAccelerationStructureScratchOffsetAlignment;
-    if (scratch_align == 0)
-        scratch_align = 256;
-    VkAccelerationStructureGeometryKHR *geoms = calloc(nm ? nm : 1, sizeof(*geoms));
-    VkAccelerationStructureBuildGeometryInfoKHR *infos = calloc(nm ? nm : 1, sizeof(*infos));
-    VkAccelerationStructureBuildRangeInfoKHR *ranges = calloc(nm ? nm : 1, sizeof(*ranges));
-    const VkAccelerationStructureBuildRangeInfoKHR **range_ptrs =
-        calloc(nm ? nm : 1, sizeof(*range_ptrs));
-    VkDeviceSize *scratch_offsets = calloc(nm ? nm : 1, sizeof(*scratch_offsets));
-    gpu_buffer scratch = {0};
-    gpu_timer timer = {0};
-    gs->blas = calloc(nm ? nm : 1, sizeof(*gs->blas));
-    if (!geoms || !infos || !ranges || !range_ptrs || !scratch_offsets || !gs->blas) {
-        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
-        goto done;
-    }
-    gs->blas_count = nm;
+/** Inputs of the per-mesh BLAS builds, kept until the one batched build call is recorded. */
+typedef struct gpu_blas_batch {
+    uint32_t count;             /**< meshes, one BLAS each */
+    VkDeviceSize scratch_align; /**< minAccelerationStructureScratchOffsetAlignment, else 256 */
+    VkAccelerationStructureGeometryKHR *geoms;
+    VkAccelerationStructureBuildGeometryInfoKHR *infos;
+    VkAccelerationStructureBuildRangeInfoKHR *ranges;
+    const VkAccelerationStructureBuildRangeInfoKHR **range_ptrs;
+    VkDeviceSize *scratch_offsets; /**< of each build's range in scratch */
+    VkDeviceSize scratch_total;
+    gpu_buffer scratch;
+} gpu_blas_batch;
 
-    /* One BLAS per mesh: opaque triangles straight from the shared vertex/index buffers. */
-    VkDeviceSize scratch_total = 0;
-    for (uint32_t m = 0; m < nm; m++) {
+/** Allocates the batch's arrays and gs->blas; blas_batch_free frees the batch, also after a
+ *  failure (gs->blas goes with the scene). */
+static xrsc_result blas_batch_alloc(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                    gpu_blas_batch *b, xrsc_diag *diag)
+{
+    uint32_t nm = scene->mesh_count;
+    memset(b, 0, sizeof(*b));
+    b->count = nm;
+    b->scratch_align = ctx->as_properties.minAccelerationStructureScratchOffsetAlignment;
+    if (b->scratch_align == 0)
+        b->scratch_align = 256;
+    b->geoms = calloc(nm ? nm : 1, sizeof(*b->geoms));
+    b->infos = calloc(nm ? nm : 1, sizeof(*b->infos));
+    b->ranges = calloc(nm ? nm : 1, sizeof(*b->ranges));
+    b->range_ptrs = calloc(nm ? nm : 1, sizeof(*b->range_ptrs));
+    b->scratch_offsets = calloc(nm ? nm : 1, sizeof(*b->scratch_offsets));
+    gs->blas = calloc(nm ? nm : 1, sizeof(*gs->blas));
+    if (!b->geoms || !b->infos || !b->ranges || !b->range_ptrs || !b->scratch_offsets || !gs->blas)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+    gs->blas_count = nm;
+    return XRSC_OK;
+}
+
+static void blas_batch_free(gpu_context *ctx, gpu_blas_batch *b)
+{
+    gpu_buffer_destroy(ctx, &b->scratch);
+    free(b->geoms);
+    free(b->infos);
+    free(b->ranges);
+    free(b->range_ptrs);
+    free(b->scratch_offsets);
+    memset(b, 0, sizeof(*b));
+}
+
+/** A mesh's BLAS input: opaque triangles straight from the shared vertex/index buffers. */
+static void blas_geometry(const gpu_scene *gs, const sc_mesh *mesh,
+                          VkAccelerationStructureGeometryKHR *geom,
+                          VkAccelerationStructureBuildGeometryInfoKHR *info)
+{
+    *geom = (VkAccelerationStructureGeometryKHR){
+        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR,
+        .geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR,
+        .geometry.triangles =
+            {
+                .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR,
+                .vertexFormat = VK_FORMAT_R32G32B32_SFLOAT,
+                .vertexData.deviceAddress = gs->vertices.address,
+                .vertexStride = sizeof(xs_vertex),
+                .maxVertex = mesh->first_vertex + (mesh->vertex_count ? mesh->vertex_count - 1 : 0),
+                .indexType = VK_INDEX_TYPE_UINT32,
+                .indexData.deviceAddress =
+                    gs->indices.address + (VkDeviceAddress)mesh->first_index * 4u,
+            },
+        .flags = VK_GEOMETRY_OPAQUE_BIT_KHR,
+    };
+    *info = (VkAccelerationStructureBuildGeometryInfoKHR){
+        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR,
+        .type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
+        .flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR,
+        .mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR,
+        .geometryCount = 1,
+        .pGeometries = geom,
+    };
+}
+
+/** One BLAS per mesh: sizes its build, creates its storage and places its scratch range. */
+static xrsc_result blas_create_all(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                   gpu_blas_batch *b, xrsc_diag *diag)
+{
+    for (uint32_t m = 0; m < b->count; m++) {
         const sc_mesh *mesh = &scene->meshes[m];
-        geoms[m] = (VkAccelerationStructureGeometryKHR){
-            .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR,
-            .geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR,
-            .geometry.triangles =
-                {
-                    .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR,
-                    .vertexFormat = VK_FORMAT_R32G32B32_SFLOAT,
-                    .vertexData.deviceAddress = gs->vertices.address,
-                    .vertexStride = sizeof(xs_vertex),
-                    .maxVertex = mesh->first_vertex + (mesh->vertex_count ? mesh->vertex_count - 1
-                                                                          : 0),
-                    .indexType = VK_INDEX_TYPE_UINT32,
-                    .indexData.deviceAddress =
-                        gs->indices.address + (VkDeviceAddress)mesh->first_index * 4u,
-                },
-            .flags = VK_GEOMETRY_OPAQUE_BIT_KHR,
-        };
-        infos[m] = (VkAccelerationStructureBuildGeometryInfoKHR){
-            .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR,
-            .type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
-            .flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR,
-            .mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR,
-            .geometryCount = 1,
-            .pGeometries = &geoms[m],
-        };
-        ranges[m] = (VkAccelerationStructureBuildRangeInfoKHR){.primitiveCount =
-                                                                   mesh->index_count / 3};
-        range_ptrs[m] = &ranges[m];
+        blas_geometry(gs, mesh, &b->geoms[m], &b->infos[m]);
+        b->ranges[m] =
+            (VkAccelerationStructureBuildRangeInfoKHR){.primitiveCount = mesh->index_count / 3};
+        b->range_ptrs[m] = &b->ranges[m];
         VkAccelerationStructureBuildSizesInfoKHR sizes = {
             .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
         ctx->vk.GetAccelerationStructureBuildSizesKHR(
-            ctx->device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &infos[m],
-            &ranges[m].primitiveCount, &sizes);
-        res = accel_create(ctx, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
-                           sizes.accelerationStructureSize, &gs->blas[m], diag);
+            ctx->device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &b->infos[m],
+            &b->ranges[m].primitiveCount, &sizes);
+        xrsc_result res = accel_create(ctx, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
+                                       sizes.accelerationStructureSize, &gs->blas[m], diag);
         if (res != XRSC_OK)
-            goto done;
-        infos[m].dstAccelerationStructure = gs->blas[m].handle;
-        scratch_offsets[m] = scratch_total;
-        scratch_total += align_up(sizes.buildScratchSize, scratch_align);
+            return res;
+        b->infos[m].dstAccelerationStructure = gs->blas[m].handle;
+        b->scratch_offsets[m] = b->scratch_total;
+        b->scratch_total += align_up(sizes.buildScratchSize, b->scratch_align);
     }
+    return XRSC_OK;
+}
 
-    /* TLAS: sizes, storage, instance buffer and a scratch that also serves updates. */
+/** TLAS: sizes, storage, instance buffer and a scratch that also serves updates. */
+static xrsc_result tlas_create(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                               VkDeviceSize scratch_align, xrsc_diag *diag)
+{
     uint32_t ni = scene->instance_count;
     gs->instance_count = ni;
-    res = gpu_buffer_create(ctx, (VkDeviceSize)(ni ? ni : 1) *
-                                     sizeof(VkAccelerationStructureInstanceKHR),
-                            VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
-                                VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
-                            GPU_MEMORY_UPLOAD, &gs->tlas_instances, diag);
+    xrsc_result res = gpu_buffer_create(
+        ctx, (VkDeviceSize)(ni ? ni : 1) * sizeof(VkAccelerationStructureInstanceKHR),
+        VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
+            VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
+        GPU_MEMORY_UPLOAD, &gs->tlas_instances, diag);
     if (res != XRSC_OK)
-        goto done;
+        return res;
     write_tlas_instances(gs, scene);
     gpu_buffer_flush(ctx, &gs->tlas_instances);
     VkAccelerationStructureGeometryKHR tgeom;
@@ -505,7 +543,7 @@ static xrsc_result build_accels(gpu_context *ctx, gpu_scene *gs, const sc_scene 
     res = accel_create(ctx, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR,
                        tsizes.accelerationStructureSize, &gs->tlas, diag);
     if (res != XRSC_OK)
-        goto done;
+        return res;
     VkDeviceSize tscratch = tsizes.buildScratchSize > tsizes.updateScratchSize
                                 ? tsizes.buildScratchSize
                                 : tsizes.updateScratchSize;
@@ -514,56 +552,94 @@ static xrsc_result build_accels(gpu_context *ctx, gpu_scene *gs, const sc_scene 
                                 VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
                             GPU_MEMORY_DEVICE, &gs->tlas_scratch, diag);
     if (res != XRSC_OK)
-        goto done;
+        return res;
     gs->tlas_scratch_address = align_up(gs->tlas_scratch.address, scratch_align);
+    return XRSC_OK;
+}
 
-    /* BLAS scratch: one buffer, disjoint aligned ranges, so all builds go in one call. */
-    res = gpu_buffer_create(ctx, scratch_total + scratch_align,
-                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                            GPU_MEMORY_DEVICE, &scratch, diag);
+/** BLAS scratch: one buffer, disjoint aligned ranges, so all builds go in one call. */
+static xrsc_result blas_scratch_create(gpu_context *ctx, gpu_blas_batch *b, xrsc_diag *diag)
+{
+    xrsc_result res = gpu_buffer_create(ctx, b->scratch_total + b->scratch_align,
+                                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                            VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                                        GPU_MEMORY_DEVICE, &b->scratch, diag);
     if (res != XRSC_OK)
-        goto done;
-    VkDeviceAddress scratch_base = align_up(scratch.address, scratch_align);
-    for (uint32_t m = 0; m < nm; m++)
-        infos[m].scratchData.deviceAddress = scratch_base + scratch_offsets[m];
+        return res;
+    VkDeviceAddress scratch_base = align_up(b->scratch.address, b->scratch_align);
+    for (uint32_t m = 0; m < b->count; m++)
+        b->infos[m].scratchData.deviceAddress = scratch_base + b->scratch_offsets[m];
+    return XRSC_OK;
+}
 
-    res = gpu_timer_create(ctx, &timer, diag);
+/** The timer passes of the BLAS and TLAS builds. */
+typedef struct gpu_accel_passes {
+    uint32_t blas, tlas;
+} gpu_accel_passes;
+
+/** Records all BLAS builds in one call, then the TLAS build, each timed. */
+static gpu_accel_passes cmd_build_accels(gpu_context *ctx, const gpu_scene *gs,
+                                         const gpu_blas_batch *b, VkCommandBuffer cmd,
+                                         gpu_timer *timer)
+{
+    gpu_accel_passes p;
+    gpu_timer_cmd_reset(cmd, timer);
+    p.blas = gpu_timer_cmd_begin(cmd, timer, "blas");
+    if (b->count)
+        ctx->vk.CmdBuildAccelerationStructuresKHR(cmd, b->count, b->infos, b->range_ptrs);
+    gpu_timer_cmd_end(cmd, timer, p.blas);
+    cmd_as_barrier(cmd);
+    p.tlas = gpu_timer_cmd_begin(cmd, timer, "tlas");
+    VkAccelerationStructureGeometryKHR tgeom;
+    VkAccelerationStructureBuildGeometryInfoKHR tinfo;
+    tlas_geometry(gs, &tgeom, &tinfo, VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR);
+    VkAccelerationStructureBuildRangeInfoKHR trange = {.primitiveCount = gs->instance_count};
+    const VkAccelerationStructureBuildRangeInfoKHR *trange_ptr = &trange;
+    ctx->vk.CmdBuildAccelerationStructuresKHR(cmd, 1, &tinfo, &trange_ptr);
+    gpu_timer_cmd_end(cmd, timer, p.tlas);
+    cmd_as_barrier(cmd);
+    return p;
+}
+
+/** Builds the BLAS and the TLAS in one submission and keeps their GPU times in gs. */
+static xrsc_result accels_build_timed(gpu_context *ctx, gpu_scene *gs, const gpu_blas_batch *b,
+                                      xrsc_diag *diag)
+{
+    gpu_timer timer = {0};
+    xrsc_result res = gpu_timer_create(ctx, &timer, diag);
     if (res != XRSC_OK)
         goto done;
     VkCommandBuffer cmd;
     res = gpu_cmd_begin(ctx, &cmd, diag);
     if (res != XRSC_OK)
         goto done;
-    gpu_timer_cmd_reset(cmd, &timer);
-    uint32_t pb = gpu_timer_cmd_begin(cmd, &timer, "blas");
-    if (nm)
-        ctx->vk.CmdBuildAccelerationStructuresKHR(cmd, nm, infos, range_ptrs);
-    gpu_timer_cmd_end(cmd, &timer, pb);
-    cmd_as_barrier(cmd);
-    uint32_t pt = gpu_timer_cmd_begin(cmd, &timer, "tlas");
-    tlas_geometry(gs, &tgeom, &tinfo, VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR);
-    VkAccelerationStructureBuildRangeInfoKHR trange = {.primitiveCount = ni};
-    const VkAccelerationStructureBuildRangeInfoKHR *trange_ptr = &trange;
-    ctx->vk.CmdBuildAccelerationStructuresKHR(cmd, 1, &tinfo, &trange_ptr);
-    gpu_timer_cmd_end(cmd, &timer, pt);
-    cmd_as_barrier(cmd);
+    gpu_accel_passes passes = cmd_build_accels(ctx, gs, b, cmd, &timer);
     res = gpu_cmd_submit_wait(ctx, cmd, diag);
     if (res != XRSC_OK)
         goto done;
     res = gpu_timer_resolve(ctx, &timer, diag);
     if (res != XRSC_OK)
         goto done;
-    gs->blas_ms = timer.ms[pb];
-    gs->tlas_ms = timer.ms[pt];
+    gs->blas_ms = timer.ms[passes.blas];
+    gs->tlas_ms = timer.ms[passes.tlas];
 done:
     gpu_timer_destroy(ctx, &timer);
-    gpu_buffer_destroy(ctx, &scratch);
-    free(geoms);
-    free(infos);
-    free(ranges);
-    free(range_ptrs);
-    free(scratch_offsets);
+    return res;
+}
+
+static xrsc_result build_accels(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                xrsc_diag *diag)
+{
+    gpu_blas_batch b;
+    xrsc_result res = XRSC_OK;
+    if ((res = blas_batch_alloc(ctx, gs, scene, &b, diag)) != XRSC_OK ||
+        (res = blas_create_all(ctx, gs, scene, &b, diag)) != XRSC_OK ||
+        (res = tlas_create(ctx, gs, scene, b.scratch_align, diag)) != XRSC_OK ||
+        (res = blas_scratch_create(ctx, &b, diag)) != XRSC_OK)
+        goto done;
+    res = accels_build_timed(ctx, gs, &b, diag);
+done:
+    blas_batch_free(ctx, &b);
     return res;
 }
 
