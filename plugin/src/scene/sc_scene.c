@@ -393,13 +393,33 @@ static bool strip_or_fan_to_list(int32_t mode, double **idx, size_t *icount)
     return true;
 }
 
-/** Builds the sc_mesh of document primitive gp (mesh m, primitive p). */
-static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t gp)
+/** Attribute and index arrays of one primitive as read from the file; prim_data_free frees. */
+typedef struct sc_prim_data {
+    double *pos, *nrm, *tan, *uv, *idx;
+    size_t vcount, ncount, tcount, uvcount, icount;
+} sc_prim_data;
+
+static void prim_data_free(sc_prim_data *pd)
 {
-    sc_gltf_doc *d = b->doc;
-    const sc_gltf_primitive *pr = &d->primitives[gp];
+    free(pd->pos);
+    free(pd->nrm);
+    free(pd->tan);
+    free(pd->uv);
+    free(pd->idx);
+}
+
+/** Where one primitive's vertices and indices went in the scene-wide arrays. */
+typedef struct sc_prim_out {
+    sc_vertex *verts;
+    uint32_t *inds;
+    size_t vcount, icount;
+    uint32_t first_vertex, first_index;
+} sc_prim_out;
+
+/** Rejects non-triangle modes, a missing POSITION and a material that does not exist. */
+static xrsc_result check_primitive(sc_build *b, uint32_t m, uint32_t p, const sc_gltf_primitive *pr)
+{
     char field[96];
-    xrsc_result r;
     if (pr->mode != SC_GLTF_MODE_TRIANGLES && pr->mode != SC_GLTF_MODE_TRIANGLE_STRIP &&
         pr->mode != SC_GLTF_MODE_TRIANGLE_FAN) {
         FIELD(field, "meshes[%u].primitives[%u].mode", m, p);
@@ -413,38 +433,58 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
         return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                           "POSITION is required");
     }
-    if (pr->material >= 0 && (uint32_t)pr->material >= d->material_count) {
+    if (pr->material >= 0 && (uint32_t)pr->material >= b->doc->material_count) {
         FIELD(field, "meshes[%u].primitives[%u].material", m, p);
         return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                           "material %d does not exist", pr->material);
     }
-    double *pos = NULL, *nrm = NULL, *tan = NULL, *uv = NULL, *idx = NULL;
-    size_t vcount = 0, ncount = 0, tcount = 0, uvcount = 0, icount = 0;
+    return XRSC_OK;
+}
+
+/** Reads POSITION, NORMAL, TEXCOORD_0 and TANGENT into pd and checks that their counts agree. */
+static xrsc_result read_attributes(sc_build *b, uint32_t m, uint32_t p, const sc_gltf_primitive *pr,
+                                   sc_prim_data *pd)
+{
+    char field[96];
     FIELD(field, "meshes[%u].primitives[%u].attributes.POSITION", m, p);
-    r = read_accessor(b, pr->position, 3, field, &pos, &vcount);
+    xrsc_result r = read_accessor(b, pr->position, 3, field, &pd->pos, &pd->vcount);
     if (r == XRSC_OK && pr->normal >= 0) {
         FIELD(field, "meshes[%u].primitives[%u].attributes.NORMAL", m, p);
-        r = read_accessor(b, pr->normal, 3, field, &nrm, &ncount);
+        r = read_accessor(b, pr->normal, 3, field, &pd->nrm, &pd->ncount);
     }
     if (r == XRSC_OK && pr->texcoord0 >= 0) {
         FIELD(field, "meshes[%u].primitives[%u].attributes.TEXCOORD_0", m, p);
-        r = read_accessor(b, pr->texcoord0, 2, field, &uv, &uvcount);
+        r = read_accessor(b, pr->texcoord0, 2, field, &pd->uv, &pd->uvcount);
     }
     /* TANGENT is only used with NORMAL (glTF §3.7.2.1: without normals, tangents are ignored). */
-    if (r == XRSC_OK && nrm && pr->tangent >= 0) {
+    if (r == XRSC_OK && pd->nrm && pr->tangent >= 0) {
         FIELD(field, "meshes[%u].primitives[%u].attributes.TANGENT", m, p);
-        r = read_accessor(b, pr->tangent, 4, field, &tan, &tcount);
-        if (r == XRSC_OK && tcount != vcount)
+        r = read_accessor(b, pr->tangent, 4, field, &pd->tan, &pd->tcount);
+        if (r == XRSC_OK && pd->tcount != pd->vcount)
             r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
-                           "TANGENT has %zu elements, POSITION %zu", tcount, vcount);
+                           "TANGENT has %zu elements, POSITION %zu", pd->tcount, pd->vcount);
     }
-    if (r == XRSC_OK && ((nrm && ncount != vcount) || (uv && uvcount != vcount))) {
+    if (r == XRSC_OK &&
+        ((pd->nrm && pd->ncount != pd->vcount) || (pd->uv && pd->uvcount != pd->vcount))) {
         FIELD(field, "meshes[%u].primitives[%u].attributes", m, p);
         r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                        "attribute counts differ (POSITION %zu, NORMAL %zu, TEXCOORD_0 %zu)",
-                       vcount, ncount, uvcount);
+                       pd->vcount, pd->ncount, pd->uvcount);
     }
-    if (r == XRSC_OK && pr->indices >= 0) {
+    return r;
+}
+
+/**
+ * Reads the indices into pd (none: the vertices in order), turns a strip or fan into a
+ * triangle list and checks every index against the vertex count.
+ */
+static xrsc_result read_indices(sc_build *b, uint32_t m, uint32_t p, const sc_gltf_primitive *pr,
+                                sc_prim_data *pd)
+{
+    sc_gltf_doc *d = b->doc;
+    char field[96];
+    xrsc_result r = XRSC_OK;
+    if (pr->indices >= 0) {
         FIELD(field, "meshes[%u].primitives[%u].indices", m, p);
         int32_t ct = pr->indices < (int32_t)d->accessor_count && pr->indices >= 0
                          ? d->accessors[pr->indices].component_type
@@ -454,115 +494,162 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
             r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                            "index componentType %d is not an unsigned integer type", ct);
         else
-            r = read_accessor(b, pr->indices, 1, field, &idx, &icount);
-    } else if (r == XRSC_OK) {
-        icount = vcount;
+            r = read_accessor(b, pr->indices, 1, field, &pd->idx, &pd->icount);
+    } else {
+        pd->icount = pd->vcount;
     }
     if (r == XRSC_OK && pr->mode != SC_GLTF_MODE_TRIANGLES &&
-        !strip_or_fan_to_list(pr->mode, &idx, &icount))
+        !strip_or_fan_to_list(pr->mode, &pd->idx, &pd->icount))
         r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
-    if (r == XRSC_OK && icount % 3 != 0) {
+    if (r == XRSC_OK && pd->icount % 3 != 0) {
         FIELD(field, "meshes[%u].primitives[%u].indices", m, p);
         r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
-                       "%zu indices is not a multiple of 3 (TRIANGLES)", icount);
+                       "%zu indices is not a multiple of 3 (TRIANGLES)", pd->icount);
     }
-    if (r == XRSC_OK && idx) {
-        for (size_t i = 0; i < icount; i++)
-            if (idx[i] >= (double)vcount) {
+    if (r == XRSC_OK && pd->idx) {
+        for (size_t i = 0; i < pd->icount; i++)
+            if (pd->idx[i] >= (double)pd->vcount) {
                 FIELD(field, "meshes[%u].primitives[%u].indices", m, p);
                 r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
-                               "index %.0f at position %zu is out of range (%zu vertices)", idx[i],
-                               i, vcount);
+                               "index %.0f at position %zu is out of range (%zu vertices)",
+                               pd->idx[i], i, pd->vcount);
                 break;
             }
     }
+    return r;
+}
+
+/** Appends room for the primitive's vertices and indices to the scene-wide arrays (o). */
+static xrsc_result reserve_geometry(sc_build *b, const sc_prim_data *pd, sc_prim_out *o)
+{
     /* Without normals the triangles are unwelded and get flat normals (glTF §3.7.2.1). */
-    size_t out_vcount = nrm ? vcount : icount;
-    if (r == XRSC_OK && (b->vertices.count + out_vcount > SC_MAX_ELEMENTS ||
-                         b->indices.count + icount > SC_MAX_ELEMENTS)) {
-        r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "meshes",
-                       "more than %u vertices or indices", SC_MAX_ELEMENTS);
-    }
-    sc_vertex *verts = NULL;
-    uint32_t *inds = NULL;
-    uint32_t first_vertex = (uint32_t)b->vertices.count, first_index = (uint32_t)b->indices.count;
-    if (r == XRSC_OK) {
-        verts = vec_push(&b->vertices, out_vcount);
-        inds = verts ? vec_push(&b->indices, icount) : NULL;
-        if (!verts || !inds)
-            r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
-    }
-    if (r == XRSC_OK) {
-        if (nrm) {
-            static const float up[3] = {0.0f, 1.0f, 0.0f};
-            for (size_t i = 0; i < vcount; i++) {
-                sc_vertex *v = &verts[i];
-                for (int c = 0; c < 3; c++) {
-                    v->position[c] = (float)pos[i * 3 + c];
-                    v->normal[c] = (float)nrm[i * 3 + c];
-                }
-                normalize3(v->normal, up);
-                if (uv) v->uv[0] = (float)uv[i * 2], v->uv[1] = (float)uv[i * 2 + 1];
-                if (tan) {
-                    for (int c = 0; c < 3; c++) v->tangent[c] = (float)tan[i * 4 + c];
-                    v->tangent[3] = tan[i * 4 + 3] < 0.0 ? -1.0f : 1.0f;
-                }
-            }
-            for (size_t i = 0; i < icount; i++)
-                inds[i] = first_vertex + (uint32_t)(idx ? idx[i] : (double)i);
-        } else {
-            for (size_t t = 0; t < icount / 3; t++) {
-                for (int k = 0; k < 3; k++) {
-                    size_t src = idx ? (size_t)idx[3 * t + k] : 3 * t + k;
-                    sc_vertex *v = &verts[3 * t + k];
-                    for (int c = 0; c < 3; c++) v->position[c] = (float)pos[src * 3 + c];
-                    if (uv) v->uv[0] = (float)uv[src * 2], v->uv[1] = (float)uv[src * 2 + 1];
-                }
-                float n[3];
-                face_normal(verts[3 * t].position, verts[3 * t + 1].position,
-                            verts[3 * t + 2].position, n);
-                for (int k = 0; k < 3; k++) memcpy(verts[3 * t + k].normal, n, sizeof n);
-            }
-            for (size_t i = 0; i < icount; i++) inds[i] = first_vertex + (uint32_t)i;
+    o->vcount = pd->nrm ? pd->vcount : pd->icount;
+    o->icount = pd->icount;
+    if (b->vertices.count + o->vcount > SC_MAX_ELEMENTS ||
+        b->indices.count + o->icount > SC_MAX_ELEMENTS)
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "meshes",
+                          "more than %u vertices or indices", SC_MAX_ELEMENTS);
+    o->first_vertex = (uint32_t)b->vertices.count;
+    o->first_index = (uint32_t)b->indices.count;
+    o->verts = vec_push(&b->vertices, o->vcount);
+    o->inds = o->verts ? vec_push(&b->indices, o->icount) : NULL;
+    if (!o->verts || !o->inds)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    return XRSC_OK;
+}
+
+/** With NORMAL: one vertex per file vertex, the file's indices. */
+static void fill_smooth_vertices(const sc_prim_data *pd, sc_prim_out *o)
+{
+    static const float up[3] = {0.0f, 1.0f, 0.0f};
+    for (size_t i = 0; i < pd->vcount; i++) {
+        sc_vertex *v = &o->verts[i];
+        for (int c = 0; c < 3; c++) {
+            v->position[c] = (float)pd->pos[i * 3 + c];
+            v->normal[c] = (float)pd->nrm[i * 3 + c];
         }
-        if (tan) {
-            /* Made orthonormal to the normal; a degenerate tangent gets a generated one. */
-            bool degenerate = false;
-            for (size_t i = 0; i < out_vcount; i++) {
-                float *t = verts[i].tangent, d = dot3(verts[i].normal, t);
-                for (int c = 0; c < 3; c++) t[c] -= d * verts[i].normal[c];
-                float len = sqrtf(dot3(t, t));
-                if (!(len > 1e-12f)) degenerate = true;
-                else for (int c = 0; c < 3; c++) t[c] /= len;
-            }
-            if (degenerate && !generate_tangents(verts, out_vcount, inds, icount, first_vertex))
-                r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
-        } else if (!generate_tangents(verts, out_vcount, inds, icount, first_vertex)) {
-            r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
-        }
-        if (r == XRSC_OK && !b->opt->keep_triangle_order &&
-            !sc_morton_sort_triangles((const sc_vertex *)b->vertices.data, inds,
-                                      (uint32_t)icount))
-            r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
-    }
-    if (r == XRSC_OK) {
-        sc_mesh *mesh = vec_push(&b->meshes, 1);
-        if (!mesh) {
-            r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
-        } else {
-            mesh->first_vertex = first_vertex;
-            mesh->vertex_count = (uint32_t)out_vcount;
-            mesh->first_index = first_index;
-            mesh->index_count = (uint32_t)icount;
-            mesh->material = pr->material >= 0 ? (uint32_t)pr->material : d->material_count;
-            b->prim_mesh[gp] = (uint32_t)(b->meshes.count - 1);
+        normalize3(v->normal, up);
+        if (pd->uv)
+            v->uv[0] = (float)pd->uv[i * 2], v->uv[1] = (float)pd->uv[i * 2 + 1];
+        if (pd->tan) {
+            for (int c = 0; c < 3; c++)
+                v->tangent[c] = (float)pd->tan[i * 4 + c];
+            v->tangent[3] = pd->tan[i * 4 + 3] < 0.0 ? -1.0f : 1.0f;
         }
     }
-    free(pos);
-    free(nrm);
-    free(tan);
-    free(uv);
-    free(idx);
+    for (size_t i = 0; i < o->icount; i++)
+        o->inds[i] = o->first_vertex + (uint32_t)(pd->idx ? pd->idx[i] : (double)i);
+}
+
+/** Without NORMAL: three vertices per triangle, each with the triangle's face normal. */
+static void fill_flat_vertices(const sc_prim_data *pd, sc_prim_out *o)
+{
+    sc_vertex *verts = o->verts;
+    for (size_t t = 0; t < o->icount / 3; t++) {
+        for (int k = 0; k < 3; k++) {
+            size_t src = pd->idx ? (size_t)pd->idx[3 * t + k] : 3 * t + k;
+            sc_vertex *v = &verts[3 * t + k];
+            for (int c = 0; c < 3; c++)
+                v->position[c] = (float)pd->pos[src * 3 + c];
+            if (pd->uv)
+                v->uv[0] = (float)pd->uv[src * 2], v->uv[1] = (float)pd->uv[src * 2 + 1];
+        }
+        float n[3];
+        face_normal(verts[3 * t].position, verts[3 * t + 1].position, verts[3 * t + 2].position, n);
+        for (int k = 0; k < 3; k++)
+            memcpy(verts[3 * t + k].normal, n, sizeof n);
+    }
+    for (size_t i = 0; i < o->icount; i++)
+        o->inds[i] = o->first_vertex + (uint32_t)i;
+}
+
+/** The file's tangents made orthonormal to the normal; missing or degenerate: generated. */
+static xrsc_result finish_tangents(sc_build *b, const sc_prim_data *pd, sc_prim_out *o)
+{
+    bool generate = true;
+    if (pd->tan) {
+        bool degenerate = false;
+        for (size_t i = 0; i < o->vcount; i++) {
+            float *t = o->verts[i].tangent, d = dot3(o->verts[i].normal, t);
+            for (int c = 0; c < 3; c++)
+                t[c] -= d * o->verts[i].normal[c];
+            float len = sqrtf(dot3(t, t));
+            if (!(len > 1e-12f))
+                degenerate = true;
+            else
+                for (int c = 0; c < 3; c++)
+                    t[c] /= len;
+        }
+        generate = degenerate;
+    }
+    if (generate && !generate_tangents(o->verts, o->vcount, o->inds, o->icount, o->first_vertex))
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    return XRSC_OK;
+}
+
+/** Records the sc_mesh of document primitive gp, whose geometry is o. */
+static xrsc_result add_mesh(sc_build *b, const sc_gltf_primitive *pr, uint32_t gp,
+                            const sc_prim_out *o)
+{
+    sc_mesh *mesh = vec_push(&b->meshes, 1);
+    if (!mesh)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    mesh->first_vertex = o->first_vertex;
+    mesh->vertex_count = (uint32_t)o->vcount;
+    mesh->first_index = o->first_index;
+    mesh->index_count = (uint32_t)o->icount;
+    mesh->material = pr->material >= 0 ? (uint32_t)pr->material : b->doc->material_count;
+    b->prim_mesh[gp] = (uint32_t)(b->meshes.count - 1);
+    return XRSC_OK;
+}
+
+/** Builds the sc_mesh of document primitive gp (mesh m, primitive p). */
+static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t gp)
+{
+    const sc_gltf_primitive *pr = &b->doc->primitives[gp];
+    xrsc_result r = check_primitive(b, m, p, pr);
+    if (r != XRSC_OK)
+        return r;
+    sc_prim_data pd = {0};
+    sc_prim_out o = {0};
+    r = read_attributes(b, m, p, pr, &pd);
+    if (r == XRSC_OK)
+        r = read_indices(b, m, p, pr, &pd);
+    if (r == XRSC_OK)
+        r = reserve_geometry(b, &pd, &o);
+    if (r == XRSC_OK) {
+        if (pd.nrm)
+            fill_smooth_vertices(&pd, &o);
+        else
+            fill_flat_vertices(&pd, &o);
+        r = finish_tangents(b, &pd, &o);
+    }
+    if (r == XRSC_OK && !b->opt->keep_triangle_order &&
+        !sc_morton_sort_triangles((const sc_vertex *)b->vertices.data, o.inds, (uint32_t)o.icount))
+        r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    if (r == XRSC_OK)
+        r = add_mesh(b, pr, gp, &o);
+    prim_data_free(&pd);
     return r;
 }
 
