@@ -930,6 +930,190 @@ static xrsc_result build_channels(sc_build *b, bool *node_animated)
 
 /* ---------------------------------------------------------------- instances ------------ */
 
+/** State of the walk over the chosen scene's nodes (build_instances). */
+typedef struct sc_walk {
+    sc_build *b;
+    int32_t *stack;     /**< nodes still to visit, at most node_count */
+    uint32_t top;       /**< entries on stack */
+    bool *seen;         /**< node visited */
+    bool *anim_below;   /**< node or an ancestor animated */
+    bool cameras_extra; /**< a perspective camera after the first one */
+    int32_t *out_camera_node, *out_sun_node, *out_sun_light;
+    char nonroot_field[96]; /**< the first scene list entry that is not a root, or "" */
+    int32_t nonroot_node;   /**< the node it names */
+} sc_walk;
+
+/**
+ * The chosen scene's list of root nodes, or every node without a parent when the file has
+ * no scenes (then *out_all_roots holds the list and the caller frees it).
+ */
+static xrsc_result scene_roots(sc_build *b, int32_t scene_index, const int32_t **out_roots,
+                               uint32_t *out_count, int32_t **out_all_roots)
+{
+    sc_gltf_doc *d = b->doc;
+    if (scene_index >= 0) {
+        const sc_gltf_scene *sc = &d->scenes[scene_index];
+        if (sc->first_root > d->roots_count || sc->root_count > d->roots_count - sc->first_root)
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "scenes",
+                              "internal: bad root range");
+        *out_roots = sc->root_count ? d->roots + sc->first_root : NULL;
+        *out_count = sc->root_count;
+        return XRSC_OK;
+    }
+    /* No scenes: every root node is drawn. */
+    int32_t *all_roots = calloc(d->node_count ? d->node_count : 1, sizeof(int32_t));
+    if (!all_roots)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    uint32_t nroots = 0;
+    for (uint32_t i = 0; i < d->node_count; i++)
+        if (b->s->nodes[i].parent < 0)
+            all_roots[nroots++] = (int32_t)i;
+    *out_roots = *out_all_roots = all_roots;
+    *out_count = nroots;
+    return XRSC_OK;
+}
+
+/** One instance per primitive of node ni's mesh. */
+static xrsc_result add_node_instances(sc_walk *w, int32_t ni, const sc_gltf_mesh *gm)
+{
+    sc_build *b = w->b;
+    for (uint32_t p = 0; p < gm->primitive_count; p++) {
+        sc_instance *inst = vec_push(&b->instances, 1);
+        if (!inst)
+            return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+        inst->mesh = b->prim_mesh[gm->first_primitive + p];
+        inst->node = (uint32_t)ni;
+        inst->animated = w->anim_below[ni];
+    }
+    return XRSC_OK;
+}
+
+/** Keeps the first perspective camera (node ni's); notes the others. */
+static void note_camera(sc_walk *w, int32_t ni, const sc_gltf_node *g)
+{
+    sc_gltf_doc *d = w->b->doc;
+    if (!d->cameras[g->camera].perspective)
+        sc_gltf_note(d, "orthographic cameras");
+    else if (*w->out_camera_node < 0)
+        *w->out_camera_node = ni;
+    else
+        w->cameras_extra = true;
+}
+
+/** Keeps the first directional light (node ni's) as the sun; notes the others. */
+static void note_light(sc_walk *w, int32_t ni, const sc_gltf_node *g)
+{
+    sc_gltf_doc *d = w->b->doc;
+    sc_gltf_light_type t = d->lights[g->light].type;
+    if (t == SC_GLTF_LIGHT_DIRECTIONAL && *w->out_sun_node < 0) {
+        *w->out_sun_node = ni;
+        *w->out_sun_light = g->light;
+    } else if (t == SC_GLTF_LIGHT_DIRECTIONAL) {
+        sc_gltf_note(d, "directional lights beyond the first");
+    } else {
+        sc_gltf_note(d, t == SC_GLTF_LIGHT_OTHER ? "unknown light types" : "point and spot lights");
+    }
+}
+
+/**
+ * Visits node ni: its instances, camera and light, then pushes its children. A failure to
+ * add an instance still lets the camera and light be checked (their errors take precedence).
+ */
+static xrsc_result visit_node(sc_walk *w, int32_t ni)
+{
+    sc_build *b = w->b;
+    sc_gltf_doc *d = b->doc;
+    char field[96];
+    xrsc_result r = XRSC_OK;
+    w->seen[ni] = true;
+    const sc_gltf_node *g = &d->nodes[ni];
+    if (g->mesh >= 0) {
+        if ((uint32_t)g->mesh >= d->mesh_count) {
+            FIELD(field, "nodes[%d].mesh", ni);
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                              "mesh %d does not exist", g->mesh);
+        }
+        r = add_node_instances(w, ni, &d->meshes[g->mesh]);
+    }
+    if (g->camera >= 0) {
+        if ((uint32_t)g->camera >= d->camera_count) {
+            FIELD(field, "nodes[%d].camera", ni);
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                              "camera %d does not exist", g->camera);
+        }
+        note_camera(w, ni, g);
+    }
+    if (g->light >= 0) {
+        if ((uint32_t)g->light >= d->light_count) {
+            FIELD(field, "nodes[%d].extensions.KHR_lights_punctual.light", ni);
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                              "light %d does not exist", g->light);
+        }
+        note_light(w, ni, g);
+    }
+    /* Push children in reverse so that they are visited in file order. */
+    for (uint32_t k = g->child_count; k-- > 0;) {
+        int32_t c = d->children[g->first_child + k];
+        if (w->top < d->node_count)
+            w->stack[w->top++] = c;
+    }
+    return r;
+}
+
+/** Walks the tree under root depth-first. */
+static xrsc_result walk_root(sc_walk *w, int32_t root)
+{
+    xrsc_result r = XRSC_OK;
+    w->top = 0;
+    w->stack[w->top++] = root;
+    while (r == XRSC_OK && w->top > 0)
+        r = visit_node(w, w->stack[--w->top]);
+    return r;
+}
+
+/** animated = node or an ancestor animated; node_order has parents first. */
+static void mark_animated(const sc_scene *s, const bool *node_animated, bool *anim_below)
+{
+    for (uint32_t k = 0; k < s->node_count; k++) {
+        uint32_t i = s->node_order[k];
+        anim_below[i] = node_animated[i] ||
+                        (s->nodes[i].parent >= 0 && anim_below[s->nodes[i].parent]);
+    }
+}
+
+/** Walks the tree of each root that the scene's node list reaches, each root once. */
+static xrsc_result walk_scene(sc_walk *w, int32_t scene_index, const int32_t *roots,
+                              uint32_t nroots)
+{
+    sc_build *b = w->b;
+    const sc_scene *s = b->s;
+    char field[96];
+    for (uint32_t ri = 0; ri < nroots; ri++) {
+        int32_t root = roots[ri];
+        FIELD(field, "scenes[%d].nodes[%u]", scene_index, ri);
+        if (root < 0 || (uint32_t)root >= b->doc->node_count)
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                              "node %d does not exist", root);
+        /* Viewers (Blender, three.js, cgltf) accept scene lists that also name non-root
+         * nodes (glTF 2.0 §3.5.2 says they must be roots): draw the root each one belongs
+         * to, each root once, and say so in one warning. build_nodes rejected cycles. */
+        int32_t listed = root;
+        while (s->nodes[root].parent >= 0) root = s->nodes[root].parent;
+        if (root != listed || w->seen[root]) {
+            if (!w->nonroot_field[0]) {
+                snprintf(w->nonroot_field, sizeof w->nonroot_field, "%s", field);
+                w->nonroot_node = listed;
+            }
+            if (w->seen[root])
+                continue;
+        }
+        xrsc_result r = walk_root(w, root);
+        if (r != XRSC_OK)
+            return r;
+    }
+    return XRSC_OK;
+}
+
 /** Walks the chosen scene depth-first: instances, first perspective camera, first sun. */
 static xrsc_result build_instances(sc_build *b, int32_t scene_index, const bool *node_animated,
                                    int32_t *out_camera_node, int32_t *out_sun_node,
@@ -937,136 +1121,41 @@ static xrsc_result build_instances(sc_build *b, int32_t scene_index, const bool 
 {
     sc_gltf_doc *d = b->doc;
     sc_scene *s = b->s;
-    char field[96];
     *out_camera_node = *out_sun_node = *out_sun_light = -1;
     uint32_t nroots = 0;
     const int32_t *roots = NULL;
     int32_t *all_roots = NULL;
-    if (scene_index >= 0) {
-        const sc_gltf_scene *sc = &d->scenes[scene_index];
-        if (sc->first_root > d->roots_count || sc->root_count > d->roots_count - sc->first_root)
-            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "scenes",
-                              "internal: bad root range");
-        roots = sc->root_count ? d->roots + sc->first_root : NULL;
-        nroots = sc->root_count;
-    } else {
-        /* No scenes: every root node is drawn. */
-        all_roots = calloc(d->node_count ? d->node_count : 1, sizeof(int32_t));
-        if (!all_roots)
-            return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
-        for (uint32_t i = 0; i < d->node_count; i++)
-            if (s->nodes[i].parent < 0) all_roots[nroots++] = (int32_t)i;
-        roots = all_roots;
-    }
+    xrsc_result r = scene_roots(b, scene_index, &roots, &nroots, &all_roots);
+    if (r != XRSC_OK)
+        return r;
     /* Each node has at most one parent and there are no cycles, so the stack never holds
      * more than node_count entries, and each node is visited at most once per root listing. */
-    int32_t *stack = calloc(d->node_count ? d->node_count : 1, sizeof(int32_t));
-    bool *seen = calloc(d->node_count ? d->node_count : 1, sizeof(bool));
-    bool *anim_below = calloc(d->node_count ? d->node_count : 1, sizeof(bool));
-    xrsc_result r = XRSC_OK;
-    if (!stack || !seen || !anim_below)
+    size_t n = d->node_count ? d->node_count : 1;
+    sc_walk w = {.b = b,
+                 .stack = calloc(n, sizeof(int32_t)),
+                 .seen = calloc(n, sizeof(bool)),
+                 .anim_below = calloc(n, sizeof(bool)),
+                 .out_camera_node = out_camera_node,
+                 .out_sun_node = out_sun_node,
+                 .out_sun_light = out_sun_light,
+                 .nonroot_node = -1};
+    if (!w.stack || !w.seen || !w.anim_below)
         r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
-    /* animated = node or an ancestor animated; node_order has parents first. */
-    for (uint32_t k = 0; r == XRSC_OK && k < d->node_count; k++) {
-        uint32_t i = s->node_order[k];
-        anim_below[i] = node_animated[i] ||
-                        (s->nodes[i].parent >= 0 && anim_below[s->nodes[i].parent]);
+    if (r == XRSC_OK) {
+        mark_animated(s, node_animated, w.anim_below);
+        r = walk_scene(&w, scene_index, roots, nroots);
     }
-    bool cameras_extra = false;
-    char nonroot_field[96] = "";
-    int32_t nonroot_node = -1;
-    for (uint32_t ri = 0; r == XRSC_OK && ri < nroots; ri++) {
-        int32_t root = roots[ri];
-        FIELD(field, "scenes[%d].nodes[%u]", scene_index, ri);
-        if (root < 0 || (uint32_t)root >= d->node_count) {
-            r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
-                           "node %d does not exist", root);
-            break;
-        }
-        /* Viewers (Blender, three.js, cgltf) accept scene lists that also name non-root
-         * nodes (glTF 2.0 §3.5.2 says they must be roots): draw the root each one belongs
-         * to, each root once, and say so in one warning. build_nodes rejected cycles. */
-        int32_t listed = root;
-        while (s->nodes[root].parent >= 0) root = s->nodes[root].parent;
-        if (root != listed || seen[root]) {
-            if (!nonroot_field[0]) {
-                snprintf(nonroot_field, sizeof nonroot_field, "%s", field);
-                nonroot_node = listed;
-            }
-            if (seen[root]) continue;
-        }
-        uint32_t top = 0;
-        stack[top++] = root;
-        while (r == XRSC_OK && top > 0) {
-            int32_t ni = stack[--top];
-            seen[ni] = true;
-            const sc_gltf_node *g = &d->nodes[ni];
-            if (g->mesh >= 0) {
-                if ((uint32_t)g->mesh >= d->mesh_count) {
-                    FIELD(field, "nodes[%d].mesh", ni);
-                    r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
-                                   "mesh %d does not exist", g->mesh);
-                    break;
-                }
-                const sc_gltf_mesh *gm = &d->meshes[g->mesh];
-                for (uint32_t p = 0; p < gm->primitive_count; p++) {
-                    sc_instance *inst = vec_push(&b->instances, 1);
-                    if (!inst) {
-                        r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "",
-                                       "out of memory");
-                        break;
-                    }
-                    inst->mesh = b->prim_mesh[gm->first_primitive + p];
-                    inst->node = (uint32_t)ni;
-                    inst->animated = anim_below[ni];
-                }
-            }
-            if (g->camera >= 0) {
-                if ((uint32_t)g->camera >= d->camera_count) {
-                    FIELD(field, "nodes[%d].camera", ni);
-                    r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
-                                   "camera %d does not exist", g->camera);
-                    break;
-                }
-                if (!d->cameras[g->camera].perspective) sc_gltf_note(d, "orthographic cameras");
-                else if (*out_camera_node < 0) *out_camera_node = ni;
-                else cameras_extra = true;
-            }
-            if (g->light >= 0) {
-                if ((uint32_t)g->light >= d->light_count) {
-                    FIELD(field, "nodes[%d].extensions.KHR_lights_punctual.light", ni);
-                    r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
-                                   "light %d does not exist", g->light);
-                    break;
-                }
-                sc_gltf_light_type t = d->lights[g->light].type;
-                if (t == SC_GLTF_LIGHT_DIRECTIONAL && *out_sun_node < 0) {
-                    *out_sun_node = ni;
-                    *out_sun_light = g->light;
-                } else if (t == SC_GLTF_LIGHT_DIRECTIONAL) {
-                    sc_gltf_note(d, "directional lights beyond the first");
-                } else {
-                    sc_gltf_note(d, t == SC_GLTF_LIGHT_OTHER ? "unknown light types"
-                                                             : "point and spot lights");
-                }
-            }
-            /* Push children in reverse so that they are visited in file order. */
-            for (uint32_t k = g->child_count; k-- > 0;) {
-                int32_t c = d->children[g->first_child + k];
-                if (top < d->node_count) stack[top++] = c;
-            }
-        }
-    }
-    if (cameras_extra) sc_gltf_note(d, "cameras beyond the first");
-    if (r == XRSC_OK && nonroot_field[0]) {
+    if (w.cameras_extra)
+        sc_gltf_note(d, "cameras beyond the first");
+    if (r == XRSC_OK && w.nonroot_field[0]) {
         U_LOG_W("%s: %s: node %d is not a root or is listed twice (glTF 2.0 §3.5.2); drawing "
                 "the root nodes the scene's list reaches, each once",
-                b->name, nonroot_field, nonroot_node);
+                b->name, w.nonroot_field, w.nonroot_node);
         s->warning_count++;
     }
-    free(stack);
-    free(seen);
-    free(anim_below);
+    free(w.stack);
+    free(w.seen);
+    free(w.anim_below);
     free(all_roots);
     return r;
 }
