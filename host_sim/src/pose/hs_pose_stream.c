@@ -695,182 +695,213 @@ static xrsc_result librnr_push_views(hs_parser *p, int64_t raw, const hs_view_sa
     return XRSC_OK;
 }
 
+/** State of one librnr import (parse_librnr). */
+typedef struct hs_librnr {
+    char view_space[HS_LIBRNR_MAX_NAME]; /**< the space whose `v` records are used */
+    char head_base[HS_LIBRNR_MAX_NAME];  /**< the base space of the `s` head records used */
+    size_t views_capacity;
+    /** The pair of `v` records being collected: both eyes share one timestamp. */
+    hs_view_sample pending;
+    int64_t pending_time, last_view_time, last_head_time;
+    bool have[2];
+    /** `s` head records, kept aside: used only when the file has no stereo `v` pairs. */
+    hs_pose_sample *heads;
+    size_t head_count, head_capacity;
+    uint32_t skipped, incomplete;
+} hs_librnr;
+
+/** Appends an `s` head record to the ones kept aside. */
+static xrsc_result librnr_keep_head(hs_parser *p, hs_librnr *st, int64_t t, XrPosef pose)
+{
+    if (t < st->last_head_time)
+        return u_diag_set(p->diag, XRSC_ERROR_TIME_BACKWARDS, p->name, p->line, "timestamp",
+                          "timestamp %" PRId64 " is earlier than the previous head "
+                          "record's %" PRId64,
+                          t, st->last_head_time);
+    st->last_head_time = t;
+    if (st->head_count == st->head_capacity) {
+        size_t cap = st->head_capacity ? st->head_capacity * 2 : HS_INITIAL_CAPACITY;
+        hs_pose_sample *nh = realloc(st->heads, cap * sizeof(*nh));
+        if (!nh)
+            return u_diag_set(p->diag, XRSC_ERROR_OUT_OF_MEMORY, p->name, p->line, "",
+                              "cannot grow the head record array to %zu", cap);
+        st->heads = nh;
+        st->head_capacity = cap;
+    }
+    st->heads[st->head_count].time_ns = t;
+    st->heads[st->head_count].pose = pose;
+    st->head_count++;
+    return XRSC_OK;
+}
+
+/** An `s` (space) record of n fields at time t: kept when it is the head's. */
+static xrsc_result librnr_space_record(hs_parser *p, hs_librnr *st, const hs_field *f, size_t n,
+                                       int64_t t)
+{
+    if (n < 11)
+        return u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
+                          hs_librnr_s_names[n - 3], "%zu of 11 fields", n);
+    if (n > 11)
+        return extra_field(p, 11, n);
+    XrPosef pose;
+    xrsc_result r = librnr_pose(p, &f[3], hs_librnr_s_names, &pose);
+    if (r != XRSC_OK)
+        return r;
+    if (!librnr_is_head_space(f[2]) || !librnr_same_name(st->head_base, f[10])) {
+        st->skipped++;
+        return XRSC_OK;
+    }
+    return librnr_keep_head(p, st, t, pose);
+}
+
+/** The field of view of a `v` record: up right down left, in the file's order, into a. */
+static xrsc_result librnr_fov(hs_parser *p, const hs_field *f, double a[4])
+{
+    for (int i = 0; i < 4; i++) {
+        xrsc_result r = parse_double(p, f[10 + i], hs_librnr_v_names[7 + i], &a[i]);
+        if (r != XRSC_OK)
+            return r;
+        if (fabs(a[i]) >= HS_LIBRNR_MAX_FOV_RAD)
+            return u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line,
+                              hs_librnr_v_names[7 + i],
+                              "%.9g rad is not a field-of-view angle (|angle| < pi/2)", a[i]);
+    }
+    if (!(a[0] > a[2]) || !(a[1] > a[3]))
+        return u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, "up right down left",
+                          "empty field of view (needs up > down and right > left)");
+    return XRSC_OK;
+}
+
+/** The view configuration type and eye index of a `v` record: PRIMARY_STEREO, 0 or 1. */
+static xrsc_result librnr_view_index(hs_parser *p, const hs_field *f, int64_t *out_index)
+{
+    int64_t vtype, index;
+    xrsc_result r;
+    if ((r = parse_int64(p, f[14], "type", &vtype)) != XRSC_OK ||
+        (r = parse_int64(p, f[15], "index", &index)) != XRSC_OK)
+        return r;
+    if (vtype != HS_LIBRNR_STEREO_TYPE)
+        return u_diag_set(p->diag, XRSC_ERROR_UNKNOWN_COLUMN, p->name, p->line, "type",
+                          "view configuration type %" PRId64 " is not imported (only %d, "
+                          "PRIMARY_STEREO)",
+                          vtype, HS_LIBRNR_STEREO_TYPE);
+    if (index != 0 && index != 1)
+        return u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, "index",
+                          "view index %" PRId64 " of a stereo pair (0 left, 1 right)", index);
+    *out_index = index;
+    return XRSC_OK;
+}
+
+/** A `v` (view) record of n fields at time t: one eye; a complete pair becomes a sample. */
+static xrsc_result librnr_view_record(hs_parser *p, hs_librnr *st, const hs_field *f, size_t n,
+                                      int64_t t)
+{
+    if (n < 16)
+        return u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
+                          hs_librnr_v_names[n - 3], "%zu of 16 fields", n);
+    if (n > 16)
+        return extra_field(p, 16, n);
+    XrPosef pose;
+    double a[4]; /* up right down left, in the file's order */
+    int64_t index = 0;
+    xrsc_result r;
+    if ((r = librnr_pose(p, &f[3], hs_librnr_v_names, &pose)) != XRSC_OK ||
+        (r = librnr_fov(p, f, a)) != XRSC_OK || (r = librnr_view_index(p, f, &index)) != XRSC_OK)
+        return r;
+    if (!librnr_same_name(st->view_space, f[2])) {
+        st->skipped++;
+        return XRSC_OK;
+    }
+    if (t < st->last_view_time)
+        return u_diag_set(p->diag, XRSC_ERROR_TIME_BACKWARDS, p->name, p->line, "timestamp",
+                          "timestamp %" PRId64 " is earlier than the previous view's %" PRId64, t,
+                          st->last_view_time);
+    st->last_view_time = t;
+    if (t != st->pending_time || (!st->have[0] && !st->have[1])) {
+        if (st->have[0] != st->have[1])
+            st->incomplete++;
+        st->have[0] = st->have[1] = false;
+        st->pending_time = t;
+    }
+    st->pending.pose[index] = pose;
+    st->pending.fov[index] = (XrFovf){.angleLeft = (float)a[3],
+                                      .angleRight = (float)a[1],
+                                      .angleUp = (float)a[0],
+                                      .angleDown = (float)a[2]};
+    st->have[index] = true;
+    if (st->have[0] && st->have[1])
+        return librnr_push_views(p, t, &st->pending, &st->views_capacity);
+    return XRSC_OK;
+}
+
+/** One content line: the timestamp and record type, then the record by type. */
+static xrsc_result librnr_record(hs_parser *p, hs_librnr *st, const char *line, size_t len)
+{
+    hs_field f[17];
+    size_t n = split_fields(line, len, 0, f, 17);
+    if (n < 3)
+        return u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
+                          hs_librnr_head_names[n], "%zu of at least 3 fields", n);
+    int64_t t;
+    xrsc_result r = parse_int64(p, f[0], "timestamp", &t);
+    if (r != XRSC_OK)
+        return r;
+    if (f[1].len != 1 || !strchr("svbf", f[1].begin[0]))
+        return u_diag_set(p->diag, XRSC_ERROR_UNKNOWN_COLUMN, p->name, p->line, "type",
+                          "unknown record type '%.*s' (librnr has s, v, b and f)",
+                          (int)(f[1].len < 16 ? f[1].len : 16), f[1].begin);
+    char type = f[1].begin[0];
+    if (type == 'b' || type == 'f')
+        return XRSC_OK; /* input actions: not poses */
+    if (type == 's')
+        return librnr_space_record(p, st, f, n, t);
+    return librnr_view_record(p, st, f, n, t);
+}
+
+/** After the last line: the head records when there are no view pairs, then the summary. */
+static xrsc_result librnr_finish(hs_parser *p, hs_librnr *st)
+{
+    if (p->stream->count == 0) {
+        for (size_t i = 0; i < st->head_count; i++) {
+            xrsc_result r =
+                push_raw_sample(p, st->heads[i].time_ns, 1, "timestamp", st->heads[i].pose);
+            if (r != XRSC_OK)
+                return r;
+        }
+    }
+    if (p->stream->count == 0)
+        return u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "",
+                          "no head poses: no stereo pair of `v` records and no `s` record of "
+                          "/user/head or XR_REFERENCE_SPACE_TYPE_VIEW");
+    if (st->skipped > 0 || st->incomplete > 0)
+        U_LOG_W("%s: librnr import used the %s records of '%s'; skipped %u records of other "
+                "spaces or devices and %u incomplete eye pairs",
+                p->name, p->stream->views ? "view" : "head space",
+                p->stream->views ? st->view_space : st->head_base, st->skipped, st->incomplete);
+    return XRSC_OK;
+}
+
 /** librnr's OpenXR record text (poses/README.md, "Importer: librnr"). */
 static xrsc_result parse_librnr(hs_parser *p)
 {
     const char *line;
     size_t len;
     xrsc_result r = XRSC_OK;
-    char view_space[HS_LIBRNR_MAX_NAME] = "", head_base[HS_LIBRNR_MAX_NAME] = "";
-    size_t views_capacity = 0;
-    /* The pair of `v` records being collected: both eyes share one timestamp. */
-    hs_view_sample pending = {0};
-    int64_t pending_time = 0, last_view_time = INT64_MIN, last_head_time = INT64_MIN;
-    bool have[2] = {false, false};
-    /* `s` head records, kept aside: used only when the file has no stereo `v` pairs. */
-    hs_pose_sample *heads = NULL;
-    size_t head_count = 0, head_capacity = 0;
-    uint32_t skipped = 0, incomplete = 0;
+    hs_librnr st = {.last_view_time = INT64_MIN, .last_head_time = INT64_MIN};
     bool any = false;
-
-    while (next_content_line(p, &line, &len)) {
-        hs_field f[17];
-        size_t n = split_fields(line, len, 0, f, 17);
-        if (n < 3) {
-            r = u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
-                           hs_librnr_head_names[n], "%zu of at least 3 fields", n);
-            goto done;
-        }
+    while (r == XRSC_OK && next_content_line(p, &line, &len)) {
         any = true;
-        int64_t t;
-        if ((r = parse_int64(p, f[0], "timestamp", &t)) != XRSC_OK)
-            goto done;
-        if (f[1].len != 1 || !strchr("svbf", f[1].begin[0])) {
-            r = u_diag_set(p->diag, XRSC_ERROR_UNKNOWN_COLUMN, p->name, p->line, "type",
-                           "unknown record type '%.*s' (librnr has s, v, b and f)",
-                           (int)(f[1].len < 16 ? f[1].len : 16), f[1].begin);
-            goto done;
-        }
-        char type = f[1].begin[0];
-        if (type == 'b' || type == 'f')
-            continue; /* input actions: not poses */
-        if (type == 's') {
-            if (n < 11) {
-                r = u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
-                               hs_librnr_s_names[n - 3], "%zu of 11 fields", n);
-                goto done;
-            }
-            if (n > 11) {
-                r = extra_field(p, 11, n);
-                goto done;
-            }
-            XrPosef pose;
-            if ((r = librnr_pose(p, &f[3], hs_librnr_s_names, &pose)) != XRSC_OK)
-                goto done;
-            if (!librnr_is_head_space(f[2]) || !librnr_same_name(head_base, f[10])) {
-                skipped++;
-                continue;
-            }
-            if (t < last_head_time) {
-                r = u_diag_set(p->diag, XRSC_ERROR_TIME_BACKWARDS, p->name, p->line, "timestamp",
-                               "timestamp %" PRId64 " is earlier than the previous head "
-                               "record's %" PRId64,
-                               t, last_head_time);
-                goto done;
-            }
-            last_head_time = t;
-            if (head_count == head_capacity) {
-                size_t cap = head_capacity ? head_capacity * 2 : HS_INITIAL_CAPACITY;
-                hs_pose_sample *nh = realloc(heads, cap * sizeof(*nh));
-                if (!nh) {
-                    r = u_diag_set(p->diag, XRSC_ERROR_OUT_OF_MEMORY, p->name, p->line, "",
-                                   "cannot grow the head record array to %zu", cap);
-                    goto done;
-                }
-                heads = nh;
-                head_capacity = cap;
-            }
-            heads[head_count].time_ns = t;
-            heads[head_count].pose = pose;
-            head_count++;
-            continue;
-        }
-        /* type == 'v' */
-        if (n < 16) {
-            r = u_diag_set(p->diag, XRSC_ERROR_TRUNCATED_LINE, p->name, p->line,
-                           hs_librnr_v_names[n - 3], "%zu of 16 fields", n);
-            goto done;
-        }
-        if (n > 16) {
-            r = extra_field(p, 16, n);
-            goto done;
-        }
-        XrPosef pose;
-        if ((r = librnr_pose(p, &f[3], hs_librnr_v_names, &pose)) != XRSC_OK)
-            goto done;
-        double a[4]; /* up right down left, in the file's order */
-        for (int i = 0; i < 4; i++) {
-            if ((r = parse_double(p, f[10 + i], hs_librnr_v_names[7 + i], &a[i])) != XRSC_OK)
-                goto done;
-            if (fabs(a[i]) >= HS_LIBRNR_MAX_FOV_RAD) {
-                r = u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line,
-                               hs_librnr_v_names[7 + i],
-                               "%.9g rad is not a field-of-view angle (|angle| < pi/2)", a[i]);
-                goto done;
-            }
-        }
-        if (!(a[0] > a[2]) || !(a[1] > a[3])) {
-            r = u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, "up right down left",
-                           "empty field of view (needs up > down and right > left)");
-            goto done;
-        }
-        int64_t vtype, index;
-        if ((r = parse_int64(p, f[14], "type", &vtype)) != XRSC_OK ||
-            (r = parse_int64(p, f[15], "index", &index)) != XRSC_OK)
-            goto done;
-        if (vtype != HS_LIBRNR_STEREO_TYPE) {
-            r = u_diag_set(p->diag, XRSC_ERROR_UNKNOWN_COLUMN, p->name, p->line, "type",
-                           "view configuration type %" PRId64 " is not imported (only %d, "
-                           "PRIMARY_STEREO)",
-                           vtype, HS_LIBRNR_STEREO_TYPE);
-            goto done;
-        }
-        if (index != 0 && index != 1) {
-            r = u_diag_set(p->diag, XRSC_ERROR_BAD_NUMBER, p->name, p->line, "index",
-                           "view index %" PRId64 " of a stereo pair (0 left, 1 right)", index);
-            goto done;
-        }
-        if (!librnr_same_name(view_space, f[2])) {
-            skipped++;
-            continue;
-        }
-        if (t < last_view_time) {
-            r = u_diag_set(p->diag, XRSC_ERROR_TIME_BACKWARDS, p->name, p->line, "timestamp",
-                           "timestamp %" PRId64 " is earlier than the previous view's %" PRId64,
-                           t, last_view_time);
-            goto done;
-        }
-        last_view_time = t;
-        if (t != pending_time || (!have[0] && !have[1])) {
-            if (have[0] != have[1])
-                incomplete++;
-            have[0] = have[1] = false;
-            pending_time = t;
-        }
-        pending.pose[index] = pose;
-        pending.fov[index] = (XrFovf){.angleLeft = (float)a[3], .angleRight = (float)a[1],
-                                      .angleUp = (float)a[0], .angleDown = (float)a[2]};
-        have[index] = true;
-        if (have[0] && have[1] &&
-            (r = librnr_push_views(p, t, &pending, &views_capacity)) != XRSC_OK)
-            goto done;
+        r = librnr_record(p, &st, line, len);
     }
-    if (have[0] != have[1])
-        incomplete++;
-    if (!any) {
-        r = u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "", "empty file");
-        goto done;
+    if (r == XRSC_OK) {
+        if (st.have[0] != st.have[1])
+            st.incomplete++;
+        if (!any)
+            r = u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "", "empty file");
+        else
+            r = librnr_finish(p, &st);
     }
-    if (p->stream->count == 0) {
-        for (size_t i = 0; i < head_count; i++) {
-            if ((r = push_raw_sample(p, heads[i].time_ns, 1, "timestamp", heads[i].pose)) !=
-                XRSC_OK)
-                goto done;
-        }
-    }
-    if (p->stream->count == 0) {
-        r = u_diag_set(p->diag, XRSC_ERROR_EMPTY_FILE, p->name, 0, "",
-                       "no head poses: no stereo pair of `v` records and no `s` record of "
-                       "/user/head or XR_REFERENCE_SPACE_TYPE_VIEW");
-        goto done;
-    }
-    if (skipped > 0 || incomplete > 0)
-        U_LOG_W("%s: librnr import used the %s records of '%s'; skipped %u records of other "
-                "spaces or devices and %u incomplete eye pairs",
-                p->name, p->stream->views ? "view" : "head space",
-                p->stream->views ? view_space : head_base, skipped, incomplete);
-done:
-    free(heads);
+    free(st.heads);
     return r;
 }
 
