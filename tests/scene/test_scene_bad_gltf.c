@@ -120,6 +120,21 @@ static void test_lines_mode(void)
     free(g);
 }
 
+/* A strip of 2 vertices has no triangle: a clear error, not a false "out of memory". */
+static void test_no_triangle(void)
+{
+    char *g = sct_triangle_gltf(NULL, 5, "", 0, 1, 2, 3);
+    char *c = strstr(g, "\"count\": 3, \"type\": \"SCALAR\"");
+    CHECK(c != NULL);
+    if (c)
+        c[9] = '2';
+    xrsc_diag d;
+    check_rejected("no-triangle.gltf", g, XRSC_ERROR_GLTF_INVALID,
+                   "meshes[0].primitives[0].indices", &d);
+    CHECK(strstr(d.message, "no triangle") != NULL);
+    free(g);
+}
+
 static void test_index_out_of_range(void)
 {
     char *g = sct_triangle_gltf(NULL, 4, "", 0, 1, 3, 3);
@@ -254,6 +269,7 @@ int main(void)
     RUN(test_missing_image);
     RUN(test_required_extension);
     RUN(test_lines_mode);
+    RUN(test_no_triangle);
     RUN(test_index_out_of_range);
     RUN(test_accessor_overrun);
     RUN(test_view_overruns_buffer);

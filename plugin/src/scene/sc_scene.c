@@ -42,9 +42,10 @@ typedef struct sc_vec {
     size_t count, cap, item;
 } sc_vec;
 
+/** Appends n zeroed items; NULL only when out of memory (n = 0 still gives a valid pointer). */
 static void *vec_push(sc_vec *v, size_t n)
 {
-    if (v->count + n > v->cap) {
+    if (!v->data || v->count + n > v->cap) {
         size_t cap = v->cap ? v->cap : 64;
         while (cap < v->count + n) cap *= 2;
         void *p = realloc(v->data, cap * v->item);
@@ -505,6 +506,11 @@ static xrsc_result read_indices(sc_build *b, uint32_t m, uint32_t p, const sc_gl
         FIELD(field, "meshes[%u].primitives[%u].indices", m, p);
         r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                        "%zu indices is not a multiple of 3 (TRIANGLES)", pd->icount);
+    }
+    if (r == XRSC_OK && pd->icount == 0) { /* a strip or fan of fewer than 3 vertices */
+        FIELD(field, "meshes[%u].primitives[%u].indices", m, p);
+        r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                       "the primitive has no triangle (mode %d)", pr->mode);
     }
     if (r == XRSC_OK && pd->idx) {
         for (size_t i = 0; i < pd->icount; i++)
