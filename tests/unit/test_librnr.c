@@ -201,6 +201,15 @@ static void test_bad_input(void)
     s = parse("\n\n", HS_POSE_FORMAT_LIBRNR, &d);
     CHECK(s == NULL);
     CHECK(d.code == XRSC_ERROR_EMPTY_FILE);
+    /* A NUL byte as the record type is unknown, not a view record (the text holds the NUL). */
+    static const char nul[] = "0 v L 0 0 0 1 -0.03 1 0 0.8 0.7 -0.9 -0.7 2 0\n"
+                              "0 \0 L 0 0 0 1 0.03 1 0 0.8 0.7 -0.9 -0.7 2 1\n";
+    memset(&d, 0, sizeof(d));
+    s = NULL;
+    CHECK(hs_pose_stream_parse("t.txt", nul, sizeof(nul) - 1, HS_POSE_FORMAT_LIBRNR, &s, &d) ==
+          XRSC_ERROR_UNKNOWN_COLUMN);
+    CHECK(s == NULL);
+    CHECK(d.line == 2 && strcmp(d.field, "type") == 0);
 }
 
 /* hs_pose_stream_eyes: what the replay and the runtime's xrLocateViews render with. A stream

@@ -834,6 +834,12 @@ static xrsc_result librnr_view_record(hs_parser *p, hs_librnr *st, const hs_fiel
     return XRSC_OK;
 }
 
+/** A librnr record type: s, v, b or f (strchr alone would also accept the string's NUL). */
+static bool is_librnr_type(char c)
+{
+    return c != '\0' && strchr("svbf", c) != NULL;
+}
+
 /** One content line: the timestamp and record type, then the record by type. */
 static xrsc_result librnr_record(hs_parser *p, hs_librnr *st, const char *line, size_t len)
 {
@@ -846,7 +852,7 @@ static xrsc_result librnr_record(hs_parser *p, hs_librnr *st, const char *line, 
     xrsc_result r = parse_int64(p, f[0], "timestamp", &t);
     if (r != XRSC_OK)
         return r;
-    if (f[1].len != 1 || !strchr("svbf", f[1].begin[0]))
+    if (f[1].len != 1 || !is_librnr_type(f[1].begin[0]))
         return u_diag_set(p->diag, XRSC_ERROR_UNKNOWN_COLUMN, p->name, p->line, "type",
                           "unknown record type '%.*s' (librnr has s, v, b and f)",
                           (int)(f[1].len < 16 ? f[1].len : 16), f[1].begin);
@@ -926,7 +932,7 @@ static hs_pose_format detect_format(const char *data, size_t size)
         /* librnr has no header: its first record is "<integer> <s|v|b|f> <path> ...". */
         hs_field f[3];
         if (split_fields(line, len, 0, f, 3) >= 3 && f[1].len == 1 &&
-            strchr("svbf", f[1].begin[0])) {
+            is_librnr_type(f[1].begin[0])) {
             size_t i = f[0].begin[0] == '-' ? 1 : 0;
             bool digits = f[0].len > i;
             for (; i < f[0].len && digits; i++)
