@@ -388,6 +388,72 @@ static xrsc_result taa_create(xrsc_renderer *r, xrsc_diag *diag)
                          r->opt.width, r->opt.height, &set, &imgs, &r->taa, diag);
 }
 
+/** The blend and TAA options are checked before any GPU object is made. */
+static xrsc_result renderer_options_check(const xrsc_renderer_options *opt, xrsc_diag *diag)
+{
+    if ((unsigned)opt->blend > XRSC_BLEND_MOMENTS || !(opt->blend_r >= 0.0f) ||
+        !(opt->blend_r <= 1.0f) || (unsigned)opt->blend_estimate > XRSC_BLEND_ESTIMATE_MEAN)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "blend",
+                          "blend %d with R = %g, estimate %d (R must be in [0, 1])",
+                          (int)opt->blend, (double)opt->blend_r, (int)opt->blend_estimate);
+    if ((unsigned)opt->taa.mode > XRSC_TAA_PFJ23 || !(opt->taa.alpha >= 0.0f) ||
+        !(opt->taa.alpha <= 1.0f))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa",
+                          "TAA mode %d with alpha = %g (alpha must be in (0, 1], 0 = default)",
+                          (int)opt->taa.mode, (double)opt->taa.alpha);
+    return XRSC_OK;
+}
+
+/** The method selected by r->opt.method, rendering at r->opt's size into r->method. */
+static xrsc_result method_create(xrsc_renderer *r, xrsc_diag *diag)
+{
+    mt_env env = {
+        .gpu = r->ctx->gpu,
+        .scene = r->scene->gpu,
+        .cpu_scene = r->scene->cpu,
+        .width = r->opt.width,
+        .height = r->opt.height,
+        .seed = r->opt.seed,
+        .post = &r->post, /* filled in once TAA and the blend exist */
+    };
+    switch (r->opt.method) {
+    case XRSC_METHOD_SPP:
+        return mt_spp_create(&env, &r->opt.spp, &r->method, diag);
+    case XRSC_METHOD_PRIMARY:
+        return mt_primary_create(&env, &r->method, diag);
+    case XRSC_METHOD_SAMPLECACHE:
+        return mt_samplecache_create(&env, &r->opt.samplecache, &r->method, diag);
+    case XRSC_METHOD_TAA:
+        return mt_taa_create(&env, &r->opt.spp, &r->method, diag);
+    case XRSC_METHOD_ISRT:
+        return mt_isrt_create(&env, &r->opt.isrt, &r->opt.samplecache, &r->method, diag);
+    case XRSC_METHOD_HASHCACHE:
+        return mt_hashcache_create(&env, &r->opt.hashcache, &r->method, diag);
+    case XRSC_METHOD_HYBRID:
+        return mt_hybrid_create(&env, &r->opt.samplecache, &r->opt.hashcache, &r->method, diag);
+    default:
+        return u_diag_set(diag, XRSC_ERROR_UNKNOWN_METHOD, "", 0, "method", "unknown method %d",
+                          (int)r->opt.method);
+    }
+}
+
+/** The stereo blend post-pass on the method's colour, depth and moments, unless it is none. */
+static xrsc_result blend_create(xrsc_renderer *r, xrsc_diag *diag)
+{
+    if (r->opt.blend == XRSC_BLEND_NONE)
+        return XRSC_OK;
+    st_settings set = {.blend = r->opt.blend,
+                       .r = r->opt.blend_r,
+                       .pixel_mean = r->opt.blend_estimate == XRSC_BLEND_ESTIMATE_MEAN};
+    st_images imgs = {
+        .color = mt_method_output_image(r->method, XRSC_OUTPUT_COLOR),
+        .depth = mt_method_output_image(r->method, XRSC_OUTPUT_DEPTH),
+        .mu1 = mt_method_output_image(r->method, XRSC_OUTPUT_MU1),
+        .mu2 = mt_method_output_image(r->method, XRSC_OUTPUT_MU2),
+    };
+    return st_blend_create(r->ctx->gpu, r->opt.width, r->opt.height, &set, &imgs, &r->blend, diag);
+}
+
 /* ---- renderers ---- */
 
 xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
@@ -411,61 +477,9 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
         r->opt.width = XRSC_DEFAULT_SIZE_PX;
     if (r->opt.height == 0)
         r->opt.height = XRSC_DEFAULT_SIZE_PX;
-    mt_env env = {
-        .gpu = ctx->gpu,
-        .scene = scene->gpu,
-        .cpu_scene = scene->cpu,
-        .width = r->opt.width,
-        .height = r->opt.height,
-        .seed = r->opt.seed,
-        .post = &r->post, /* filled in once TAA and the blend exist */
-    };
     xrsc_result res;
-    if ((unsigned)r->opt.blend > XRSC_BLEND_MOMENTS || !(r->opt.blend_r >= 0.0f) ||
-        !(r->opt.blend_r <= 1.0f) || (unsigned)r->opt.blend_estimate > XRSC_BLEND_ESTIMATE_MEAN) {
-        res = u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "blend",
-                         "blend %d with R = %g, estimate %d (R must be in [0, 1])",
-                         (int)r->opt.blend, (double)r->opt.blend_r, (int)r->opt.blend_estimate);
-        free(r);
-        return res;
-    }
-    if ((unsigned)r->opt.taa.mode > XRSC_TAA_PFJ23 || !(r->opt.taa.alpha >= 0.0f) ||
-        !(r->opt.taa.alpha <= 1.0f)) {
-        res = u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa",
-                         "TAA mode %d with alpha = %g (alpha must be in (0, 1], 0 = default)",
-                         (int)r->opt.taa.mode, (double)r->opt.taa.alpha);
-        free(r);
-        return res;
-    }
-    switch (r->opt.method) {
-    case XRSC_METHOD_SPP:
-        res = mt_spp_create(&env, &r->opt.spp, &r->method, out_diag);
-        break;
-    case XRSC_METHOD_PRIMARY:
-        res = mt_primary_create(&env, &r->method, out_diag);
-        break;
-    case XRSC_METHOD_SAMPLECACHE:
-        res = mt_samplecache_create(&env, &r->opt.samplecache, &r->method, out_diag);
-        break;
-    case XRSC_METHOD_TAA:
-        res = mt_taa_create(&env, &r->opt.spp, &r->method, out_diag);
-        break;
-    case XRSC_METHOD_ISRT:
-        res = mt_isrt_create(&env, &r->opt.isrt, &r->opt.samplecache, &r->method, out_diag);
-        break;
-    case XRSC_METHOD_HASHCACHE:
-        res = mt_hashcache_create(&env, &r->opt.hashcache, &r->method, out_diag);
-        break;
-    case XRSC_METHOD_HYBRID:
-        res = mt_hybrid_create(&env, &r->opt.samplecache, &r->opt.hashcache, &r->method,
-                               out_diag);
-        break;
-    default:
-        res = u_diag_set(out_diag, XRSC_ERROR_UNKNOWN_METHOD, "", 0, "method",
-                         "unknown method %d", (int)r->opt.method);
-        break;
-    }
-    if (res != XRSC_OK) {
+    if ((res = renderer_options_check(&r->opt, out_diag)) != XRSC_OK ||
+        (res = method_create(r, out_diag)) != XRSC_OK) {
         free(r);
         return res;
     }
@@ -474,23 +488,11 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
         free(r);
         return res;
     }
-    if (r->opt.blend != XRSC_BLEND_NONE) {
-        st_settings set = {.blend = r->opt.blend, .r = r->opt.blend_r,
-                           .pixel_mean = r->opt.blend_estimate == XRSC_BLEND_ESTIMATE_MEAN};
-        st_images imgs = {
-            .color = mt_method_output_image(r->method, XRSC_OUTPUT_COLOR),
-            .depth = mt_method_output_image(r->method, XRSC_OUTPUT_DEPTH),
-            .mu1 = mt_method_output_image(r->method, XRSC_OUTPUT_MU1),
-            .mu2 = mt_method_output_image(r->method, XRSC_OUTPUT_MU2),
-        };
-        res = st_blend_create(ctx->gpu, r->opt.width, r->opt.height, &set, &imgs, &r->blend,
-                              out_diag);
-        if (res != XRSC_OK) {
-            mt_method_destroy(&r->method);
-            tf_taa_destroy(&r->taa);
-            free(r);
-            return res;
-        }
+    if ((res = blend_create(r, out_diag)) != XRSC_OK) {
+        mt_method_destroy(&r->method);
+        tf_taa_destroy(&r->taa);
+        free(r);
+        return res;
     }
     if (r->taa || r->blend)
         r->post = (mt_post){.record = post_record, .user = r};
