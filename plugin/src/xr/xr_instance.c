@@ -157,51 +157,52 @@ static xrsc_result runtime_unavailable(xrsc_diag *diag, XrResult r, const char *
 #define XR_LOAD(xr, name)                                                                          \
     xrGetInstanceProcAddr((xr)->instance, "xr" #name, (PFN_xrVoidFunction *)&(xr)->fn.name)
 
-xrsc_result xrsc_xr_create(const xrsc_xr_options *options, xrsc_xr **out_xr, xrsc_diag *out_diag)
-{
-    if (!out_xr)
-        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "out_xr", "NULL");
-    *out_xr = NULL;
-    xrsc_xr_options opt = {0};
-    if (options)
-        opt = *options;
-    xrsc_result res = XRSC_OK;
-    XrExtensionProperties *props = NULL;
-    xrsc_xr *xr = calloc(1, sizeof(*xr));
-    if (!xr)
-        return u_diag_set(out_diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+/** The instance extensions xrsc enables: enable2 always, depth and debug utils if offered. */
+typedef struct xr_extension_list {
+    const char *names[3];
+    uint32_t count;
+} xr_extension_list;
 
+/** Fails unless the runtime offers XR_KHR_vulkan_enable2; sets xr->ext_depth and
+ *  xr->ext_debug_utils and lists the extensions to enable. */
+static xrsc_result extensions_choose(xrsc_xr *xr, xr_extension_list *out_exts, xrsc_diag *out_diag)
+{
+    xrsc_result res = XRSC_OK;
     uint32_t n = 0;
     XrResult r = xrEnumerateInstanceExtensionProperties(NULL, 0, &n, NULL);
-    if (XR_FAILED(r)) {
-        res = runtime_unavailable(out_diag, r, "xrEnumerateInstanceExtensionProperties");
-        goto fail;
-    }
-    props = calloc(n ? n : 1, sizeof(*props));
-    if (!props) {
-        res = u_diag_set(out_diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
-        goto fail;
-    }
+    if (XR_FAILED(r))
+        return runtime_unavailable(out_diag, r, "xrEnumerateInstanceExtensionProperties");
+    XrExtensionProperties *props = calloc(n ? n : 1, sizeof(*props));
+    if (!props)
+        return u_diag_set(out_diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
     for (uint32_t i = 0; i < n; i++)
         props[i].type = XR_TYPE_EXTENSION_PROPERTIES;
-    XR_CHECK(res, XR_NULL_HANDLE, out_diag, fail,
+    XR_CHECK(res, XR_NULL_HANDLE, out_diag, done,
              xrEnumerateInstanceExtensionProperties(NULL, n, &n, props));
     if (!has_extension(props, n, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME)) {
         res = u_diag_set(out_diag, XRSC_ERROR_XR, "", 0, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME,
                          "the OpenXR runtime does not offer %s, which xrsc renders through",
                          XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME);
-        goto fail;
+        goto done;
     }
-    const char *exts[3];
-    uint32_t ext_count = 0;
-    exts[ext_count++] = XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME;
+    out_exts->count = 0;
+    out_exts->names[out_exts->count++] = XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME;
     xr->ext_depth = has_extension(props, n, XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
     if (xr->ext_depth)
-        exts[ext_count++] = XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME;
+        out_exts->names[out_exts->count++] = XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME;
     xr->ext_debug_utils = has_extension(props, n, XR_EXT_DEBUG_UTILS_EXTENSION_NAME);
     if (xr->ext_debug_utils)
-        exts[ext_count++] = XR_EXT_DEBUG_UTILS_EXTENSION_NAME;
+        out_exts->names[out_exts->count++] = XR_EXT_DEBUG_UTILS_EXTENSION_NAME;
+done:
+    free(props);
+    return res;
+}
 
+/** xrCreateInstance, then the debug messenger and the extension functions. */
+static xrsc_result instance_create(xrsc_xr *xr, const char *application_name,
+                                   const xr_extension_list *exts, xrsc_diag *out_diag)
+{
+    xrsc_result res = XRSC_OK;
     XrDebugUtilsMessengerCreateInfoEXT mci = {
         .type = XR_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
         .messageSeverities = XR_DEBUG_UTILS_MESSAGE_SEVERITY_VERBOSE_BIT_EXT |
@@ -222,73 +223,80 @@ xrsc_result xrsc_xr_create(const xrsc_xr_options *options, xrsc_xr **out_xr, xrs
         .applicationInfo = {.applicationVersion = 1,
                             .engineVersion = 1,
                             .apiVersion = XR_APP_API_VERSION},
-        .enabledExtensionCount = ext_count,
-        .enabledExtensionNames = exts,
+        .enabledExtensionCount = exts->count,
+        .enabledExtensionNames = exts->names,
     };
     snprintf(ici.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "%s",
-             opt.application_name ? opt.application_name : "xrsc");
+             application_name ? application_name : "xrsc");
     snprintf(ici.applicationInfo.engineName, XR_MAX_ENGINE_NAME_SIZE, "xrsc");
-    r = xrCreateInstance(&ici, &xr->instance);
-    if (r == XR_ERROR_RUNTIME_UNAVAILABLE || r == XR_ERROR_RUNTIME_FAILURE) {
-        res = runtime_unavailable(out_diag, r, "xrCreateInstance");
-        goto fail;
-    }
-    XR_CHECK(res, XR_NULL_HANDLE, out_diag, fail, r);
+    XrResult r = xrCreateInstance(&ici, &xr->instance);
+    if (r == XR_ERROR_RUNTIME_UNAVAILABLE || r == XR_ERROR_RUNTIME_FAILURE)
+        return runtime_unavailable(out_diag, r, "xrCreateInstance");
+    XR_CHECK(res, XR_NULL_HANDLE, out_diag, done, r);
     if (xr->ext_debug_utils) {
-        XR_CHECK(res, xr->instance, out_diag, fail, XR_LOAD(xr, CreateDebugUtilsMessengerEXT));
-        XR_CHECK(res, xr->instance, out_diag, fail, XR_LOAD(xr, DestroyDebugUtilsMessengerEXT));
-        XR_CHECK(res, xr->instance, out_diag, fail,
+        XR_CHECK(res, xr->instance, out_diag, done, XR_LOAD(xr, CreateDebugUtilsMessengerEXT));
+        XR_CHECK(res, xr->instance, out_diag, done, XR_LOAD(xr, DestroyDebugUtilsMessengerEXT));
+        XR_CHECK(res, xr->instance, out_diag, done,
                  xr->fn.CreateDebugUtilsMessengerEXT(xr->instance, &mci, &xr->messenger));
     }
-    XR_CHECK(res, xr->instance, out_diag, fail, XR_LOAD(xr, GetVulkanGraphicsRequirements2KHR));
-    XR_CHECK(res, xr->instance, out_diag, fail, XR_LOAD(xr, CreateVulkanInstanceKHR));
-    XR_CHECK(res, xr->instance, out_diag, fail, XR_LOAD(xr, GetVulkanGraphicsDevice2KHR));
-    XR_CHECK(res, xr->instance, out_diag, fail, XR_LOAD(xr, CreateVulkanDeviceKHR));
+    XR_CHECK(res, xr->instance, out_diag, done, XR_LOAD(xr, GetVulkanGraphicsRequirements2KHR));
+    XR_CHECK(res, xr->instance, out_diag, done, XR_LOAD(xr, CreateVulkanInstanceKHR));
+    XR_CHECK(res, xr->instance, out_diag, done, XR_LOAD(xr, GetVulkanGraphicsDevice2KHR));
+    XR_CHECK(res, xr->instance, out_diag, done, XR_LOAD(xr, CreateVulkanDeviceKHR));
+done:
+    return res;
+}
 
+/** The runtime's name, the HMD system, its two stereo views and its preferred blend mode. */
+static xrsc_result system_get(xrsc_xr *xr, xrsc_diag *out_diag)
+{
+    xrsc_result res = XRSC_OK;
     XrInstanceProperties ip = {.type = XR_TYPE_INSTANCE_PROPERTIES};
-    XR_CHECK(res, xr->instance, out_diag, fail, xrGetInstanceProperties(xr->instance, &ip));
+    XR_CHECK(res, xr->instance, out_diag, done, xrGetInstanceProperties(xr->instance, &ip));
     snprintf(xr->runtime_name, sizeof(xr->runtime_name), "%s", ip.runtimeName);
 
     XrSystemGetInfo sgi = {.type = XR_TYPE_SYSTEM_GET_INFO,
                            .formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY};
-    XR_CHECK(res, xr->instance, out_diag, fail, xrGetSystem(xr->instance, &sgi, &xr->system));
+    XR_CHECK(res, xr->instance, out_diag, done, xrGetSystem(xr->instance, &sgi, &xr->system));
 
     /* Primary stereo with two views, and a blend mode for it. */
     uint32_t vc = 0;
-    XR_CHECK(res, xr->instance, out_diag, fail,
+    XR_CHECK(res, xr->instance, out_diag, done,
              xrEnumerateViewConfigurationViews(xr->instance, xr->system,
                                                XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0, &vc,
                                                NULL));
-    if (vc != 2) {
-        res = u_diag_set(out_diag, XRSC_ERROR_XR, "", 0, "xrEnumerateViewConfigurationViews",
-                         "the primary stereo view configuration has %u views, not 2", vc);
-        goto fail;
-    }
+    if (vc != 2)
+        return u_diag_set(out_diag, XRSC_ERROR_XR, "", 0, "xrEnumerateViewConfigurationViews",
+                          "the primary stereo view configuration has %u views, not 2", vc);
     xr->view_config[0].type = xr->view_config[1].type = XR_TYPE_VIEW_CONFIGURATION_VIEW;
-    XR_CHECK(res, xr->instance, out_diag, fail,
+    XR_CHECK(res, xr->instance, out_diag, done,
              xrEnumerateViewConfigurationViews(xr->instance, xr->system,
                                                XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 2, &vc,
                                                xr->view_config));
     XrEnvironmentBlendMode modes[8];
     uint32_t mc = 0;
-    XR_CHECK(res, xr->instance, out_diag, fail,
+    XR_CHECK(res, xr->instance, out_diag, done,
              xrEnumerateEnvironmentBlendModes(xr->instance, xr->system,
                                               XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0, &mc,
                                               NULL));
-    if (mc == 0 || mc > 8) {
-        res = u_diag_set(out_diag, XRSC_ERROR_XR, "", 0, "xrEnumerateEnvironmentBlendModes",
-                         "%u environment blend modes", mc);
-        goto fail;
-    }
-    XR_CHECK(res, xr->instance, out_diag, fail,
+    if (mc == 0 || mc > 8)
+        return u_diag_set(out_diag, XRSC_ERROR_XR, "", 0, "xrEnumerateEnvironmentBlendModes",
+                          "%u environment blend modes", mc);
+    XR_CHECK(res, xr->instance, out_diag, done,
              xrEnumerateEnvironmentBlendModes(xr->instance, xr->system,
                                               XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, mc, &mc,
                                               modes));
     xr->blend_mode = modes[0]; /* the runtime's preferred one */
+done:
+    return res;
+}
 
-    /* XR_KHR_vulkan_enable2: the requirements must be queried before the device is made. */
+/** XR_KHR_vulkan_enable2: the requirements must be queried before the device is made. */
+static xrsc_result vulkan_requirements_check(xrsc_xr *xr, xrsc_diag *out_diag)
+{
+    xrsc_result res = XRSC_OK;
     XrGraphicsRequirementsVulkan2KHR req = {.type = XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN2_KHR};
-    XR_CHECK(res, xr->instance, out_diag, fail,
+    XR_CHECK(res, xr->instance, out_diag, done,
              xr->fn.GetVulkanGraphicsRequirements2KHR(xr->instance, xr->system, &req));
     if (XR_VERSION_MAJOR(req.minApiVersionSupported) > 1 ||
         (XR_VERSION_MAJOR(req.minApiVersionSupported) == 1 &&
@@ -297,8 +305,30 @@ xrsc_result xrsc_xr_create(const xrsc_xr_options *options, xrsc_xr **out_xr, xrs
                          "the runtime needs Vulkan %u.%u or later; xrsc uses 1.3",
                          (unsigned)XR_VERSION_MAJOR(req.minApiVersionSupported),
                          (unsigned)XR_VERSION_MINOR(req.minApiVersionSupported));
-        goto fail;
     }
+done:
+    return res;
+}
+
+xrsc_result xrsc_xr_create(const xrsc_xr_options *options, xrsc_xr **out_xr, xrsc_diag *out_diag)
+{
+    if (!out_xr)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "out_xr", "NULL");
+    *out_xr = NULL;
+    xrsc_xr_options opt = {0};
+    if (options)
+        opt = *options;
+    xrsc_result res = XRSC_OK;
+    xrsc_xr *xr = calloc(1, sizeof(*xr));
+    if (!xr)
+        return u_diag_set(out_diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+
+    xr_extension_list exts = {0};
+    if ((res = extensions_choose(xr, &exts, out_diag)) != XRSC_OK ||
+        (res = instance_create(xr, opt.application_name, &exts, out_diag)) != XRSC_OK ||
+        (res = system_get(xr, out_diag)) != XRSC_OK ||
+        (res = vulkan_requirements_check(xr, out_diag)) != XRSC_OK)
+        goto fail;
 
     gpu_context_hooks hooks = {
         .user = xr,
@@ -312,12 +342,10 @@ xrsc_result xrsc_xr_create(const xrsc_xr_options *options, xrsc_xr **out_xr, xrs
     U_LOG_D("openxr: runtime '%s', %ux%u recommended per eye, depth layers %s", xr->runtime_name,
             xr->view_config[0].recommendedImageRectWidth,
             xr->view_config[0].recommendedImageRectHeight, xr->ext_depth ? "on" : "off");
-    free(props);
     *out_xr = xr;
     return XRSC_OK;
 
 fail:
-    free(props);
     xrsc_xr_destroy(&xr);
     return res;
 }
