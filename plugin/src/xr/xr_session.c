@@ -133,6 +133,115 @@ void xrsc_xr_session_destroy(xrsc_xr_session **psession)
     *psession = NULL;
 }
 
+/** The renderer's per-eye size must fit both of the runtime's views. */
+static xrsc_result resolution_check(const xrsc_xr_session *s, xrsc_diag *out_diag)
+{
+    const xrsc_xr *xr = s->xr;
+    for (int e = 0; e < 2; e++) {
+        if (s->width > xr->view_config[e].maxImageRectWidth ||
+            s->height > xr->view_config[e].maxImageRectHeight)
+            return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "resolution",
+                              "%ux%u per eye is larger than the runtime's maximum %ux%u", s->width,
+                              s->height, xr->view_config[e].maxImageRectWidth,
+                              xr->view_config[e].maxImageRectHeight);
+    }
+    return XRSC_OK;
+}
+
+/** The XrSession on the context's Vulkan device, its reference space and the VIEW space. */
+static xrsc_result session_and_spaces_create(xrsc_xr_session *s, xrsc_diag *out_diag)
+{
+    xrsc_xr *xr = s->xr;
+    gpu_context *gpu = xrsc_context_gpu(xr->ctx);
+    xrsc_result res = XRSC_OK;
+    XrGraphicsBindingVulkan2KHR binding = {
+        .type = XR_TYPE_GRAPHICS_BINDING_VULKAN2_KHR,
+        .instance = gpu->instance,
+        .physicalDevice = gpu->physical_device,
+        .device = gpu->device,
+        .queueFamilyIndex = gpu->queue_family,
+        .queueIndex = 0,
+    };
+    XrSessionCreateInfo sci = {
+        .type = XR_TYPE_SESSION_CREATE_INFO,
+        .next = &binding,
+        .systemId = xr->system,
+    };
+    XR_CHECK(res, xr->instance, out_diag, done, xrCreateSession(xr->instance, &sci, &s->session));
+    XrReferenceSpaceCreateInfo rci = {
+        .type = XR_TYPE_REFERENCE_SPACE_CREATE_INFO,
+        .referenceSpaceType = s->opt.space,
+        .poseInReferenceSpace = xrsc_pose_identity(),
+    };
+    XR_CHECK(res, xr->instance, out_diag, done,
+             xrCreateReferenceSpace(s->session, &rci, &s->space));
+    rci.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
+    XR_CHECK(res, xr->instance, out_diag, done,
+             xrCreateReferenceSpace(s->session, &rci, &s->view_space));
+done:
+    return res;
+}
+
+/** Sets s->color_format (one the renderer's colour can be copied into) and s->depth_on. */
+static xrsc_result formats_choose(xrsc_xr_session *s, xrsc_diag *out_diag)
+{
+    xrsc_xr *xr = s->xr;
+    gpu_context *gpu = xrsc_context_gpu(xr->ctx);
+    xrsc_result res = XRSC_OK;
+    /* Formats: the runtime lists its preferred first; xrsc prefers linear float. */
+    int64_t formats[64];
+    uint32_t fc = 0;
+    XR_CHECK(res, xr->instance, out_diag, done,
+             xrEnumerateSwapchainFormats(s->session, 0, &fc, NULL));
+    if (fc > 64)
+        fc = 64;
+    XR_CHECK(res, xr->instance, out_diag, done,
+             xrEnumerateSwapchainFormats(s->session, fc, &fc, formats));
+    s->color_format = VK_FORMAT_UNDEFINED;
+    for (size_t k = 0; k < sizeof(k_color_formats) / sizeof(k_color_formats[0]); k++)
+        for (uint32_t i = 0; i < fc && s->color_format == VK_FORMAT_UNDEFINED; i++)
+            if (formats[i] == (int64_t)k_color_formats[k])
+                s->color_format = k_color_formats[k];
+    bool has_d32 = false;
+    for (uint32_t i = 0; i < fc; i++)
+        has_d32 = has_d32 || formats[i] == (int64_t)VK_FORMAT_D32_SFLOAT;
+    if (s->color_format == VK_FORMAT_UNDEFINED)
+        return u_diag_set(out_diag, XRSC_ERROR_XR, "", 0, "xrEnumerateSwapchainFormats",
+                          "the runtime offers none of RGBA32F, RGBA16F, RGBA8/BGRA8 sRGB");
+    const gpu_image *src = xrsc_renderer_output_image(s->renderer, XRSC_OUTPUT_COLOR);
+    if (src ? !gpu_present_format_ok(gpu, src->format, s->color_format)
+            : s->color_format != VK_FORMAT_R32G32B32A32_SFLOAT)
+        return u_diag_set(out_diag, XRSC_ERROR_XR, "", 0, "swapchain format",
+                          "cannot copy the renderer's colour into swapchain format %d",
+                          (int)s->color_format);
+    s->depth_on = xr->ext_depth && has_d32 && !s->opt.no_depth;
+    if (xr->ext_depth && !has_d32 && !s->opt.no_depth)
+        U_LOG_W("openxr: the runtime offers no D32_SFLOAT swapchains: frames go without depth");
+done:
+    return res;
+}
+
+/** Per eye a colour (and with depth on, a depth) swapchain; the copy's staging; depth_host. */
+static xrsc_result swapchains_create(xrsc_xr_session *s, xrsc_diag *out_diag)
+{
+    gpu_context *gpu = xrsc_context_gpu(s->xr->ctx);
+    xrsc_result res = XRSC_OK;
+    for (int e = 0; e < 2; e++) {
+        if ((res = swapchain_create(s, s->color_format, false, &s->color[e], out_diag)) != XRSC_OK)
+            return res;
+        if (s->depth_on &&
+            (res = swapchain_create(s, VK_FORMAT_D32_SFLOAT, true, &s->depth[e], out_diag)) !=
+                XRSC_OK)
+            return res;
+    }
+    if ((res = gpu_present_create(gpu, s->width, s->height, &s->present, out_diag)) != XRSC_OK)
+        return res;
+    s->depth_host = malloc((size_t)s->width * s->height * sizeof(float));
+    if (!s->depth_host)
+        return u_diag_set(out_diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "depth buffer");
+    return XRSC_OK;
+}
+
 xrsc_result xrsc_xr_session_create(xrsc_xr *xr, xrsc_renderer *renderer,
                                    const xrsc_xr_session_options *options,
                                    xrsc_xr_session **out_session, xrsc_diag *out_diag)
@@ -163,98 +272,16 @@ xrsc_result xrsc_xr_session_create(xrsc_xr *xr, xrsc_renderer *renderer,
     s->space_in_scene = xrsc_pose_identity();
     s->state = XR_SESSION_STATE_UNKNOWN;
     xrsc_renderer_size(renderer, &s->width, &s->height);
-    gpu_context *gpu = xrsc_context_gpu(xr->ctx);
     xrsc_result res = XRSC_OK;
-
-    for (int e = 0; e < 2; e++) {
-        if (s->width > xr->view_config[e].maxImageRectWidth ||
-            s->height > xr->view_config[e].maxImageRectHeight) {
-            res = u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "resolution",
-                             "%ux%u per eye is larger than the runtime's maximum %ux%u",
-                             s->width, s->height, xr->view_config[e].maxImageRectWidth,
-                             xr->view_config[e].maxImageRectHeight);
-            goto fail;
-        }
-    }
-
-    XrGraphicsBindingVulkan2KHR binding = {
-        .type = XR_TYPE_GRAPHICS_BINDING_VULKAN2_KHR,
-        .instance = gpu->instance,
-        .physicalDevice = gpu->physical_device,
-        .device = gpu->device,
-        .queueFamilyIndex = gpu->queue_family,
-        .queueIndex = 0,
-    };
-    XrSessionCreateInfo sci = {
-        .type = XR_TYPE_SESSION_CREATE_INFO,
-        .next = &binding,
-        .systemId = xr->system,
-    };
-    XR_CHECK(res, xr->instance, out_diag, fail, xrCreateSession(xr->instance, &sci, &s->session));
-    XrReferenceSpaceCreateInfo rci = {
-        .type = XR_TYPE_REFERENCE_SPACE_CREATE_INFO,
-        .referenceSpaceType = s->opt.space,
-        .poseInReferenceSpace = xrsc_pose_identity(),
-    };
-    XR_CHECK(res, xr->instance, out_diag, fail, xrCreateReferenceSpace(s->session, &rci, &s->space));
-    rci.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
-    XR_CHECK(res, xr->instance, out_diag, fail,
-             xrCreateReferenceSpace(s->session, &rci, &s->view_space));
-
-    /* Formats: the runtime lists its preferred first; xrsc prefers linear float. */
-    int64_t formats[64];
-    uint32_t fc = 0;
-    XR_CHECK(res, xr->instance, out_diag, fail,
-             xrEnumerateSwapchainFormats(s->session, 0, &fc, NULL));
-    if (fc > 64)
-        fc = 64;
-    XR_CHECK(res, xr->instance, out_diag, fail,
-             xrEnumerateSwapchainFormats(s->session, fc, &fc, formats));
-    s->color_format = VK_FORMAT_UNDEFINED;
-    for (size_t k = 0; k < sizeof(k_color_formats) / sizeof(k_color_formats[0]); k++)
-        for (uint32_t i = 0; i < fc && s->color_format == VK_FORMAT_UNDEFINED; i++)
-            if (formats[i] == (int64_t)k_color_formats[k])
-                s->color_format = k_color_formats[k];
-    bool has_d32 = false;
-    for (uint32_t i = 0; i < fc; i++)
-        has_d32 = has_d32 || formats[i] == (int64_t)VK_FORMAT_D32_SFLOAT;
-    if (s->color_format == VK_FORMAT_UNDEFINED) {
-        res = u_diag_set(out_diag, XRSC_ERROR_XR, "", 0, "xrEnumerateSwapchainFormats",
-                         "the runtime offers none of RGBA32F, RGBA16F, RGBA8/BGRA8 sRGB");
-        goto fail;
-    }
-    const gpu_image *src = xrsc_renderer_output_image(renderer, XRSC_OUTPUT_COLOR);
-    if (src ? !gpu_present_format_ok(gpu, src->format, s->color_format)
-            : s->color_format != VK_FORMAT_R32G32B32A32_SFLOAT) {
-        res = u_diag_set(out_diag, XRSC_ERROR_XR, "", 0, "swapchain format",
-                         "cannot copy the renderer's colour into swapchain format %d",
-                         (int)s->color_format);
-        goto fail;
-    }
-    s->depth_on = xr->ext_depth && has_d32 && !s->opt.no_depth;
-    if (xr->ext_depth && !has_d32 && !s->opt.no_depth)
-        U_LOG_W("openxr: the runtime offers no D32_SFLOAT swapchains: frames go without depth");
-
-    for (int e = 0; e < 2; e++) {
-        if ((res = swapchain_create(s, s->color_format, false, &s->color[e], out_diag)) != XRSC_OK)
-            goto fail;
-        if (s->depth_on &&
-            (res = swapchain_create(s, VK_FORMAT_D32_SFLOAT, true, &s->depth[e], out_diag)) !=
-                XRSC_OK)
-            goto fail;
-    }
-    if ((res = gpu_present_create(gpu, s->width, s->height, &s->present, out_diag)) != XRSC_OK)
-        goto fail;
-    s->depth_host = malloc((size_t)s->width * s->height * sizeof(float));
-    if (!s->depth_host) {
-        res = u_diag_set(out_diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "depth buffer");
-        goto fail;
+    if ((res = resolution_check(s, out_diag)) != XRSC_OK ||
+        (res = session_and_spaces_create(s, out_diag)) != XRSC_OK ||
+        (res = formats_choose(s, out_diag)) != XRSC_OK ||
+        (res = swapchains_create(s, out_diag)) != XRSC_OK) {
+        xrsc_xr_session_destroy(&s);
+        return res;
     }
     *out_session = s;
     return XRSC_OK;
-fail:
-    xrsc_xr_session_destroy(&s);
-    return res;
 }
 
 /* ---- events and states ---- */
