@@ -418,19 +418,16 @@ static xrsc_result anchor_at(xrsc_xr_session *s, XrTime time, xrsc_diag *diag)
     return XRSC_OK;
 }
 
-/** Renders the located views and fills the two projection views (with depth infos). */
-static xrsc_result render_frame(xrsc_xr_session *s, XrTime display_time, const XrView views[2],
-                                XrCompositionLayerProjectionView pv[2],
-                                XrCompositionLayerDepthInfoKHR di[2], xrsc_xr_frame_info *info,
-                                xrsc_diag *diag)
+/** Renders the located views (mapped into the scene when anchored) and runs the blend hook;
+ *  out_frame is what was rendered, out_render_ms the renderer's time for it. */
+static xrsc_result views_render(xrsc_xr_session *s, XrTime display_time, const XrView views[2],
+                                xrsc_frame *out_frame, double *out_render_ms, xrsc_diag *diag)
 {
-    xrsc_xr *xr = s->xr;
-    gpu_context *gpu = xrsc_context_gpu(xr->ctx);
     xrsc_result res = XRSC_OK;
     /* Normally anchored at frame 0 (xrsc_xr_session_step); a runtime that could not locate
      * the head then has it anchored at the first rendered frame. */
     if (s->opt.anchor && !s->anchored && (res = anchor_at(s, display_time, diag)) != XRSC_OK)
-        goto done;
+        return res;
     xrsc_frame frame = {
         .display_time_ns = display_time - s->first_display_time,
         .frame_index = s->frames,
@@ -445,13 +442,22 @@ static xrsc_result render_frame(xrsc_xr_session *s, XrTime display_time, const X
     if ((res = xrsc_renderer_render(s->renderer, &frame)) != XRSC_OK) {
         u_diag_set(diag, res, "", 0, "render", "rendering frame %u failed: %s", s->frames,
                    xrsc_result_name(res));
-        goto done;
+        return res;
     }
     double t1 = now_ms();
     if ((res = xr_stereo_blend_hook(s, &frame, diag)) != XRSC_OK)
-        goto done;
+        return res;
+    *out_frame = frame;
+    *out_render_ms = t1 - t0;
+    return XRSC_OK;
+}
 
-    /* Into the swapchains: acquire, copy (one submission), release. */
+/** Into the swapchains: acquire, copy (one submission), release. */
+static xrsc_result swapchains_fill(xrsc_xr_session *s, xrsc_diag *diag)
+{
+    xrsc_xr *xr = s->xr;
+    gpu_context *gpu = xrsc_context_gpu(xr->ctx);
+    xrsc_result res = XRSC_OK;
     uint32_t ci[2] = {0, 0}, dix[2] = {0, 0};
     gpu_present_eye pe[2];
     const gpu_image *src = xrsc_renderer_output_image(s->renderer, XRSC_OUTPUT_COLOR);
@@ -493,6 +499,15 @@ static xrsc_result render_frame(xrsc_xr_session *s, XrTime display_time, const X
             XR_CHECK(res, xr->instance, diag, done,
                      xrReleaseSwapchainImage(s->depth[e].handle, &ri));
     }
+done:
+    return res;
+}
+
+/** The two projection views on the whole swapchain images, chained to depth infos if on. */
+static void projection_views_fill(const xrsc_xr_session *s, const XrView views[2],
+                                  XrCompositionLayerProjectionView pv[2],
+                                  XrCompositionLayerDepthInfoKHR di[2])
+{
     const XrRect2Di rect = {{0, 0}, {(int32_t)s->width, (int32_t)s->height}};
     for (uint32_t e = 0; e < 2; e++) {
         di[e] = (XrCompositionLayerDepthInfoKHR){
@@ -511,14 +526,27 @@ static xrsc_result render_frame(xrsc_xr_session *s, XrTime display_time, const X
             .subImage = {s->color[e].handle, rect, 0},
         };
     }
+}
+
+/** Renders the located views and fills the two projection views (with depth infos). */
+static xrsc_result render_frame(xrsc_xr_session *s, XrTime display_time, const XrView views[2],
+                                XrCompositionLayerProjectionView pv[2],
+                                XrCompositionLayerDepthInfoKHR di[2], xrsc_xr_frame_info *info,
+                                xrsc_diag *diag)
+{
+    xrsc_frame frame;
+    double render_ms = 0.0;
+    xrsc_result res = views_render(s, display_time, views, &frame, &render_ms, diag);
+    if (res != XRSC_OK || (res = swapchains_fill(s, diag)) != XRSC_OK)
+        return res;
+    projection_views_fill(s, views, pv, di);
     info->frame_index = s->frames;
     info->scene_time_ns = frame.display_time_ns;
     info->views[0] = frame.views[0];
     info->views[1] = frame.views[1];
-    info->render_ms = t1 - t0;
+    info->render_ms = render_ms;
     s->rendered++;
-done:
-    return res;
+    return XRSC_OK;
 }
 
 xrsc_result xrsc_xr_session_step(xrsc_xr_session *s, xrsc_xr_frame_info *out_info,
