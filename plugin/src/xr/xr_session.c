@@ -549,42 +549,74 @@ static xrsc_result render_frame(xrsc_xr_session *s, XrTime display_time, const X
     return XRSC_OK;
 }
 
-xrsc_result xrsc_xr_session_step(xrsc_xr_session *s, xrsc_xr_frame_info *out_info,
-                                 xrsc_diag *out_diag)
+/** xrWaitFrame, the session's first display time and anchor (frame 0), xrBeginFrame. */
+static xrsc_result frame_begin(xrsc_xr_session *s, XrFrameState *fs, xrsc_diag *out_diag)
 {
-    xrsc_xr_frame_info local;
-    xrsc_xr_frame_info *info = out_info ? out_info : &local;
-    memset(info, 0, sizeof(*info));
-    info->status = XRSC_XR_WAITING;
-    if (!s)
-        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "session", "NULL");
     xrsc_xr *xr = s->xr;
-    xrsc_result res = poll_events(s, info, out_diag);
-    info->state = s->state;
-    if (res != XRSC_OK || info->status == XRSC_XR_EXITED || info->status == XRSC_XR_LOST)
-        return res;
-    if (!s->running) {
-        struct timespec ts = {0, XR_IDLE_SLEEP_NS};
-        nanosleep(&ts, NULL);
-        return XRSC_OK;
-    }
-
+    xrsc_result res = XRSC_OK;
     XrFrameWaitInfo wi = {.type = XR_TYPE_FRAME_WAIT_INFO};
-    XrFrameState fs = {.type = XR_TYPE_FRAME_STATE};
-    XR_CHECK(res, xr->instance, out_diag, fail, xrWaitFrame(s->session, &wi, &fs));
+    XR_CHECK(res, xr->instance, out_diag, fail, xrWaitFrame(s->session, &wi, fs));
     /* Frame numbers and scene time count from the session's first frame, shown or not (the
      * first is usually not: SYNCHRONIZED, shouldRender false), as the runtime's clock does. */
     if (s->frames == 0)
-        s->first_display_time = fs.predictedDisplayTime;
+        s->first_display_time = fs->predictedDisplayTime;
     /* Anchoring (xrsc_xr.h): the head at frame 0's display time (plus the offset), located
      * whether or not that frame is rendered; with `xrsc replay`'s offset (-start) it is the
      * stream's first sample, the pose the direct replay anchors. */
     if (s->frames == 0 && s->opt.anchor && !s->anchored &&
-        (res = anchor_at(s, fs.predictedDisplayTime + s->opt.anchor_offset_ns, out_diag)) !=
+        (res = anchor_at(s, fs->predictedDisplayTime + s->opt.anchor_offset_ns, out_diag)) !=
             XRSC_OK)
-        goto fail;
+        return res;
     XrFrameBeginInfo bi = {.type = XR_TYPE_FRAME_BEGIN_INFO};
     XR_CHECK(res, xr->instance, out_diag, fail, xrBeginFrame(s->session, &bi));
+fail:
+    return res;
+}
+
+/** When the runtime wants the frame and both views are located: renders it into pv / di and
+ *  sets *out_layer_count to 1 (else 0, the frame ends without layers). */
+static xrsc_result frame_views(xrsc_xr_session *s, const XrFrameState *fs,
+                               XrCompositionLayerProjectionView pv[2],
+                               XrCompositionLayerDepthInfoKHR di[2], xrsc_xr_frame_info *info,
+                               uint32_t *out_layer_count, xrsc_diag *out_diag)
+{
+    xrsc_result res = XRSC_OK;
+    *out_layer_count = 0;
+    if (!fs->shouldRender)
+        return XRSC_OK;
+    XrViewLocateInfo li = {
+        .type = XR_TYPE_VIEW_LOCATE_INFO,
+        .viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
+        .displayTime = fs->predictedDisplayTime,
+        .space = s->space,
+    };
+    XrViewState vs = {.type = XR_TYPE_VIEW_STATE};
+    XrView views[2] = {{.type = XR_TYPE_VIEW}, {.type = XR_TYPE_VIEW}};
+    uint32_t vc = 0;
+    XR_CHECK(res, s->xr->instance, out_diag, fail,
+             xrLocateViews(s->session, &li, &vs, 2, &vc, views));
+    const XrViewStateFlags need =
+        XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT;
+    if (vc == 2 && (vs.viewStateFlags & need) == need) {
+        if ((res = render_frame(s, fs->predictedDisplayTime, views, pv, di, info, out_diag)) !=
+            XRSC_OK)
+            return res;
+        *out_layer_count = 1;
+        info->status = XRSC_XR_RENDERED;
+    }
+fail:
+    return res;
+}
+
+/** One frame: wait, begin, render the views when wanted, end (with the projection layer when
+ *  rendered); session loss is reported as XRSC_XR_LOST. */
+static xrsc_result frame_run(xrsc_xr_session *s, xrsc_xr_frame_info *info, xrsc_diag *out_diag)
+{
+    xrsc_xr *xr = s->xr;
+    XrFrameState fs = {.type = XR_TYPE_FRAME_STATE};
+    xrsc_result res = frame_begin(s, &fs, out_diag);
+    if (res != XRSC_OK)
+        return res;
     info->display_time = fs.predictedDisplayTime;
 
     XrCompositionLayerProjectionView pv[2];
@@ -598,28 +630,8 @@ xrsc_result xrsc_xr_session_step(xrsc_xr_session *s, xrsc_xr_frame_info *out_inf
     const XrCompositionLayerBaseHeader *layers[1] = {(const XrCompositionLayerBaseHeader *)&layer};
     uint32_t layer_count = 0;
     info->status = XRSC_XR_SKIPPED;
-    if (fs.shouldRender) {
-        XrViewLocateInfo li = {
-            .type = XR_TYPE_VIEW_LOCATE_INFO,
-            .viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
-            .displayTime = fs.predictedDisplayTime,
-            .space = s->space,
-        };
-        XrViewState vs = {.type = XR_TYPE_VIEW_STATE};
-        XrView views[2] = {{.type = XR_TYPE_VIEW}, {.type = XR_TYPE_VIEW}};
-        uint32_t vc = 0;
-        XR_CHECK(res, xr->instance, out_diag, fail,
-                 xrLocateViews(s->session, &li, &vs, 2, &vc, views));
-        const XrViewStateFlags need =
-            XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT;
-        if (vc == 2 && (vs.viewStateFlags & need) == need) {
-            if ((res = render_frame(s, fs.predictedDisplayTime, views, pv, di, info,
-                                    out_diag)) != XRSC_OK)
-                goto fail;
-            layer_count = 1;
-            info->status = XRSC_XR_RENDERED;
-        }
-    }
+    if ((res = frame_views(s, &fs, pv, di, info, &layer_count, out_diag)) != XRSC_OK)
+        return res;
     double t0 = now_ms();
     XrFrameEndInfo ei = {
         .type = XR_TYPE_FRAME_END_INFO,
@@ -631,9 +643,29 @@ xrsc_result xrsc_xr_session_step(xrsc_xr_session *s, xrsc_xr_frame_info *out_inf
     XR_CHECK(res, xr->instance, out_diag, fail, xrEndFrame(s->session, &ei));
     info->submit_ms = now_ms() - t0;
     s->frames++;
-    info->state = s->state;
-    return XRSC_OK;
 fail:
+    return res;
+}
+
+xrsc_result xrsc_xr_session_step(xrsc_xr_session *s, xrsc_xr_frame_info *out_info,
+                                 xrsc_diag *out_diag)
+{
+    xrsc_xr_frame_info local;
+    xrsc_xr_frame_info *info = out_info ? out_info : &local;
+    memset(info, 0, sizeof(*info));
+    info->status = XRSC_XR_WAITING;
+    if (!s)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "session", "NULL");
+    xrsc_result res = poll_events(s, info, out_diag);
+    info->state = s->state;
+    if (res != XRSC_OK || info->status == XRSC_XR_EXITED || info->status == XRSC_XR_LOST)
+        return res;
+    if (!s->running) {
+        struct timespec ts = {0, XR_IDLE_SLEEP_NS};
+        nanosleep(&ts, NULL);
+        return XRSC_OK;
+    }
+    res = frame_run(s, info, out_diag);
     if (res == XRSC_ERROR_XR_SESSION_LOST) {
         info->status = XRSC_XR_LOST;
         s->running = false;
