@@ -189,18 +189,17 @@ static xrsc_result upload_materials(gpu_context *ctx, gpu_scene *gs, const sc_sc
     return res;
 }
 
-static xrsc_result upload_emitters(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
-                                   xrsc_diag *diag)
+/** Triangles of instance i's mesh. */
+static uint32_t instance_triangles(const sc_scene *scene, uint32_t i)
 {
-    xrsc_result res = XRSC_OK;
+    return scene->meshes[scene->instances[i].mesh].index_count / 3;
+}
+
+/** Each instance's first entry in the emitter table (XS_NO_EMITTER: no emissive triangle):
+ *  every triangle of an instance with an emitter gets an entry; returns the entry count. */
+static uint64_t emitter_bases(const sc_scene *scene, bool *emissive, uint32_t *base)
+{
     uint32_t ni = scene->instance_count;
-    bool *emissive = calloc(ni ? ni : 1, sizeof(*emissive));
-    uint32_t *base = calloc(ni ? ni : 1, sizeof(*base));
-    xs_emitter *em = NULL;
-    if (!emissive || !base) {
-        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
-        goto done;
-    }
     for (uint32_t e = 0; e < scene->emitter_count; e++)
         if (scene->emitters[e].instance < ni)
             emissive[scene->emitters[e].instance] = true;
@@ -209,18 +208,22 @@ static xrsc_result upload_emitters(gpu_context *ctx, gpu_scene *gs, const sc_sce
         base[i] = XS_NO_EMITTER;
         if (emissive[i]) {
             base[i] = (uint32_t)count;
-            count += scene->meshes[scene->instances[i].mesh].index_count / 3;
+            count += instance_triangles(scene, i);
         }
     }
-    em = calloc(count ? count : 1, sizeof(*em));
-    if (!em) {
-        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
-        goto done;
-    }
+    return count;
+}
+
+/** The table's entries: instance and primitive of each, pmf proportional to the triangle's
+ *  power (uniform when no triangle has any), and the running cdf ending at exactly 1. */
+static void fill_emitters(const sc_scene *scene, const uint32_t *base, xs_emitter *em,
+                          uint64_t count)
+{
+    uint32_t ni = scene->instance_count;
     for (uint32_t i = 0; i < ni; i++) {
         if (base[i] == XS_NO_EMITTER)
             continue;
-        uint32_t tris = scene->meshes[scene->instances[i].mesh].index_count / 3;
+        uint32_t tris = instance_triangles(scene, i);
         for (uint32_t t = 0; t < tris; t++) {
             em[base[i] + t].instance = i;
             em[base[i] + t].primitive = t;
@@ -231,8 +234,7 @@ static xrsc_result upload_emitters(gpu_context *ctx, gpu_scene *gs, const sc_sce
         const sc_emitter *s = &scene->emitters[e];
         if (s->instance >= ni || base[s->instance] == XS_NO_EMITTER)
             continue;
-        uint32_t tris = scene->meshes[scene->instances[s->instance].mesh].index_count / 3;
-        if (s->primitive >= tris || !(s->power > 0.0f))
+        if (s->primitive >= instance_triangles(scene, s->instance) || !(s->power > 0.0f))
             continue;
         em[base[s->instance] + s->primitive].pmf = s->power;
         total += s->power;
@@ -246,6 +248,27 @@ static xrsc_result upload_emitters(gpu_context *ctx, gpu_scene *gs, const sc_sce
     }
     if (count)
         em[count - 1].cdf = 1.0f;
+}
+
+static xrsc_result upload_emitters(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                   xrsc_diag *diag)
+{
+    xrsc_result res = XRSC_OK;
+    uint32_t ni = scene->instance_count;
+    bool *emissive = calloc(ni ? ni : 1, sizeof(*emissive));
+    uint32_t *base = calloc(ni ? ni : 1, sizeof(*base));
+    xs_emitter *em = NULL;
+    if (!emissive || !base) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+        goto done;
+    }
+    uint64_t count = emitter_bases(scene, emissive, base);
+    em = calloc(count ? count : 1, sizeof(*em));
+    if (!em) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+        goto done;
+    }
+    fill_emitters(scene, base, em, count);
     for (uint32_t i = 0; i < ni; i++)
         gs->host_instances[i].emitter_base = base[i];
     gs->emitter_count = (uint32_t)count;
