@@ -783,25 +783,89 @@ static void bench_config(bench_run *b)
              HS_BENCH_COLUMN_COUNT);
 }
 
+/** The run's sizes and defaults from the options. */
+static void bench_init(bench_run *b, const hs_bench_options *opt)
+{
+    *b = (bench_run){.opt = opt, .ref_floor_relmse = NAN};
+    b->prog.on = opt->progress;
+    b->prog.tty = isatty(STDERR_FILENO);
+    b->prog.started = now_s();
+    b->w = opt->width ? opt->width : DEFAULT_EYE_SIZE_PX;
+    b->h = opt->height ? opt->height : DEFAULT_EYE_SIZE_PX;
+    b->warmup = opt->warmup;
+    b->score_every = opt->score_every ? opt->score_every : 1;
+    b->ref_spp = opt->ref_spp ? opt->ref_spp : DEFAULT_REF_SPP;
+    b->headset = opt->headset;
+    if (headset_is_zero(&b->headset))
+        xrsc_headset_default(&b->headset);
+}
+
+/** The ref/ and frames/ folders under --out, and the run's first progress line. */
+static xrsc_result bench_dirs(bench_run *b, xrsc_diag *diag)
+{
+    const hs_bench_options *opt = b->opt;
+    char dir[HS_BENCH_PATH_MAX];
+    snprintf(b->ref_dir, sizeof(b->ref_dir), "%s/ref", opt->out_dir);
+    snprintf(dir, sizeof(dir), "%s/frames", opt->out_dir);
+    xrsc_result res;
+    if ((res = hs_make_dirs(b->ref_dir, "--out", diag)) != XRSC_OK ||
+        (res = hs_make_dirs(dir, "--out", diag)) != XRSC_OK)
+        return res;
+    if (opt->progress)
+        fprintf(stderr,
+                "xrsc bench: %u settings x %u frames (%u warm-up, every %u scored), %ux%u per "
+                "eye, on %s\n",
+                opt->setting_count, b->frames, b->warmup, b->score_every, b->w, b->h,
+                xrsc_context_device_name(b->ctx));
+    return XRSC_OK;
+}
+
+/** The references, then every setting (with the depth renderer the temporal and stereo
+ *  metrics reproject by), then warnings on failed metrics and validation errors. */
+static xrsc_result bench_settings(bench_run *b, xrsc_diag *diag)
+{
+    const hs_bench_options *opt = b->opt;
+    xrsc_result res;
+    if ((res = make_references(b, diag)) != XRSC_OK)
+        return res;
+    xrsc_renderer_options dro = {.method = XRSC_METHOD_PRIMARY, .width = b->w, .height = b->h};
+    if ((res = xrsc_renderer_create(b->ctx, b->scene, &dro, &b->depth_r, diag)) != XRSC_OK)
+        return res;
+    for (uint32_t i = 0; i < opt->setting_count; i++)
+        if ((res = run_setting(b, &opt->settings[i], i, diag)) != XRSC_OK)
+            return res;
+    if (b->metric_failures)
+        fprintf(stderr,
+                "xrsc bench: warning: %u metric evaluations failed (NaN/inf pixels); "
+                "their cells are nan\n",
+                b->metric_failures);
+    uint32_t verr = xrsc_context_validation_errors(b->ctx);
+    if (verr)
+        fprintf(stderr, "xrsc bench: warning: the Vulkan validation layer reported %u errors\n",
+                verr);
+    return XRSC_OK;
+}
+
+/** Frees what hs_bench_run made (NULL members are skipped). */
+static void bench_free(bench_run *b)
+{
+    xrsc_renderer_destroy(&b->depth_r);
+    xrsc_scene_destroy(&b->scene);
+    xrsc_context_destroy(&b->ctx);
+    for (uint32_t i = 0; b->base_color && i < 2 * b->frames; i++)
+        free(b->base_color[i]);
+    free(b->base_color);
+    free(b->frame);
+}
+
 xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *diag)
 {
     if (!opt || !opt->scene_path || !opt->poses_path || !opt->out_dir || !opt->out_dir[0] ||
         !opt->settings || opt->setting_count == 0)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "",
                           "bench needs a scene, a pose stream, an output folder and settings");
-    bench_run b = {.opt = opt, .ref_floor_relmse = NAN};
-    b.prog.on = opt->progress;
-    b.prog.tty = isatty(STDERR_FILENO);
-    b.prog.started = now_s();
-    b.w = opt->width ? opt->width : DEFAULT_EYE_SIZE_PX;
-    b.h = opt->height ? opt->height : DEFAULT_EYE_SIZE_PX;
-    b.warmup = opt->warmup;
-    b.score_every = opt->score_every ? opt->score_every : 1;
-    b.ref_spp = opt->ref_spp ? opt->ref_spp : DEFAULT_REF_SPP;
-    b.headset = opt->headset;
-    if (headset_is_zero(&b.headset))
-        xrsc_headset_default(&b.headset);
-
+    bench_run b;
+    bench_init(&b, opt);
     hs_pose_stream *stream = NULL;
     xrsc_result res;
     if ((res = hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag)) != XRSC_OK)
@@ -812,56 +876,20 @@ xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *
         goto done;
     xrsc_scene_info info;
     xrsc_scene_get_info(b.scene, &info);
-
     if ((res = bench_frames(&b, stream, &info, diag)) != XRSC_OK)
         goto done;
     bench_config(&b);
     b.base_color = calloc(2 * (size_t)b.frames, sizeof(float *)); /* NULL: no base_energy */
-
-    char dir[HS_BENCH_PATH_MAX];
-    snprintf(b.ref_dir, sizeof(b.ref_dir), "%s/ref", opt->out_dir);
-    snprintf(dir, sizeof(dir), "%s/frames", opt->out_dir);
-    if ((res = hs_make_dirs(b.ref_dir, "--out", diag)) != XRSC_OK ||
-        (res = hs_make_dirs(dir, "--out", diag)) != XRSC_OK)
+    if ((res = bench_dirs(&b, diag)) != XRSC_OK || (res = bench_settings(&b, diag)) != XRSC_OK)
         goto done;
-    if (opt->progress)
-        fprintf(stderr,
-                "xrsc bench: %u settings x %u frames (%u warm-up, every %u scored), %ux%u per "
-                "eye, on %s\n",
-                opt->setting_count, b.frames, b.warmup, b.score_every, b.w, b.h,
-                xrsc_context_device_name(b.ctx));
-
-    if ((res = make_references(&b, diag)) != XRSC_OK)
-        goto done;
-    xrsc_renderer_options dro = {.method = XRSC_METHOD_PRIMARY, .width = b.w, .height = b.h};
-    if ((res = xrsc_renderer_create(b.ctx, b.scene, &dro, &b.depth_r, diag)) != XRSC_OK)
-        goto done;
-    for (uint32_t i = 0; i < opt->setting_count; i++)
-        if ((res = run_setting(&b, &opt->settings[i], i, diag)) != XRSC_OK)
-            goto done;
-    if (b.metric_failures)
-        fprintf(stderr, "xrsc bench: warning: %u metric evaluations failed (NaN/inf pixels); "
-                        "their cells are nan\n", b.metric_failures);
-    uint32_t verr = xrsc_context_validation_errors(b.ctx);
-    if (verr)
-        fprintf(stderr, "xrsc bench: warning: the Vulkan validation layer reported %u errors\n",
-                verr);
-
     hs_bench_report_info ri = {
         .frames = b.frames, .warmup = b.warmup, .score_every = b.score_every, .ref_spp = b.ref_spp,
         .width = b.w, .height = b.h, .device = xrsc_context_device_name(b.ctx),
         .ref_floor_relmse = b.ref_floor_relmse, .floor_frame = b.floor_frame,
     };
     res = hs_bench_report(opt, &ri, summary, diag);
-
 done:
-    xrsc_renderer_destroy(&b.depth_r);
-    xrsc_scene_destroy(&b.scene);
-    xrsc_context_destroy(&b.ctx);
+    bench_free(&b);
     hs_pose_stream_destroy(&stream);
-    for (uint32_t i = 0; b.base_color && i < 2 * b.frames; i++)
-        free(b.base_color[i]);
-    free(b.base_color);
-    free(b.frame);
     return res;
 }
