@@ -72,42 +72,42 @@ uint youngest(uint pix, uint pool, uint start)
     return best;
 }
 
-void main()
+/** `isrt`: every cell without a visible sample gets a new one, nothing is pruned. */
+void density_isrt(uint pix)
 {
-    uvec3 g = gl_GlobalInvocationID;
-    if (g.x >= frame.width || g.y >= frame.height)
-        return;
-    uint eye = g.z;
-    uint pix = sc_pix(eye, g.xy);
-    if (sc_isrt()) {
-        uint mi = sc_mask_at(scp.cur, pix);
-        uint m = sc_mask[mi];
-        uint vis = sc_vis(m) & sc_all_slots();
-        uint empty = sc_all_slots() & ~vis;
-        sc_mask[mi] = (sc_occ(m) | empty) | (vis << XS_SC_MAX_SLOTS);
-        uint trace = sc_plan[pix].x & ~empty;
-        sc_plan[pix].x = trace;
-        sc_plan[pix].y = empty;
-        if (scp.trace_mode == XS_SC_TRACE_ADAPTIVE && (trace | empty) != 0u)
-            sc_list_append(pix);
-        return;
-    }
-    /* the 3 x 3 means of the neighbourhoods containing this pixel (each clipped to the
-     * image, as each of those pixels measures its own), from the visible counts of the 5 x 5
-     * window loaded once (pixels outside the image count 0; integer sums, so the order of
-     * summation does not matter) */
+    uint mi = sc_mask_at(scp.cur, pix);
+    uint m = sc_mask[mi];
+    uint vis = sc_vis(m) & sc_all_slots();
+    uint empty = sc_all_slots() & ~vis;
+    sc_mask[mi] = (sc_occ(m) | empty) | (vis << XS_SC_MAX_SLOTS);
+    uint trace = sc_plan[pix].x & ~empty;
+    sc_plan[pix].x = trace;
+    sc_plan[pix].y = empty;
+    if (scp.trace_mode == XS_SC_TRACE_ADAPTIVE && (trace | empty) != 0u)
+        sc_list_append(pix);
+}
+
+/**
+ * The smallest and largest of the 3 x 3 means of the neighbourhoods containing pixel p (each
+ * clipped to the image, as each of those pixels measures its own), from the visible counts
+ * of the 5 x 5 window loaded once (pixels outside the image count 0; integer sums, so the
+ * order of summation does not matter).
+ */
+void neighbourhood_means(uvec2 p, uint eye, out float mean_min, out float mean_max)
+{
     uint cnt[5][5];
     ivec2 size = ivec2(frame.width, frame.height);
     for (int dy = 0; dy < 5; dy++)
         for (int dx = 0; dx < 5; dx++) {
-            ivec2 c = ivec2(g.xy) + ivec2(dx - 2, dy - 2);
+            ivec2 c = ivec2(p) + ivec2(dx - 2, dy - 2);
             bool inside = all(greaterThanEqual(c, ivec2(0))) && all(lessThan(c, size));
             cnt[dy][dx] = inside ? sc_plan[sc_pix(eye, uvec2(c))].w : 0u;
         }
-    float mean_min = 1e30, mean_max = 0.0;
+    mean_min = 1e30;
+    mean_max = 0.0;
     for (int oy = -1; oy <= 1; oy++)
         for (int ox = -1; ox <= 1; ox++) {
-            ivec2 q = ivec2(g.xy) + ivec2(ox, oy);
+            ivec2 q = ivec2(p) + ivec2(ox, oy);
             if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
                 continue;
             uint sum = 0u;
@@ -120,17 +120,13 @@ void main()
             mean_min = min(mean_min, mean);
             mean_max = max(mean_max, mean);
         }
+}
 
-    uint mi = sc_mask_at(scp.cur, pix);
-    uint m = sc_mask[mi];
+/** New samples for a pixel below the band (at least one when it has no visible sample): free
+ *  slots first, then invisible ones, in random order; returns their bits (added to occ). */
+uint add_samples(float mean_min, uint nvis, uint vis, inout uint occ, inout xs_rng rng)
+{
     uint all_slots = sc_all_slots();
-    uint occ = sc_occ(m) & all_slots;
-    uint vis = sc_vis(m) & all_slots;
-    uint nvis = uint(bitCount(vis));
-    uvec4 plan = sc_plan[pix];
-    uint foreign = sc_foreign_bits(scp.cur, pix);
-    xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_DENSITY_STREAM, frame.seed);
-
     uint add = 0u;
     if (mean_min < scp.n_target - scp.delta && float(nvis) < scp.n_target)
         add = uint(ceil(scp.n_target - float(nvis)));
@@ -146,30 +142,63 @@ void main()
         occ |= sc_obit(s);
         newbits |= sc_obit(s);
     }
+    return newbits;
+}
 
-    if (mean_max > scp.n_target + scp.delta && float(nvis) > scp.n_target && nvis > 1u) {
-        uint remove = min(uint(ceil(float(nvis) - scp.n_target)), nvis - 1u);
-        /* cross-eye reuse: own samples only, half the excess (the other eye prunes its own
-         * half); pruned copies would come back next frame, a flicker under motion */
-        uint pool = vis & ~foreign;
+/** Prunes a pixel above the band: randomly chosen visible samples, always keeping one
+ *  (cross-eye reuse: own samples only, half the excess, the youngest first). */
+void prune_samples(uint pix, float mean_max, uint nvis, uint foreign, inout uint vis,
+                   inout uint occ, inout xs_rng rng)
+{
+    if (!(mean_max > scp.n_target + scp.delta && float(nvis) > scp.n_target && nvis > 1u))
+        return;
+    uint remove = min(uint(ceil(float(nvis) - scp.n_target)), nvis - 1u);
+    /* cross-eye reuse: own samples only, half the excess (the other eye prunes its own
+     * half); pruned copies would come back next frame, a flicker under motion */
+    uint pool = vis & ~foreign;
+    if (scp.cross_eye != 0u)
+        remove = min(uint(ceil(0.5 * (float(nvis) - scp.n_target))), uint(bitCount(pool)));
+    for (uint k = 0u; k < remove; k++) {
+        uint s = nth_bit(pool, xs_rng_next_uint(rng) % uint(bitCount(pool)));
         if (scp.cross_eye != 0u)
-            remove = min(uint(ceil(0.5 * (float(nvis) - scp.n_target))), uint(bitCount(pool)));
-        for (uint k = 0u; k < remove; k++) {
-            uint s = nth_bit(pool, xs_rng_next_uint(rng) % uint(bitCount(pool)));
-            if (scp.cross_eye != 0u)
-                s = youngest(pix, pool, s);
-            pool &= ~sc_obit(s);
-            vis &= ~sc_obit(s);
-            occ &= ~sc_obit(s);
-        }
+            s = youngest(pix, pool, s);
+        pool &= ~sc_obit(s);
+        vis &= ~sc_obit(s);
+        occ &= ~sc_obit(s);
     }
+}
+
+void main()
+{
+    uvec3 g = gl_GlobalInvocationID;
+    if (g.x >= frame.width || g.y >= frame.height)
+        return;
+    uint eye = g.z;
+    uint pix = sc_pix(eye, g.xy);
+    if (sc_isrt()) {
+        density_isrt(pix);
+        return;
+    }
+    float mean_min, mean_max;
+    neighbourhood_means(g.xy, eye, mean_min, mean_max);
+
+    uint mi = sc_mask_at(scp.cur, pix);
+    uint m = sc_mask[mi];
+    uint occ = sc_occ(m) & sc_all_slots();
+    uint vis = sc_vis(m) & sc_all_slots();
+    uint nvis = uint(bitCount(vis));
+    uvec4 plan = sc_plan[pix];
+    uint foreign = sc_foreign_bits(scp.cur, pix);
+    xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_DENSITY_STREAM, frame.seed);
+    uint newbits = add_samples(mean_min, nvis, vis, occ, rng);
+    prune_samples(pix, mean_max, nvis, foreign, vis, occ, rng);
 
     /* new samples start invisible (sc_trace.rgen sets the bit); pruned ones are gone */
     vis &= ~newbits;
     sc_mask[mi] = occ | (vis << XS_SC_MAX_SLOTS);
-    /* cross-eye reuse: new samples are this eye's own; pruned copies are gone */
+    /* cross-eye reuse: new samples are this eye's own */
     if (scp.cross_eye != 0u)
-        sc_foreign[sc_mask_at(scp.cur, pix)] &= occ & ~newbits;
+        sc_foreign[mi] = foreign & occ & ~newbits;
     /* x and y only: neighbours read w concurrently */
     uint trace = plan.x & occ & ~newbits;
     sc_plan[pix].x = trace;
