@@ -91,6 +91,101 @@ vec3 rc_strata(vec3 a_sum, float a_n, vec3 s_sum, float s_n, float own_spec, flo
     return (1.0 - phi) * ((a_sum - s_sum) / sh_n) + phi * (s_sum / s_n);
 }
 
+/** A pixel's sums over its visible samples (Eq. 5, 6 and the colour of §3.3), the closest
+ *  sample's outputs, and cross-eye reuse's eye-specific stratum (rc_strata). */
+struct rc_sums {
+    vec3 sum, sum_w1, sum_w2, albedo_sum, bg_w1, bg_w2;
+    float n_obs, c_total, n_vis, n_surf, n_bg;
+    float best_t, depth;
+    uvec4 hitid;
+    vec3 sp_sum, sp_w1, sp_w2;
+    float sp_obs, sp_c, own_spec, own_all;
+};
+
+void rc_sums_init(out rc_sums r)
+{
+    r.sum = r.sum_w1 = r.sum_w2 = r.albedo_sum = r.bg_w1 = r.bg_w2 = vec3(0.0);
+    r.n_obs = r.c_total = r.n_vis = r.n_surf = r.n_bg = 0.0;
+    r.best_t = SC_T_BACKGROUND;
+    r.depth = 0.0;
+    r.hitid = uvec4(XS_MISS_INSTANCE, 0u, 0u, 0u);
+    r.sp_sum = r.sp_w1 = r.sp_w2 = vec3(0.0);
+    r.sp_obs = r.sp_c = r.own_spec = r.own_all = 0.0;
+}
+
+/** Value x and count c of surface sample fh (slot s of pix) seen from eye e at o: emission +
+ *  albedo x L_s; also its albedo, eye-specificity and, when closest so far, depth and hit id. */
+void rc_surface(inout rc_sums r, inout sc_tri tri, inout rc_material mc, uvec4 fh, uint s,
+                uint pix, vec3 o, xs_eye e, out vec3 x, out float c, out bool specific)
+{
+    sc_tri_fetch(tri, fh, true);
+    vec3 sp = sc_tri_position(tri, fh);
+    vec3 d = sp - o;
+    float t = length(d);
+    bool outside = sc_tri_outside(tri, fh, -d / max(t, 1e-30));
+    vec3 a, emitted;
+    rc_material_at(mc, sc_material(fh), sc_tri_uv(tri, fh), outside, a, emitted, specific);
+    r.albedo_sum += a;
+    if (t < r.best_t) {
+        r.best_t = t;
+        vec2 bary = sc_bary(fh);
+        r.hitid = uvec4(fh.w, fh.z, floatBitsToUint(bary.x), floatBitsToUint(bary.y));
+        r.depth = -(e.view * vec4(sp, 1.0)).z;
+    }
+    vec4 rad = sc_rad_load(sc_rad_at(scp.cur, s, pix));
+    c = rad.w;
+    x = emitted + sc_demod(a) * rad.rgb;
+}
+
+/** Adds an observed sample (value x, count c) to the sums. */
+void rc_add(inout rc_sums r, vec3 x, float c, bool background, bool specific)
+{
+    if (specific) {
+        r.sp_sum += x;
+        r.sp_obs += 1.0;
+        r.sp_w1 += c * x;
+        r.sp_w2 += c * x * x;
+        r.sp_c += c;
+    }
+    r.sum += x;
+    r.n_obs += 1.0;
+    if (background) {
+        r.n_bg += 1.0;
+        r.bg_w1 += x;
+        r.bg_w2 += x * x;
+    } else {
+        r.n_surf += 1.0;
+        r.sum_w1 += c * x;
+        r.sum_w2 += c * x * x;
+        r.c_total += c;
+    }
+}
+
+/** The pixel's outputs from its sums. */
+void rc_store(inout rc_sums r, ivec3 coord)
+{
+    /* background samples are exact: they count as much as the pixel's mean surface sample */
+    float c_bg = r.n_surf > 0.0 ? r.c_total / r.n_surf : 1.0;
+    r.sum_w1 += c_bg * r.bg_w1;
+    r.sum_w2 += c_bg * r.bg_w2;
+    r.c_total += c_bg * r.n_bg;
+    vec3 color = r.n_obs > 0.0 ? r.sum / r.n_obs : vec3(0.0);
+    vec3 albedo = r.n_vis > 0.0 ? r.albedo_sum / r.n_vis : vec3(1.0);
+    vec3 mu1 = r.c_total > 0.0 ? r.sum_w1 / r.c_total : vec3(0.0);
+    vec3 mu2 = r.c_total > 0.0 ? r.sum_w2 / r.c_total : vec3(0.0);
+    if (scp.cross_eye != 0u) {
+        color = rc_strata(r.sum, r.n_obs, r.sp_sum, r.sp_obs, r.own_spec, r.own_all);
+        mu1 = rc_strata(r.sum_w1, r.c_total, r.sp_w1, r.sp_c, r.own_spec, r.own_all);
+        mu2 = rc_strata(r.sum_w2, r.c_total, r.sp_w2, r.sp_c, r.own_spec, r.own_all);
+    }
+    imageStore(out_color, coord, vec4(color, 1.0));
+    imageStore(out_albedo, coord, vec4(albedo, 1.0));
+    imageStore(out_depth, coord, vec4(r.depth));
+    imageStore(out_hitid, coord, r.hitid);
+    imageStore(out_mu1, coord, vec4(mu1, r.c_total));
+    imageStore(out_mu2, coord, vec4(mu2, r.c_total));
+}
+
 void main()
 {
     uvec3 g = gl_GlobalInvocationID;
@@ -98,17 +193,11 @@ void main()
         return;
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
-    uint cur = scp.cur;
-    uint m = sc_mask[sc_mask_at(cur, pix)];
+    uint m = sc_mask[sc_mask_at(scp.cur, pix)];
     vec3 o = sc_eye_pos(eye);
     xs_eye e = frame.eyes[eye];
-
-    vec3 sum = vec3(0.0), sum_w1 = vec3(0.0), sum_w2 = vec3(0.0), albedo_sum = vec3(0.0);
-    vec3 bg_w1 = vec3(0.0), bg_w2 = vec3(0.0);
-    float n_obs = 0.0, c_total = 0.0, n_vis = 0.0, n_surf = 0.0, n_bg = 0.0;
-    float best_t = SC_T_BACKGROUND;
-    uvec4 hitid = uvec4(XS_MISS_INSTANCE, 0u, 0u, 0u);
-    float depth = 0.0;
+    rc_sums r;
+    rc_sums_init(r);
     sc_tri tri;
     sc_tri_init(tri);
     rc_material mc;
@@ -117,87 +206,29 @@ void main()
     mc.albedo = mc.emission = vec3(0.0);
     mc.double_sided = false;
     mc.specific = false;
-    /* cross-eye reuse (rc_strata): the eye-specific stratum's sums, the own samples' counts */
-    uint foreign = sc_foreign_bits(cur, pix);
-    vec3 sp_sum = vec3(0.0), sp_w1 = vec3(0.0), sp_w2 = vec3(0.0);
-    float sp_obs = 0.0, sp_c = 0.0, own_spec = 0.0, own_all = 0.0;
+    uint foreign = sc_foreign_bits(scp.cur, pix); /* cross-eye reuse: the other eye's copies */
     for (uint bits = sc_vis(m) & sc_occ(m) & sc_all_slots(); bits != 0u; bits &= bits - 1u) {
         uint s = uint(findLSB(bits));
-        uint at = sc_slot_at(cur, s, pix);
-        uvec4 fh = sc_fh[at];
+        uvec4 fh = sc_fh[sc_slot_at(scp.cur, s, pix)];
         vec3 x;
         float c;
         bool specific = false;
-        n_vis += 1.0;
-        if (sc_is_background(fh)) {
+        bool background = sc_is_background(fh);
+        r.n_vis += 1.0;
+        if (background) {
             /* what the sample's own ray sees: the map and sun disk, or the constant */
             x = xs_env_escape(sc_background_dir(fh), true, 0.0);
             c = 1.0;
-            albedo_sum += vec3(1.0);
+            r.albedo_sum += vec3(1.0);
         } else {
-            sc_tri_fetch(tri, fh, true);
-            vec3 sp = sc_tri_position(tri, fh);
-            vec3 d = sp - o;
-            float t = length(d);
-            bool outside = sc_tri_outside(tri, fh, -d / max(t, 1e-30));
-            vec3 a, emitted;
-            rc_material_at(mc, sc_material(fh), sc_tri_uv(tri, fh), outside, a, emitted, specific);
-            albedo_sum += a;
-            if (t < best_t) {
-                best_t = t;
-                vec2 bary = sc_bary(fh);
-                hitid = uvec4(fh.w, fh.z, floatBitsToUint(bary.x), floatBitsToUint(bary.y));
-                depth = -(e.view * vec4(sp, 1.0)).z;
-            }
-            vec4 rad = sc_rad_load(sc_rad_at(cur, s, pix));
-            c = rad.w;
-            x = emitted + sc_demod(a) * rad.rgb;
+            rc_surface(r, tri, mc, fh, s, pix, o, e, x, c, specific);
         }
         if ((foreign & sc_obit(s)) == 0u) {
-            own_all += 1.0;
-            own_spec += specific ? 1.0 : 0.0;
+            r.own_all += 1.0;
+            r.own_spec += specific ? 1.0 : 0.0;
         }
-        if (!(c > 0.0 && xs_finite(x)))
-            continue;
-        if (specific) {
-            sp_sum += x;
-            sp_obs += 1.0;
-            sp_w1 += c * x;
-            sp_w2 += c * x * x;
-            sp_c += c;
-        }
-        sum += x;
-        n_obs += 1.0;
-        if (sc_is_background(fh)) {
-            n_bg += 1.0;
-            bg_w1 += x;
-            bg_w2 += x * x;
-        } else {
-            n_surf += 1.0;
-            sum_w1 += c * x;
-            sum_w2 += c * x * x;
-            c_total += c;
-        }
+        if (c > 0.0 && xs_finite(x))
+            rc_add(r, x, c, background, specific);
     }
-    /* background samples are exact: they count as much as the pixel's mean surface sample */
-    float c_bg = n_surf > 0.0 ? c_total / n_surf : 1.0;
-    sum_w1 += c_bg * bg_w1;
-    sum_w2 += c_bg * bg_w2;
-    c_total += c_bg * n_bg;
-    vec3 color = n_obs > 0.0 ? sum / n_obs : vec3(0.0);
-    vec3 albedo = n_vis > 0.0 ? albedo_sum / n_vis : vec3(1.0);
-    vec3 mu1 = c_total > 0.0 ? sum_w1 / c_total : vec3(0.0);
-    vec3 mu2 = c_total > 0.0 ? sum_w2 / c_total : vec3(0.0);
-    if (scp.cross_eye != 0u) {
-        color = rc_strata(sum, n_obs, sp_sum, sp_obs, own_spec, own_all);
-        mu1 = rc_strata(sum_w1, c_total, sp_w1, sp_c, own_spec, own_all);
-        mu2 = rc_strata(sum_w2, c_total, sp_w2, sp_c, own_spec, own_all);
-    }
-    ivec3 coord = ivec3(g);
-    imageStore(out_color, coord, vec4(color, 1.0));
-    imageStore(out_albedo, coord, vec4(albedo, 1.0));
-    imageStore(out_depth, coord, vec4(depth));
-    imageStore(out_hitid, coord, hitid);
-    imageStore(out_mu1, coord, vec4(mu1, c_total));
-    imageStore(out_mu2, coord, vec4(mu2, c_total));
+    rc_store(r, ivec3(g));
 }
