@@ -273,8 +273,9 @@ typedef struct xrsc_sc_visibility_options {
  * copies, retraced there for visibility like any sample, counted by density control and
  * reconstructed (a pixel's eye-specific and shared samples weighed by the share of its own
  * samples on each), but shaded only by their owner, so a surface point is traced and shaded
- * once for both eyes; +8 B per pixel per eye.
- * Not with `isrt` or `hybrid` (XRSC_ERROR_INVALID_ARGUMENT). Default off.
+ * once for both eyes; +8 B per pixel per eye. The eyes reserve slots in each other's pixels,
+ * so images vary slightly from run to run (the order of arrival). Not with `isrt` or
+ * `hybrid` (XRSC_ERROR_INVALID_ARGUMENT). Default off.
  */
 typedef struct xrsc_samplecache_options {
     uint32_t slots;
