@@ -25,8 +25,8 @@
  * not xs_sc_eye_specific) into the OTHER eye's view, reserved there like any visible sample
  * and marked foreign (xs_samplecache.h); the previous copy's foreign samples are not carried
  * (their owner sent fresh copies). A copy carries the radiance the owner's last shading left.
- * The own samples' loop is the same code with cross-eye reuse off, so the default's images
- * are those of before (the copies come after it).
+ * The copies are sent after the own samples' loop, so with cross-eye reuse off the order of
+ * the atomics, and the images, are those of before.
  *
  * `isrt` (scp.isrt_m = M > 0, [DSK*17] as seed 000 §5 / Fig. 10 uses it): no reservation; the
  * slot is the sub-pixel cell of the M x M grid that contains the reprojected position, and of
@@ -130,6 +130,24 @@ bool eye_specific(sc_tri tri, uvec4 fh)
     return xs_sc_eye_specific(mt.metallic, mt.transmission, mt.roughness, mt.ior) != 0u;
 }
 
+/** Projects a world point (w = 1, on tri) or direction (w = 0) into eye teye: the image
+ *  position, the distance t to the eye (background: SC_T_BACKGROUND) and Eq. 1's slope; false
+ *  behind the eye or outside the image. */
+bool project_sample(uint teye, vec4 pw, sc_tri tri, out vec2 pos, out float t, out float slope)
+{
+    t = SC_T_BACKGROUND;
+    slope = 0.0;
+    if (!sc_project(teye, pw, pos))
+        return false;
+    if (pw.w != 0.0) {
+        /* |cos| only: the normal's sign does not matter under abs */
+        vec3 to_eye = sc_eye_pos(teye) - pw.xyz;
+        t = length(to_eye);
+        slope = xs_sc_slope(t, abs(dot(tri.ng_unsigned, to_eye / max(t, 1e-30))), sc_phi(teye));
+    }
+    return true;
+}
+
 /** Listing 2, write_sample after the reservation: source sample (slot s of pix in the previous
  *  copy, first hit fh) into slot `slot` of target pixel tpix of eye teye. */
 void write_sample(uint teye, uint tpix, uint slot, uint s, uint pix, uvec4 fh, bool visible)
@@ -157,15 +175,9 @@ void send_copy(uint teye, uint s, uint pix, uvec4 fh, vec4 pw, sc_tri tri)
 {
     bool background = pw.w == 0.0;
     vec2 pos;
-    if (!sc_project(teye, pw, pos))
+    float t, slope;
+    if (!project_sample(teye, pw, tri, pos, t, slope))
         return;
-    float t = SC_T_BACKGROUND;
-    float slope = 0.0;
-    if (!background) {
-        vec3 to_eye = sc_eye_pos(teye) - pw.xyz;
-        t = length(to_eye);
-        slope = xs_sc_slope(t, abs(dot(tri.ng_unsigned, to_eye / max(t, 1e-30))), sc_phi(teye));
-    }
     uint tpix = sc_pix(teye, uvec2(pos));
     uint slot;
     if (!reserve_slot(sc_mask_at(scp.cur, tpix), true, slot))
@@ -209,7 +221,6 @@ void main()
     uint pm = sc_mask[sc_mask_at(prev, pix)];
     /* cross-eye copies are not carried: their owner sends fresh ones */
     uint occ = sc_occ(pm) & sc_all_slots() & ~sc_foreign_bits(prev, pix);
-    vec3 eye_pos = sc_eye_pos(eye);
     sc_tri tri;
     sc_tri_init(tri);
 
@@ -220,24 +231,16 @@ void main()
         uint src_at = sc_slot_at(prev, s, pix);
         uvec4 fh = sc_fh[src_at];
 
-        vec2 pos;
-        float t = SC_T_BACKGROUND;
-        float slope = 0.0;
         bool background = sc_is_background(fh);
-        if (background) {
-            if (!sc_project(eye, vec4(sc_background_dir(fh), 0.0), pos))
-                continue;
-        } else {
-            /* position and |cos| only (the normal's sign does not matter under abs) */
+        vec4 pw = vec4(sc_background_dir(fh), 0.0);
+        if (!background) { /* position and |cos| only */
             sc_tri_fetch(tri, fh, false);
-            vec3 p = sc_tri_position(tri, fh);
-            if (!sc_project(eye, vec4(p, 1.0), pos))
-                continue;
-            vec3 to_eye = eye_pos - p;
-            t = length(to_eye);
-            slope = xs_sc_slope(t, abs(dot(tri.ng_unsigned, to_eye / max(t, 1e-30))),
-                                sc_phi(eye));
+            pw = vec4(sc_tri_position(tri, fh), 1.0);
         }
+        vec2 pos;
+        float t, slope;
+        if (!project_sample(eye, pw, tri, pos, t, slope))
+            continue;
         uint tpix = sc_pix(eye, uvec2(pos));
         uint tmask = sc_mask_at(cur, tpix);
         if (sc_isrt()) {
