@@ -53,8 +53,8 @@ uint nth_bit(uint bits, uint k)
     return uint(findLSB(bits));
 }
 
-/** Cross-eye reuse: the own sample of pool with the smallest count c_s (the first from
- *  `start` on, cyclically, on a tie). Both eyes trace new samples where a motion stretches the
+/** Cross-eye reuse: the own sample of pool with the smallest count c_s: `start` (a random
+ *  member) unless another has a smaller count, then the lowest such slot. Both eyes trace new samples where a motion stretches the
  *  view, so their pixels overflow once the copies arrive; pruning at random would replace
  *  converged samples by young, noisy ones there. */
 uint youngest(uint pix, uint pool, uint start)

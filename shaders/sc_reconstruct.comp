@@ -43,6 +43,14 @@ struct rc_material {
     bool specific; /* xs_sc_eye_specific (cross-eye reuse) */
 };
 
+/** Cross-eye reuse: whether material values mt are eye-specific (false when the reuse is off:
+ *  no stratum to weigh then). */
+bool rc_specific(xs_mat mt)
+{
+    return scp.cross_eye != 0u &&
+           xs_sc_eye_specific(mt.metallic, mt.transmission, mt.roughness, mt.ior) != 0u;
+}
+
 /** Albedo (xs_demod_albedo) and emitted radiance towards the eye (xs_emitted) of the sample of
  *  material id at uv, seen from its outside or not. */
 void rc_material_at(inout rc_material c, uint id, vec2 uv, bool outside, out vec3 albedo,
@@ -58,7 +66,7 @@ void rc_material_at(inout rc_material c, uint id, vec2 uv, bool outside, out vec
             c.albedo = xs_demod_albedo(mt);
             c.emission = mt.emission;
             c.double_sided = mt.double_sided;
-            c.specific = xs_sc_eye_specific(mt.metallic, mt.transmission, mt.roughness, mt.ior) != 0u;
+            c.specific = rc_specific(mt);
         }
     }
     if (c.constant) {
@@ -70,7 +78,7 @@ void rc_material_at(inout rc_material c, uint id, vec2 uv, bool outside, out vec
     xs_mat mt = xs_material_at(id, uv);
     albedo = xs_demod_albedo(mt);
     emitted = xs_emitted(mt, outside);
-    specific = xs_sc_eye_specific(mt.metallic, mt.transmission, mt.roughness, mt.ior) != 0u;
+    specific = rc_specific(mt);
 }
 
 /**

@@ -47,9 +47,9 @@ layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1)
  * copy whenever one sits in the slots it favours (a free-slot reservation puts samples into
  * the lowest free slots, so slots are not equally likely).
  */
-uint uniform_share(uvec3 g, uint pix, uint cand, uint start)
+uint uniform_share(uvec3 g, uint cand, uint foreign, uint start)
 {
-    uint own = cand & ~sc_foreign_bits(scp.cur, pix);
+    uint own = cand & ~foreign;
     int rr = sc_round_robin(own, start);
     if (rr < 0)
         return 0u;
@@ -67,12 +67,13 @@ void main()
     uint pix = sc_pix(eye, g.xy);
     uint cur = scp.cur;
     uint cand = sc_shade_candidates(cur, pix);
+    uint foreign = sc_foreign_bits(cur, pix); /* cross-eye reuse: the other eye's copies */
     uint start = (frame.frame_index + SC_SHADE_RR_OFFSET) % scp.slots;
     int rr = sc_round_robin(cand, start);
     uint one = rr >= 0 ? sc_obit(uint(rr)) : 0u;
     uint bits = 0u;
     if (scp.shade_mode == XS_SC_SHADE_UNIFORM && scp.cross_eye != 0u) {
-        bits = uniform_share(g, pix, cand, start);
+        bits = uniform_share(g, cand, foreign, start);
     } else if (scp.shade_mode == XS_SC_SHADE_UNIFORM) {
         bits = one;
     } else {
@@ -117,7 +118,7 @@ void main()
     /* cross-eye reuse: the other eye's copies are shaded by their owner (its round robin and
      * its budget); choosing among all of a pixel's samples and skipping the copies keeps each
      * sample's shading rate while each eye shades only its share */
-    bits &= ~sc_foreign_bits(cur, pix);
+    bits &= ~foreign;
     sc_plan[pix].z = bits;
 
     /* compaction (§3.5: "writes out sample indices for the shading pass") */
