@@ -38,16 +38,6 @@ static double lum(const float *c)
     return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
 }
 
-static double counter(mt_method *m, const char *name)
-{
-    xrsc_counter c[16];
-    uint32_t n = mt_method_counters(m, c, 16);
-    for (uint32_t i = 0; i < n; i++)
-        if (!strcmp(c[i].name, name))
-            return c[i].value;
-    return NAN;
-}
-
 /** Foreign (other eye's) slots in eye e's snapshot. */
 static uint32_t count_foreign(const mt_sc_snapshot *sn)
 {
@@ -85,7 +75,7 @@ static bool run_still(const xrsc_samplecache_options *o, uint32_t seed, t_result
     for (uint32_t k = 0; ok && k < T_FRAMES; k++) {
         xrsc_frame f = tsc_headset_frame(head, k);
         ok = tsc_render(rig.m, &f);
-        out->shade_rays += ok ? counter(rig.m, "sc_shade_rays") : 0.0;
+        out->shade_rays += ok ? tsc_counter(rig.m, "sc_shade_rays") : 0.0;
     }
     for (uint32_t e = 0; ok && e < 2; e++) {
         xrsc_diag diag = {0};

@@ -112,6 +112,18 @@ static inline bool tsc_render(mt_method *m, const xrsc_frame *f)
     return res == XRSC_OK;
 }
 
+/** The method's counter called name after its last frame; a missing counter fails the test. */
+static inline double tsc_counter(const mt_method *m, const char *name)
+{
+    xrsc_counter c[XRSC_MAX_COUNTERS];
+    uint32_t n = mt_method_counters(m, c, XRSC_MAX_COUNTERS);
+    for (uint32_t i = 0; i < n; i++)
+        if (!strcmp(c[i].name, name))
+            return c[i].value;
+    CHECK_MSG(false, "no counter %s", name);
+    return 0.0;
+}
+
 static inline bool tsc_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *out)
 {
     xrsc_diag diag = {0};

@@ -74,15 +74,6 @@ typedef struct run_out {
     double queries, cached, shadow_rays;
 } run_out;
 
-static double counter(const xrsc_counter *c, uint32_t n, const char *name)
-{
-    for (uint32_t i = 0; i < n; i++)
-        if (!strcmp(c[i].name, name))
-            return c[i].value;
-    CHECK_MSG(false, "no counter %s", name);
-    return 0.0;
-}
-
 static bool run(tsc_rig *rig, const xrsc_samplecache_options *o, run_out *out)
 {
     memset(out, 0, sizeof(*out));
@@ -95,11 +86,9 @@ static bool run(tsc_rig *rig, const xrsc_samplecache_options *o, run_out *out)
         xrsc_frame f = tsc_headset_frame(head, k);
         f.display_time_ns = 0;
         ok = tsc_render(m, &f);
-        xrsc_counter c[XRSC_MAX_COUNTERS];
-        uint32_t n = mt_method_counters(m, c, XRSC_MAX_COUNTERS);
-        out->queries += counter(c, n, "vc_queries");
-        out->cached += counter(c, n, "vc_cached");
-        out->shadow_rays += counter(c, n, "vc_shadow_rays");
+        out->queries += tsc_counter(m, "vc_queries");
+        out->cached += tsc_counter(m, "vc_cached");
+        out->shadow_rays += tsc_counter(m, "vc_shadow_rays");
     }
     size_t eye_bytes = mt_method_output_size(m, XRSC_OUTPUT_COLOR);
     out->floats = 2 * eye_bytes / sizeof(float);
