@@ -56,6 +56,14 @@ bool hs_parse_size(const char *s, unsigned min, unsigned max, unsigned *w, unsig
     return true;
 }
 
+bool hs_parse_on_off(const char *s, bool *out)
+{
+    if (strcmp(s, "on") && strcmp(s, "off"))
+        return false;
+    *out = !strcmp(s, "on");
+    return true;
+}
+
 bool hs_parse_rgb(const char *s, float out[3])
 {
     float r, g, b;

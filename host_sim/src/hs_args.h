@@ -36,6 +36,9 @@ bool hs_parse_f(const char *s, double *out);
 /** "WxH", each in [min, max]; *w, *h set only on success. */
 bool hs_parse_size(const char *s, unsigned min, unsigned max, unsigned *w, unsigned *h);
 
+/** "on" (true) or "off" (false); *out is set only on success. */
+bool hs_parse_on_off(const char *s, bool *out);
+
 /** "R,G,B", each >= 0; out set only on success. */
 bool hs_parse_rgb(const char *s, float out[3]);
 

@@ -10,6 +10,7 @@
  */
 #include "hs_bench.h"
 
+#include "hs_args.h"
 #include "u_diag.h"
 
 #include <errno.h>
@@ -90,12 +91,10 @@ static const char *set_reproject(xrsc_renderer_options *o, const char *v)
 
 static const char *set_shading_cache(xrsc_renderer_options *o, const char *v)
 {
-    if (!strcmp(v, "on"))
-        o->samplecache.no_shading_cache = false;
-    else if (!strcmp(v, "off"))
-        o->samplecache.no_shading_cache = true;
-    else
+    bool on;
+    if (!hs_parse_on_off(v, &on))
         return "on, off";
+    o->samplecache.no_shading_cache = !on;
     return NULL;
 }
 
@@ -114,13 +113,7 @@ static const char *set_shade(xrsc_renderer_options *o, const char *v)
 
 static const char *set_cross_eye(xrsc_renderer_options *o, const char *v)
 {
-    if (!strcmp(v, "on"))
-        o->samplecache.cross_eye = true;
-    else if (!strcmp(v, "off"))
-        o->samplecache.cross_eye = false;
-    else
-        return "on, off";
-    return NULL;
+    return hs_parse_on_off(v, &o->samplecache.cross_eye) ? NULL : "on, off";
 }
 
 static const char *set_alpha(xrsc_renderer_options *o, const char *v)
@@ -179,10 +172,7 @@ static const char *set_alpha_fixed(xrsc_renderer_options *o, const char *v)
 
 static const char *set_vis_cache(xrsc_renderer_options *o, const char *v)
 {
-    if (strcmp(v, "on") && strcmp(v, "off"))
-        return "on, off";
-    o->samplecache.visibility.enabled = !strcmp(v, "on");
-    return NULL;
+    return hs_parse_on_off(v, &o->samplecache.visibility.enabled) ? NULL : "on, off";
 }
 
 static const char *set_vis_tolerance(xrsc_renderer_options *o, const char *v)
@@ -234,12 +224,10 @@ static const char *set_hc_max_age(xrsc_renderer_options *o, const char *v)
 
 static const char *set_hc_voxel_jitter(xrsc_renderer_options *o, const char *v)
 {
-    if (!strcmp(v, "on"))
-        o->hashcache.no_voxel_jitter = false;
-    else if (!strcmp(v, "off"))
-        o->hashcache.no_voxel_jitter = true;
-    else
+    bool on;
+    if (!hs_parse_on_off(v, &on))
         return "on, off";
+    o->hashcache.no_voxel_jitter = !on;
     return NULL;
 }
 

@@ -271,12 +271,10 @@ static int parse_samplecache(const char *a, const char *v, xrsc_samplecache_opti
         else
             return bad_arg(a, v, "expected 1pass or 2pass");
     } else if (!strcmp(a, "--sc-shading-cache")) {
-        if (!strcmp(v, "on"))
-            sc->no_shading_cache = false;
-        else if (!strcmp(v, "off"))
-            sc->no_shading_cache = true;
-        else
+        bool on;
+        if (!hs_parse_on_off(v, &on))
             return bad_arg(a, v, "expected on or off");
+        sc->no_shading_cache = !on;
     } else if (!strcmp(a, "--sc-shade")) {
         if (!strcmp(v, "uniform"))
             sc->shade = XRSC_SC_SHADE_UNIFORM;
@@ -287,16 +285,10 @@ static int parse_samplecache(const char *a, const char *v, xrsc_samplecache_opti
         else
             return bad_arg(a, v, "expected uniform, adaptive or adaptive-variance");
     } else if (!strcmp(a, "--sc-cross-eye")) {
-        if (!strcmp(v, "on"))
-            sc->cross_eye = true;
-        else if (!strcmp(v, "off"))
-            sc->cross_eye = false;
-        else
+        if (!hs_parse_on_off(v, &sc->cross_eye))
             return bad_arg(a, v, "expected on or off");
     } else if (!strcmp(a, "--sc-visibility-cache")) {
-        if (!strcmp(v, "on") || !strcmp(v, "off"))
-            sc->visibility.enabled = !strcmp(v, "on");
-        else
+        if (!hs_parse_on_off(v, &sc->visibility.enabled))
             return bad_arg(a, v, "expected on or off");
     } else if (!strcmp(a, "--sc-visibility-tolerance")) {
         return parse_positive(a, v, 1024.0f, &sc->visibility.error_px);
@@ -344,12 +336,10 @@ static int parse_hashcache(const char *a, const char *v, xrsc_hashcache_options 
             return bad_arg(a, v, "expected frames >= 1");
         hc->max_age = u;
     } else if (!strcmp(a, "--hc-voxel-jitter")) {
-        if (!strcmp(v, "on"))
-            hc->no_voxel_jitter = false;
-        else if (!strcmp(v, "off"))
-            hc->no_voxel_jitter = true;
-        else
+        bool on;
+        if (!hs_parse_on_off(v, &on))
             return bad_arg(a, v, "expected on or off");
+        hc->no_voxel_jitter = !on;
     } else {
         return bad_arg(a, NULL, "unknown option");
     }
