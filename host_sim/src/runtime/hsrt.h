@@ -13,6 +13,7 @@
  * Files: hsrt_entry.c (negotiation, xrGetInstanceProcAddr, instance, system, paths, events,
  * view configurations), hsrt_session.c (session state machine, frame timing, spaces, views,
  * actions), hsrt_vulkan.c (XR_KHR_vulkan_enable/enable2, swapchains, frame read-back),
+ * hsrt_handle.c (the table of issued handles), hsrt_profiles.c (interaction profiles),
  * hsrt_capture.c (pixel conversion and writing of captured frames), hsrt_preview.c (the optional
  * GLFW/Vulkan preview window, XRSC_RT_PREVIEW=1), hsrt_preview_view.c (its picture: views,
  * heat maps, overlay).
@@ -40,23 +41,30 @@
 #define HSRT_SYSTEM_ID ((XrSystemId)1)
 #define HSRT_EVENT_QUEUE 64
 #define HSRT_MAX_SWAPCHAIN_IMAGES 3
+/** Distinct top-level user paths (hsrt_profiles.c), so the most subaction paths an action has. */
+#define HSRT_MAX_SUBACTION_PATHS 5
 /** LOCAL's origin is this high above STAGE's (a standing user's eye height). */
 #define HSRT_EYE_HEIGHT_M 1.6f
 /** Half the side of the square STAGE bounds. */
 #define HSRT_STAGE_HALF_M 2.0f
 
-/** Tags at the start of every handle's struct, checked by each entry point. */
-typedef enum hsrt_magic {
-    HSRT_MAGIC_INSTANCE = 0x58525349,   /* "XRSI" */
-    HSRT_MAGIC_SESSION = 0x58525353,    /* "XRSS" */
-    HSRT_MAGIC_SPACE = 0x58525350,      /* "XRSP" */
-    HSRT_MAGIC_SWAPCHAIN = 0x58525357,  /* "XRSW" */
-    HSRT_MAGIC_ACTION_SET = 0x58525341, /* "XRSA" */
-    HSRT_MAGIC_ACTION = 0x58525361,     /* "XRSa" */
-} hsrt_magic;
+/** The types of handle the runtime issues (hsrt_handle.c): the low byte of each value. */
+typedef enum hsrt_handle_type {
+    HSRT_HANDLE_INSTANCE = 1,
+    HSRT_HANDLE_SESSION,
+    HSRT_HANDLE_SPACE,
+    HSRT_HANDLE_SWAPCHAIN,
+    HSRT_HANDLE_ACTION_SET,
+    HSRT_HANDLE_ACTION,
+} hsrt_handle_type;
+
+/** An issued handle value as the OpenXR handle type T, and back. */
+#define HSRT_XR(T, value) ((T)(uintptr_t)(value))
+#define HSRT_VALUE(handle) ((uint64_t)(uintptr_t)(handle))
 
 typedef enum hsrt_pace {
-    HSRT_PACE_REALTIME, /**< xrWaitFrame sleeps to the next refresh of a monotonic clock */
+    HSRT_PACE_REALTIME, /**< xrWaitFrame sleeps to the next refresh of a monotonic clock (a
+                             late call gets its frame at once while it can still be shown) */
     HSRT_PACE_FAST,     /**< no sleeping; display times advance one period per frame */
 } hsrt_pace;
 
@@ -114,14 +122,14 @@ typedef struct hsrt_vk {
     X(WaitForFences) X(ResetFences) X(CreateImage) X(DestroyImage) X(GetImageMemoryRequirements)   \
     X(AllocateMemory) X(FreeMemory) X(BindImageMemory) X(CreateBuffer) X(DestroyBuffer)           \
     X(GetBufferMemoryRequirements) X(BindBufferMemory) X(MapMemory) X(UnmapMemory)                \
-    X(InvalidateMappedMemoryRanges) X(DeviceWaitIdle)
+    X(InvalidateMappedMemoryRanges) X(DeviceWaitIdle) X(GetFenceStatus)
 #define HSRT_X_DECL(name) PFN_vk##name name;
     HSRT_VK_DEVICE_FUNCS(HSRT_X_DECL)
 #undef HSRT_X_DECL
 } hsrt_vk;
 
 struct hsrt_swapchain {
-    uint32_t magic;
+    uint64_t handle; /**< the value issued by hsrt_handle_issue, 0 before */
     hsrt_session *session;
     hsrt_swapchain *next_in_session;
     XrSwapchainCreateInfo info;
@@ -134,6 +142,9 @@ struct hsrt_swapchain {
     uint32_t acquired_order[HSRT_MAX_SWAPCHAIN_IMAGES]; /**< FIFO of acquired indices */
     bool waited;              /**< the oldest acquired image has been waited on */
     int32_t last_released;    /**< -1 before the first release */
+    /** Set once destroyed: signals when the queue has finished all work submitted before, so
+     *  the images can be freed (hsrt_session.retired). */
+    VkFence retire_fence;
 };
 
 typedef enum hsrt_space_kind {
@@ -144,7 +155,7 @@ typedef enum hsrt_space_kind {
 } hsrt_space_kind;
 
 typedef struct hsrt_space {
-    uint32_t magic;
+    uint64_t handle; /**< the value issued by hsrt_handle_issue, 0 before */
     hsrt_session *session;
     struct hsrt_space *next_in_session;
     hsrt_space_kind kind;
@@ -154,24 +165,28 @@ typedef struct hsrt_space {
 typedef struct hsrt_action_set hsrt_action_set;
 
 typedef struct hsrt_action {
-    uint32_t magic;
+    uint64_t handle; /**< the value issued by hsrt_handle_issue, 0 before */
     hsrt_action_set *set;
     struct hsrt_action *next_in_set;
     char name[XR_MAX_ACTION_NAME_SIZE];
+    char localized_name[XR_MAX_LOCALIZED_ACTION_NAME_SIZE];
     XrActionType type;
+    uint32_t subaction_count; /**< the top-level user paths given at creation (at most 5) */
+    XrPath subaction_paths[HSRT_MAX_SUBACTION_PATHS];
 } hsrt_action;
 
 struct hsrt_action_set {
-    uint32_t magic;
+    uint64_t handle; /**< the value issued by hsrt_handle_issue, 0 before */
     hsrt_instance *instance;
     hsrt_action_set *next_in_instance;
     char name[XR_MAX_ACTION_SET_NAME_SIZE];
+    char localized_name[XR_MAX_LOCALIZED_ACTION_SET_NAME_SIZE];
     hsrt_action *actions;
     bool attached; /**< attached to a session: immutable from then on */
 };
 
 struct hsrt_session {
-    uint32_t magic;
+    uint64_t handle; /**< the value issued by hsrt_handle_issue, 0 before */
     hsrt_instance *instance;
     XrSessionState state;
     bool running;          /**< between xrBeginSession and xrEndSession */
@@ -181,6 +196,7 @@ struct hsrt_session {
     hsrt_vk vk;
     hsrt_space *spaces;
     hsrt_swapchain *swapchains;
+    hsrt_swapchain *retired; /**< destroyed by the application, freed once their fence signals */
     /* frame loop */
     int64_t period_ns;
     XrTime clock_start;        /**< display times are start + k * period */
@@ -195,7 +211,7 @@ struct hsrt_session {
 };
 
 struct hsrt_instance {
-    uint32_t magic;
+    uint64_t handle; /**< the value issued by hsrt_handle_issue, 0 before */
     pthread_mutex_t lock;
     hsrt_config cfg;
     hs_pose_stream *poses;
@@ -215,6 +231,23 @@ struct hsrt_instance {
     VkInstance vk_instance;            /**< the last one created or asked about */
     VkPhysicalDevice vk_physical;      /**< the one xrGetVulkanGraphicsDevice(2)KHR chose */
 };
+
+/* ---- hsrt_handle.c ---- */
+/** Issues a new handle value for object (never reused); 0 when out of memory. */
+uint64_t hsrt_handle_issue(void *object, hsrt_handle_type type);
+/** The object of an issued, not revoked value of that type; NULL for any other value. */
+void *hsrt_handle_get(uint64_t value, hsrt_handle_type type);
+/** Forgets a value (its object is being freed); accepts 0 and unknown values. */
+void hsrt_handle_revoke(uint64_t value);
+
+/* ---- hsrt_profiles.c ---- */
+typedef struct hsrt_profile hsrt_profile;
+/** The interaction profile at path that this instance offers, NULL if none. */
+const hsrt_profile *hsrt_profile_find(const hsrt_instance *inst, const char *path);
+/** Whether binding (a full input/output path) is one of the profile's. */
+bool hsrt_profile_has_binding(const hsrt_profile *p, const char *binding);
+/** Whether path is a top-level user path (/user/hand/left, /user/head, …). */
+bool hsrt_top_level_path(const char *path);
 
 /* ---- hsrt_entry.c ---- */
 /** Logs "xrsc runtime: <function>: <message>" as an error and returns result. */
@@ -278,6 +311,14 @@ XrResult hsrt_vk_session_init(hsrt_session *s, const XrGraphicsBindingVulkanKHR 
 /** Destroys the session's swapchains and Vulkan objects (not the application's device). */
 void hsrt_vk_session_fini(hsrt_session *s);
 void hsrt_swapchain_free(hsrt_swapchain *sc);
+/**
+ * Destroys a swapchain the application gave up (locked): its handle at once, its images once
+ * the session's queue has finished the work submitted before (the application may still be
+ * rendering into them: a fence on an empty submission marks that point).
+ */
+void hsrt_swapchain_retire(hsrt_session *s, hsrt_swapchain *sc);
+/** Frees retired swapchains whose fence has signalled; wait: wait for every one. */
+void hsrt_swapchains_reap(hsrt_session *s, bool wait);
 
 /** One eye's captured pixels. */
 typedef struct hsrt_eye_image {

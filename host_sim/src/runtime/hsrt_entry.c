@@ -110,10 +110,7 @@ XrTime hsrt_now_ns(void)
 
 hsrt_instance *hsrt_instance_from(XrInstance handle)
 {
-    hsrt_instance *inst = (hsrt_instance *)(uintptr_t)handle;
-    if (!inst || inst->magic != HSRT_MAGIC_INSTANCE)
-        return NULL;
-    return inst;
+    return hsrt_handle_get(HSRT_VALUE(handle), HSRT_HANDLE_INSTANCE);
 }
 
 #define GET_INSTANCE(var, handle, fn)                                                              \
@@ -140,7 +137,7 @@ void hsrt_push_state(hsrt_session *s, XrSessionState state)
 {
     s->state = state;
     XrEventDataSessionStateChanged ev = {.type = XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED,
-                                         .session = (XrSession)(uintptr_t)s,
+                                         .session = HSRT_XR(XrSession, s->handle),
                                          .state = state,
                                          .time = hsrt_now_ns()};
     U_LOG_D("runtime: session state -> %d", (int)state);
@@ -606,7 +603,7 @@ static void instance_free(hsrt_instance *inst)
     free(inst->paths);
     hs_pose_stream_destroy(&inst->poses);
     pthread_mutex_destroy(&inst->lock);
-    inst->magic = 0;
+    hsrt_handle_revoke(inst->handle);
     free(inst);
 }
 
@@ -623,14 +620,14 @@ static XrResult XRAPI_CALL hsrt_xrCreateInstance(const XrInstanceCreateInfo *cre
                          (unsigned)XR_VERSION_MAJOR(api), (unsigned)XR_VERSION_MINOR(api));
     if (!createInfo->applicationInfo.applicationName[0])
         return hsrt_fail(XR_ERROR_NAME_INVALID, fn, "empty applicationName");
-    if (createInfo->enabledApiLayerCount)
-        return hsrt_fail(XR_ERROR_API_LAYER_NOT_PRESENT, fn,
-                         "API layers are the loader's business, none reach the runtime");
+    /* The loader passes the application's layer names through (loader design: it has already
+     * built the chain); they are the loader's business and ignored here. */
+    if (createInfo->enabledApiLayerCount && !createInfo->enabledApiLayerNames)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "enabledApiLayerNames is NULL");
     hsrt_instance *inst = calloc(1, sizeof(*inst));
     if (!inst)
         return hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "instance");
     pthread_mutex_init(&inst->lock, NULL);
-    inst->magic = HSRT_MAGIC_INSTANCE;
     for (uint32_t i = 0; i < createInfo->enabledExtensionCount; i++) {
         const char *e = createInfo->enabledExtensionNames[i];
         if (!strcmp(e, XR_KHR_VULKAN_ENABLE_EXTENSION_NAME))
@@ -679,7 +676,12 @@ static XrResult XRAPI_CALL hsrt_xrCreateInstance(const XrInstanceCreateInfo *cre
             inst->cfg.pace == HSRT_PACE_FAST ? "fast" : "realtime",
             (unsigned long long)inst->cfg.frames,
             inst->cfg.out_dir[0] ? inst->cfg.out_dir : "(off)", inst->cfg.preview ? "on" : "off");
-    *instance = (XrInstance)(uintptr_t)inst;
+    inst->handle = hsrt_handle_issue(inst, HSRT_HANDLE_INSTANCE);
+    if (!inst->handle) {
+        instance_free(inst);
+        return hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "handle table");
+    }
+    *instance = HSRT_XR(XrInstance, inst->handle);
     return XR_SUCCESS;
 }
 
@@ -687,7 +689,7 @@ static XrResult XRAPI_CALL hsrt_xrDestroyInstance(XrInstance instance)
 {
     GET_INSTANCE(inst, instance, "xrDestroyInstance");
     if (inst->session) {
-        XrSession s = (XrSession)(uintptr_t)inst->session;
+        XrSession s = HSRT_XR(XrSession, inst->session->handle);
         PFN_xrDestroySession destroy = (PFN_xrDestroySession)hsrt_session_proc("xrDestroySession");
         destroy(s);
     }
@@ -769,10 +771,8 @@ static XrResult XRAPI_CALL hsrt_xrGetSystem(XrInstance instance, const XrSystemG
         *systemId = HSRT_SYSTEM_ID;
         return XR_SUCCESS;
     }
-    if (getInfo->formFactor == XR_FORM_FACTOR_HANDHELD_DISPLAY)
-        return XR_ERROR_FORM_FACTOR_UNSUPPORTED;
-    return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, "xrGetSystem", "formFactor %d",
-                     (int)getInfo->formFactor);
+    /* Handheld, and any value no version of OpenXR defines: not this runtime's. */
+    return XR_ERROR_FORM_FACTOR_UNSUPPORTED;
 }
 
 static XrResult XRAPI_CALL hsrt_xrGetSystemProperties(XrInstance instance, XrSystemId systemId,
@@ -877,8 +877,10 @@ static XrResult XRAPI_CALL hsrt_xrEnumerateViewConfigurationViews(
             return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "views[%d].type", i);
         views[i].recommendedImageRectWidth = inst->cfg.headset.width_px;
         views[i].recommendedImageRectHeight = inst->cfg.headset.height_px;
-        views[i].maxImageRectWidth = 8192;
-        views[i].maxImageRectHeight = 8192;
+        /* The simulated headset's panel: larger images only cost CPU rendering time (lavapipe
+         * fills an 8192x8192 RGBA32F image slower than an application's fence wait). */
+        views[i].maxImageRectWidth = inst->cfg.headset.width_px;
+        views[i].maxImageRectHeight = inst->cfg.headset.height_px;
         views[i].recommendedSwapchainSampleCount = 1;
         views[i].maxSwapchainSampleCount = 1;
     }

@@ -30,10 +30,7 @@
 
 static hsrt_session *session_from(XrSession handle)
 {
-    hsrt_session *s = (hsrt_session *)(uintptr_t)handle;
-    if (!s || s->magic != HSRT_MAGIC_SESSION)
-        return NULL;
-    return s;
+    return hsrt_handle_get(HSRT_VALUE(handle), HSRT_HANDLE_SESSION);
 }
 
 /*
@@ -190,12 +187,10 @@ static XrResult XRAPI_CALL hsrt_xrCreateSession(XrInstance instance,
         r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "session");
         goto out;
     }
-    s->magic = HSRT_MAGIC_SESSION;
     s->instance = inst;
     s->period_ns = (int64_t)llround(1e9 / (double)inst->cfg.headset.refresh_hz);
     r = hsrt_vk_session_init(s, binding);
     if (XR_FAILED(r)) {
-        s->magic = 0;
         free(s);
         s = NULL;
         goto out;
@@ -204,17 +199,24 @@ static XrResult XRAPI_CALL hsrt_xrCreateSession(XrInstance instance,
         r = preview_open(s);
         if (XR_FAILED(r)) {
             hsrt_vk_session_fini(s);
-            s->magic = 0;
             free(s);
             s = NULL;
             goto out;
         }
     }
+    s->handle = hsrt_handle_issue(s, HSRT_HANDLE_SESSION);
+    if (!s->handle) {
+        hsrt_preview_destroy(&s->preview);
+        hsrt_vk_session_fini(s);
+        free(s);
+        r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "handle table");
+        goto out;
+    }
     inst->session = s;
     csv_open(s);
     hsrt_push_state(s, XR_SESSION_STATE_IDLE);
     hsrt_push_state(s, XR_SESSION_STATE_READY);
-    *session = (XrSession)(uintptr_t)s;
+    *session = HSRT_XR(XrSession, s->handle);
 out:
     pthread_mutex_unlock(&inst->lock);
     return r;
@@ -227,7 +229,7 @@ static XrResult XRAPI_CALL hsrt_xrDestroySession(XrSession session)
     while (s->spaces) {
         hsrt_space *sp = s->spaces;
         s->spaces = sp->next_in_session;
-        sp->magic = 0;
+        hsrt_handle_revoke(sp->handle);
         free(sp);
     }
     hsrt_preview_destroy(&s->preview);
@@ -248,7 +250,7 @@ static XrResult XRAPI_CALL hsrt_xrDestroySession(XrSession session)
     inst->event_head = 0;
     inst->event_count = kept;
     inst->session = NULL;
-    s->magic = 0;
+    hsrt_handle_revoke(s->handle);
     free(s);
     pthread_mutex_unlock(&inst->lock);
     return XR_SUCCESS;
@@ -332,10 +334,7 @@ static XrResult XRAPI_CALL hsrt_xrRequestExitSession(XrSession session)
 
 static hsrt_space *space_from(XrSpace handle)
 {
-    hsrt_space *sp = (hsrt_space *)(uintptr_t)handle;
-    if (!sp || sp->magic != HSRT_MAGIC_SPACE)
-        return NULL;
-    return sp;
+    return hsrt_handle_get(HSRT_VALUE(handle), HSRT_HANDLE_SPACE);
 }
 
 static const XrReferenceSpaceType k_ref_spaces[] = {
@@ -369,13 +368,17 @@ static XrResult add_space(hsrt_session *s, hsrt_space_kind kind, XrPosef pose, X
     hsrt_space *sp = calloc(1, sizeof(*sp));
     if (!sp)
         return XR_ERROR_OUT_OF_MEMORY;
-    sp->magic = HSRT_MAGIC_SPACE;
+    sp->handle = hsrt_handle_issue(sp, HSRT_HANDLE_SPACE);
+    if (!sp->handle) {
+        free(sp);
+        return XR_ERROR_OUT_OF_MEMORY;
+    }
     sp->session = s;
     sp->kind = kind;
     sp->pose_in_ref = pose;
     sp->next_in_session = s->spaces;
     s->spaces = sp;
-    *out = (XrSpace)(uintptr_t)sp;
+    *out = HSRT_XR(XrSpace, sp->handle);
     return XR_SUCCESS;
 }
 
@@ -434,10 +437,24 @@ static XrResult XRAPI_CALL hsrt_xrGetReferenceSpaceBoundsRect(XrSession session,
 
 static hsrt_action *action_from(XrAction handle)
 {
-    hsrt_action *a = (hsrt_action *)(uintptr_t)handle;
-    if (!a || a->magic != HSRT_MAGIC_ACTION)
-        return NULL;
-    return a;
+    return hsrt_handle_get(HSRT_VALUE(handle), HSRT_HANDLE_ACTION);
+}
+
+/** A subaction path given to a query of action a: none, or one a was created with. */
+static XrResult check_subaction(hsrt_instance *inst, const hsrt_action *a, XrPath path,
+                                const char *fn)
+{
+    if (path == XR_NULL_PATH)
+        return XR_SUCCESS;
+    if (!hsrt_path_string(inst, path))
+        return hsrt_fail(XR_ERROR_PATH_INVALID, fn, "subactionPath %llu is not a path",
+                         (unsigned long long)path);
+    for (uint32_t i = 0; i < a->subaction_count; i++) {
+        if (a->subaction_paths[i] == path)
+            return XR_SUCCESS;
+    }
+    return hsrt_fail(XR_ERROR_PATH_UNSUPPORTED, fn, "action '%s' has no subaction path %s", a->name,
+                     hsrt_path_string(inst, path));
 }
 
 static XrResult XRAPI_CALL hsrt_xrCreateActionSpace(XrSession session,
@@ -454,9 +471,12 @@ static XrResult XRAPI_CALL hsrt_xrCreateActionSpace(XrSession session,
         r = hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrAction");
     else if (a->type != XR_ACTION_TYPE_POSE_INPUT)
         r = hsrt_fail(XR_ERROR_ACTION_TYPE_MISMATCH, fn, "action '%s' is not a pose", a->name);
-    else if (!pose_valid(createInfo->poseInActionSpace))
+    else
+        r = check_subaction(s->instance, a, createInfo->subactionPath, fn);
+    if (XR_SUCCEEDED(r) && !pose_valid(createInfo->poseInActionSpace))
         r = hsrt_fail(XR_ERROR_POSE_INVALID, fn, "poseInActionSpace is not a rigid pose");
-    else if (XR_FAILED(r = add_space(s, HSRT_SPACE_ACTION, createInfo->poseInActionSpace, space)))
+    if (XR_SUCCEEDED(r) &&
+        XR_FAILED(r = add_space(s, HSRT_SPACE_ACTION, createInfo->poseInActionSpace, space)))
         hsrt_fail(r, fn, "space");
     UNLOCK(s);
     return r;
@@ -471,7 +491,7 @@ static XrResult XRAPI_CALL hsrt_xrLocateSpace(XrSpace space, XrSpace baseSpace, 
         return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrSpace of this runtime");
     if (sp->session != base->session)
         return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "spaces of different sessions");
-    LOCK_SESSION(s, (XrSession)(uintptr_t)sp->session, fn, false);
+    LOCK_SESSION(s, HSRT_XR(XrSession, sp->session->handle), fn, false);
     XrResult r = XR_SUCCESS;
     if (!location || location->type != XR_TYPE_SPACE_LOCATION) {
         r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad location");
@@ -506,14 +526,14 @@ static XrResult XRAPI_CALL hsrt_xrDestroySpace(XrSpace space)
     hsrt_space *sp = space_from(space);
     if (!sp)
         return hsrt_fail(XR_ERROR_HANDLE_INVALID, "xrDestroySpace", "not an XrSpace");
-    LOCK_SESSION(s, (XrSession)(uintptr_t)sp->session, "xrDestroySpace", true);
+    LOCK_SESSION(s, HSRT_XR(XrSession, sp->session->handle), "xrDestroySpace", true);
     for (hsrt_space **p = &s->spaces; *p; p = &(*p)->next_in_session) {
         if (*p == sp) {
             *p = sp->next_in_session;
             break;
         }
     }
-    sp->magic = 0;
+    hsrt_handle_revoke(sp->handle);
     free(sp);
     UNLOCK(s);
     return XR_SUCCESS;
@@ -526,6 +546,27 @@ static void sleep_until(XrTime t)
     struct timespec ts = {.tv_sec = (time_t)(t / 1000000000), .tv_nsec = (long)(t % 1000000000)};
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR) {
     }
+}
+
+/**
+ * Realtime pace (locked): when xrWaitFrame wakes, and the display time it predicts. Frames are
+ * slots on the refresh grid (clock_start + k * period), each woken one period before it is
+ * displayed. The slot after the last one predicted is next; a call that comes after that
+ * slot's wake time but before its display time gets it at once (the application was late, the
+ * frame can still be shown, as a compositor takes a late frame until its deadline), so a frame
+ * loop that needs less than a period on average keeps the display rate through scheduling
+ * jitter. A call after the slot's display time starts again at the next wake on the grid.
+ */
+static void realtime_wait_times(hsrt_session *s, XrTime *out_wake, XrTime *out_predicted)
+{
+    XrTime now = hsrt_now_ns();
+    XrTime wake = s->last_display_time; /* the next slot's wake: the last display time */
+    if (!s->last_display_time || now >= wake + s->period_ns) {
+        int64_t k = (now - s->clock_start) / s->period_ns + 1;
+        wake = s->clock_start + k * s->period_ns;
+    }
+    *out_predicted = wake + s->period_ns;
+    *out_wake = wake > now ? wake : 0; /* 0: no sleeping */
 }
 
 static XrResult XRAPI_CALL hsrt_xrWaitFrame(XrSession session, const XrFrameWaitInfo *frameWaitInfo,
@@ -567,14 +608,7 @@ static XrResult XRAPI_CALL hsrt_xrWaitFrame(XrSession session, const XrFrameWait
     if (s->instance->cfg.pace == HSRT_PACE_FAST) {
         predicted = (s->last_display_time ? s->last_display_time : s->clock_start) + s->period_ns;
     } else {
-        XrTime now = hsrt_now_ns();
-        int64_t k = (now - s->clock_start) / s->period_ns + 1;
-        wake = s->clock_start + k * s->period_ns;
-        predicted = wake + s->period_ns;
-        if (predicted <= s->last_display_time) {
-            predicted = s->last_display_time + s->period_ns;
-            wake = predicted - s->period_ns;
-        }
+        realtime_wait_times(s, &wake, &predicted);
     }
     s->last_display_time = predicted;
     if (!s->first_display_time)
@@ -616,10 +650,51 @@ static XrResult XRAPI_CALL hsrt_xrBeginFrame(XrSession session, const XrFrameBeg
 
 static hsrt_swapchain *swapchain_of(XrSwapchain handle)
 {
-    hsrt_swapchain *sc = (hsrt_swapchain *)(uintptr_t)handle;
-    if (!sc || sc->magic != HSRT_MAGIC_SWAPCHAIN)
-        return NULL;
-    return sc;
+    return hsrt_handle_get(HSRT_VALUE(handle), HSRT_HANDLE_SWAPCHAIN);
+}
+
+/**
+ * A layer's sub-image (spec 10.5.1 and xrEndFrame's valid usage): a swapchain of this session
+ * with a released image (else XR_ERROR_LAYER_INVALID), imageRect inside it (else
+ * XR_ERROR_SWAPCHAIN_RECT_INVALID), imageArrayIndex below its arraySize (else
+ * XR_ERROR_VALIDATION_FAILURE). what names the layer part in the message.
+ */
+static XrResult check_sub_image(hsrt_session *s, const XrSwapchainSubImage *si, const char *what)
+{
+    const char *fn = "xrEndFrame";
+    hsrt_swapchain *sc = swapchain_of(si->swapchain);
+    if (!sc || sc->session != s)
+        return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "%s: swapchain", what);
+    if (sc->last_released < 0)
+        return hsrt_fail(XR_ERROR_LAYER_INVALID, fn, "%s: no image of the swapchain was released",
+                         what);
+    const XrRect2Di *rc = &si->imageRect;
+    if (rc->offset.x < 0 || rc->offset.y < 0 || rc->extent.width <= 0 || rc->extent.height <= 0 ||
+        (uint64_t)rc->offset.x + (uint64_t)rc->extent.width > sc->info.width ||
+        (uint64_t)rc->offset.y + (uint64_t)rc->extent.height > sc->info.height)
+        return hsrt_fail(XR_ERROR_SWAPCHAIN_RECT_INVALID, fn,
+                         "%s: rect is outside the %ux%u swapchain", what, sc->info.width,
+                         sc->info.height);
+    if (si->imageArrayIndex >= sc->info.arraySize)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "%s: imageArrayIndex %u of %u layers",
+                         what, si->imageArrayIndex, sc->info.arraySize);
+    return XR_SUCCESS;
+}
+
+static XrResult check_quad(hsrt_session *s, const XrCompositionLayerQuad *q, uint32_t i)
+{
+    char what[32];
+    snprintf(what, sizeof(what), "layers[%u]", i);
+    if (q->eyeVisibility != XR_EYE_VISIBILITY_BOTH && q->eyeVisibility != XR_EYE_VISIBILITY_LEFT &&
+        q->eyeVisibility != XR_EYE_VISIBILITY_RIGHT)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, "xrEndFrame", "%s: eyeVisibility %d", what,
+                         (int)q->eyeVisibility);
+    XrResult r = check_sub_image(s, &q->subImage, what);
+    if (XR_FAILED(r))
+        return r;
+    if (!pose_valid(q->pose))
+        return hsrt_fail(XR_ERROR_POSE_INVALID, "xrEndFrame", "%s.pose", what);
+    return XR_SUCCESS;
 }
 
 static XrResult check_layer(hsrt_session *s, const XrCompositionLayerBaseHeader *l, uint32_t i)
@@ -629,13 +704,8 @@ static XrResult check_layer(hsrt_session *s, const XrCompositionLayerBaseHeader 
         return hsrt_fail(XR_ERROR_LAYER_INVALID, fn, "layers[%u] is NULL", i);
     if (!space_from(l->space) || space_from(l->space)->session != s)
         return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "layers[%u].space", i);
-    if (l->type == XR_TYPE_COMPOSITION_LAYER_QUAD) {
-        const XrCompositionLayerQuad *q = (const XrCompositionLayerQuad *)l;
-        hsrt_swapchain *sc = swapchain_of(q->subImage.swapchain);
-        if (!sc || sc->session != s)
-            return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "layers[%u] swapchain", i);
-        return XR_SUCCESS;
-    }
+    if (l->type == XR_TYPE_COMPOSITION_LAYER_QUAD)
+        return check_quad(s, (const XrCompositionLayerQuad *)l, i);
     if (l->type != XR_TYPE_COMPOSITION_LAYER_PROJECTION)
         return hsrt_fail(XR_ERROR_LAYER_INVALID, fn, "layers[%u] type %d is not supported", i,
                          (int)l->type);
@@ -647,24 +717,11 @@ static XrResult check_layer(hsrt_session *s, const XrCompositionLayerBaseHeader 
         const XrCompositionLayerProjectionView *pv = &p->views[v];
         if (pv->type != XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW)
             return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "layers[%u].views[%u].type", i, v);
-        hsrt_swapchain *sc = swapchain_of(pv->subImage.swapchain);
-        if (!sc || sc->session != s)
-            return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "layers[%u].views[%u] swapchain", i, v);
-        if (sc->last_released < 0)
-            return hsrt_fail(XR_ERROR_LAYER_INVALID, fn,
-                             "layers[%u].views[%u]: no image of the swapchain was released", i, v);
-        const XrRect2Di *rc = &pv->subImage.imageRect;
-        if (rc->offset.x < 0 || rc->offset.y < 0 || rc->extent.width <= 0 ||
-            rc->extent.height <= 0 ||
-            (uint64_t)rc->offset.x + (uint64_t)rc->extent.width > sc->info.width ||
-            (uint64_t)rc->offset.y + (uint64_t)rc->extent.height > sc->info.height)
-            return hsrt_fail(XR_ERROR_SWAPCHAIN_RECT_INVALID, fn,
-                             "layers[%u].views[%u] rect is outside the %ux%u swapchain", i, v,
-                             sc->info.width, sc->info.height);
-        if (pv->subImage.imageArrayIndex >= sc->info.arraySize)
-            return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn,
-                             "layers[%u].views[%u] imageArrayIndex %u", i, v,
-                             pv->subImage.imageArrayIndex);
+        char what[48];
+        snprintf(what, sizeof(what), "layers[%u].views[%u]", i, v);
+        XrResult r = check_sub_image(s, &pv->subImage, what);
+        if (XR_FAILED(r))
+            return r;
         if (!pose_valid(pv->pose))
             return hsrt_fail(XR_ERROR_POSE_INVALID, fn, "layers[%u].views[%u].pose", i, v);
         for (const XrBaseInStructure *n = pv->next; n; n = n->next) {
@@ -841,10 +898,7 @@ static XrResult XRAPI_CALL hsrt_xrLocateViews(XrSession session, const XrViewLoc
 
 static hsrt_action_set *action_set_from(XrActionSet handle)
 {
-    hsrt_action_set *set = (hsrt_action_set *)(uintptr_t)handle;
-    if (!set || set->magic != HSRT_MAGIC_ACTION_SET)
-        return NULL;
-    return set;
+    return hsrt_handle_get(HSRT_VALUE(handle), HSRT_HANDLE_ACTION_SET);
 }
 
 static bool name_well_formed(const char *s, size_t max)
@@ -860,15 +914,35 @@ static bool name_well_formed(const char *s, size_t max)
     return true;
 }
 
+/**
+ * The naming rules of xrCreateActionSet / xrCreateAction (spec 11.2, 11.3): an empty name is
+ * XR_ERROR_NAME_INVALID, one that is not a well-formed path component
+ * XR_ERROR_PATH_FORMAT_INVALID, an empty (or unterminated) localized name
+ * XR_ERROR_LOCALIZED_NAME_INVALID.
+ */
+static XrResult check_names(const char *name, size_t max, const char *localized,
+                            size_t localized_max, const char *fn)
+{
+    if (!name[0])
+        return hsrt_fail(XR_ERROR_NAME_INVALID, fn, "empty name");
+    if (!name_well_formed(name, max))
+        return hsrt_fail(XR_ERROR_PATH_FORMAT_INVALID, fn, "name '%.64s' is not a path component",
+                         name);
+    size_t n = strnlen(localized, localized_max);
+    if (!n || n == localized_max)
+        return hsrt_fail(XR_ERROR_LOCALIZED_NAME_INVALID, fn, "localized name of '%s'", name);
+    return XR_SUCCESS;
+}
+
 static void action_set_free(hsrt_action_set *set)
 {
     while (set->actions) {
         hsrt_action *a = set->actions;
         set->actions = a->next_in_set;
-        a->magic = 0;
+        hsrt_handle_revoke(a->handle);
         free(a);
     }
-    set->magic = 0;
+    hsrt_handle_revoke(set->handle);
     free(set);
 }
 
@@ -891,16 +965,19 @@ static XrResult XRAPI_CALL hsrt_xrCreateActionSet(XrInstance instance,
         return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrInstance");
     if (!createInfo || !actionSet || createInfo->type != XR_TYPE_ACTION_SET_CREATE_INFO)
         return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad createInfo");
-    if (!name_well_formed(createInfo->actionSetName, XR_MAX_ACTION_SET_NAME_SIZE))
-        return hsrt_fail(XR_ERROR_PATH_FORMAT_INVALID, fn, "actionSetName '%.64s'",
-                         createInfo->actionSetName);
-    if (!createInfo->localizedActionSetName[0])
-        return hsrt_fail(XR_ERROR_LOCALIZED_NAME_INVALID, fn, "empty localizedActionSetName");
+    XrResult r =
+        check_names(createInfo->actionSetName, XR_MAX_ACTION_SET_NAME_SIZE,
+                    createInfo->localizedActionSetName, XR_MAX_LOCALIZED_ACTION_SET_NAME_SIZE, fn);
+    if (XR_FAILED(r))
+        return r;
     pthread_mutex_lock(&inst->lock);
-    XrResult r = XR_SUCCESS;
     for (hsrt_action_set *o = inst->action_sets; o; o = o->next_in_instance) {
         if (!strcmp(o->name, createInfo->actionSetName)) {
             r = hsrt_fail(XR_ERROR_NAME_DUPLICATED, fn, "'%s'", o->name);
+            goto out;
+        }
+        if (!strcmp(o->localized_name, createInfo->localizedActionSetName)) {
+            r = hsrt_fail(XR_ERROR_LOCALIZED_NAME_DUPLICATED, fn, "'%s'", o->localized_name);
             goto out;
         }
     }
@@ -909,12 +986,19 @@ static XrResult XRAPI_CALL hsrt_xrCreateActionSet(XrInstance instance,
         r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "action set");
         goto out;
     }
-    set->magic = HSRT_MAGIC_ACTION_SET;
+    set->handle = hsrt_handle_issue(set, HSRT_HANDLE_ACTION_SET);
+    if (!set->handle) {
+        free(set);
+        r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "handle table");
+        goto out;
+    }
     set->instance = inst;
     snprintf(set->name, sizeof(set->name), "%s", createInfo->actionSetName);
+    snprintf(set->localized_name, sizeof(set->localized_name), "%s",
+             createInfo->localizedActionSetName);
     set->next_in_instance = inst->action_sets;
     inst->action_sets = set;
-    *actionSet = (XrActionSet)(uintptr_t)set;
+    *actionSet = HSRT_XR(XrActionSet, set->handle);
 out:
     pthread_mutex_unlock(&inst->lock);
     return r;
@@ -938,6 +1022,29 @@ static XrResult XRAPI_CALL hsrt_xrDestroyActionSet(XrActionSet actionSet)
     return XR_SUCCESS;
 }
 
+/**
+ * An action's subaction paths (locked): each a path of this instance (else
+ * XR_ERROR_PATH_INVALID), a top-level user path and given once (else XR_ERROR_PATH_UNSUPPORTED).
+ */
+static XrResult check_subaction_paths(hsrt_instance *inst, const XrActionCreateInfo *ci,
+                                      const char *fn)
+{
+    for (uint32_t i = 0; i < ci->countSubactionPaths; i++) {
+        const char *p = hsrt_path_string(inst, ci->subactionPaths[i]);
+        if (!p)
+            return hsrt_fail(XR_ERROR_PATH_INVALID, fn, "subactionPaths[%u] is not a path", i);
+        if (!hsrt_top_level_path(p))
+            return hsrt_fail(XR_ERROR_PATH_UNSUPPORTED, fn,
+                             "subactionPaths[%u] %s is not a top-level user path", i, p);
+        for (uint32_t j = 0; j < i; j++) {
+            if (ci->subactionPaths[j] == ci->subactionPaths[i])
+                return hsrt_fail(XR_ERROR_PATH_UNSUPPORTED, fn,
+                                 "subactionPaths[%u] %s is given twice", i, p);
+        }
+    }
+    return XR_SUCCESS;
+}
+
 static XrResult XRAPI_CALL hsrt_xrCreateAction(XrActionSet actionSet,
                                                const XrActionCreateInfo *createInfo, XrAction *action)
 {
@@ -947,11 +1054,13 @@ static XrResult XRAPI_CALL hsrt_xrCreateAction(XrActionSet actionSet,
         return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrActionSet");
     if (!createInfo || !action || createInfo->type != XR_TYPE_ACTION_CREATE_INFO)
         return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad createInfo");
-    if (!name_well_formed(createInfo->actionName, XR_MAX_ACTION_NAME_SIZE))
-        return hsrt_fail(XR_ERROR_PATH_FORMAT_INVALID, fn, "actionName '%.64s'",
-                         createInfo->actionName);
-    if (!createInfo->localizedActionName[0])
-        return hsrt_fail(XR_ERROR_LOCALIZED_NAME_INVALID, fn, "empty localizedActionName");
+    XrResult r =
+        check_names(createInfo->actionName, XR_MAX_ACTION_NAME_SIZE,
+                    createInfo->localizedActionName, XR_MAX_LOCALIZED_ACTION_NAME_SIZE, fn);
+    if (XR_FAILED(r))
+        return r;
+    if (createInfo->countSubactionPaths && !createInfo->subactionPaths)
+        return hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "subactionPaths is NULL");
     switch (createInfo->actionType) {
     case XR_ACTION_TYPE_BOOLEAN_INPUT:
     case XR_ACTION_TYPE_FLOAT_INPUT:
@@ -965,20 +1074,20 @@ static XrResult XRAPI_CALL hsrt_xrCreateAction(XrActionSet actionSet,
     }
     hsrt_instance *inst = set->instance;
     pthread_mutex_lock(&inst->lock);
-    XrResult r = XR_SUCCESS;
     if (set->attached) {
         r = hsrt_fail(XR_ERROR_ACTIONSETS_ALREADY_ATTACHED, fn, "set '%s'", set->name);
         goto out;
     }
-    for (uint32_t i = 0; i < createInfo->countSubactionPaths; i++) {
-        if (!createInfo->subactionPaths || !hsrt_path_string(inst, createInfo->subactionPaths[i])) {
-            r = hsrt_fail(XR_ERROR_PATH_INVALID, fn, "subactionPaths[%u]", i);
-            goto out;
-        }
-    }
+    r = check_subaction_paths(inst, createInfo, fn);
+    if (XR_FAILED(r))
+        goto out;
     for (hsrt_action *o = set->actions; o; o = o->next_in_set) {
         if (!strcmp(o->name, createInfo->actionName)) {
             r = hsrt_fail(XR_ERROR_NAME_DUPLICATED, fn, "'%s'", o->name);
+            goto out;
+        }
+        if (!strcmp(o->localized_name, createInfo->localizedActionName)) {
+            r = hsrt_fail(XR_ERROR_LOCALIZED_NAME_DUPLICATED, fn, "'%s'", o->localized_name);
             goto out;
         }
     }
@@ -987,13 +1096,22 @@ static XrResult XRAPI_CALL hsrt_xrCreateAction(XrActionSet actionSet,
         r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "action");
         goto out;
     }
-    a->magic = HSRT_MAGIC_ACTION;
+    a->handle = hsrt_handle_issue(a, HSRT_HANDLE_ACTION);
+    if (!a->handle) {
+        free(a);
+        r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "handle table");
+        goto out;
+    }
     a->set = set;
     a->type = createInfo->actionType;
     snprintf(a->name, sizeof(a->name), "%s", createInfo->actionName);
+    snprintf(a->localized_name, sizeof(a->localized_name), "%s", createInfo->localizedActionName);
+    a->subaction_count = createInfo->countSubactionPaths;
+    memcpy(a->subaction_paths, createInfo->subactionPaths,
+           a->subaction_count * sizeof(a->subaction_paths[0]));
     a->next_in_set = set->actions;
     set->actions = a;
-    *action = (XrAction)(uintptr_t)a;
+    *action = HSRT_XR(XrAction, a->handle);
 out:
     pthread_mutex_unlock(&inst->lock);
     return r;
@@ -1012,7 +1130,7 @@ static XrResult XRAPI_CALL hsrt_xrDestroyAction(XrAction action)
             break;
         }
     }
-    a->magic = 0;
+    hsrt_handle_revoke(a->handle);
     free(a);
     pthread_mutex_unlock(&inst->lock);
     return XR_SUCCESS;
@@ -1032,8 +1150,14 @@ static XrResult XRAPI_CALL hsrt_xrSuggestInteractionProfileBindings(
     pthread_mutex_lock(&inst->lock);
     XrResult r = XR_SUCCESS;
     const char *profile = hsrt_path_string(inst, suggestedBindings->interactionProfile);
-    if (!profile || strncmp(profile, "/interaction_profiles/", 22) != 0) {
-        r = hsrt_fail(XR_ERROR_PATH_INVALID, fn, "interactionProfile is not an interaction profile");
+    const hsrt_profile *prof = profile ? hsrt_profile_find(inst, profile) : NULL;
+    if (!profile) {
+        r = hsrt_fail(XR_ERROR_PATH_INVALID, fn, "interactionProfile is not a path");
+        goto out;
+    }
+    if (!prof) {
+        r = hsrt_fail(XR_ERROR_PATH_UNSUPPORTED, fn, "%s is not an interaction profile offered",
+                      profile);
         goto out;
     }
     for (uint32_t i = 0; i < suggestedBindings->countSuggestedBindings; i++) {
@@ -1048,8 +1172,13 @@ static XrResult XRAPI_CALL hsrt_xrSuggestInteractionProfileBindings(
             goto out;
         }
         const char *bp = hsrt_path_string(inst, b->binding);
-        if (!bp || strncmp(bp, "/user/", 6) != 0) {
+        if (!bp) {
             r = hsrt_fail(XR_ERROR_PATH_INVALID, fn, "suggestedBindings[%u].binding", i);
+            goto out;
+        }
+        if (!hsrt_profile_has_binding(prof, bp)) {
+            r = hsrt_fail(XR_ERROR_PATH_UNSUPPORTED, fn, "suggestedBindings[%u]: %s has no %s", i,
+                          profile, bp);
             goto out;
         }
     }
@@ -1094,6 +1223,9 @@ static XrResult XRAPI_CALL hsrt_xrGetCurrentInteractionProfile(
         r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad interactionProfile");
     else if (!hsrt_path_string(s->instance, topLevelUserPath))
         r = hsrt_fail(XR_ERROR_PATH_INVALID, fn, "topLevelUserPath");
+    else if (!hsrt_top_level_path(hsrt_path_string(s->instance, topLevelUserPath)))
+        r = hsrt_fail(XR_ERROR_PATH_UNSUPPORTED, fn, "%s is not a top-level user path",
+                      hsrt_path_string(s->instance, topLevelUserPath));
     else if (!s->actions_attached)
         r = hsrt_fail(XR_ERROR_ACTIONSET_NOT_ATTACHED, fn, "no action sets attached");
     else
@@ -1115,9 +1247,7 @@ static XrResult check_action(hsrt_session *s, const XrActionStateGetInfo *info, 
         return hsrt_fail(XR_ERROR_ACTIONSET_NOT_ATTACHED, fn, "action '%s'", a->name);
     if (a->type != type)
         return hsrt_fail(XR_ERROR_ACTION_TYPE_MISMATCH, fn, "action '%s'", a->name);
-    if (info->subactionPath != XR_NULL_PATH && !hsrt_path_string(s->instance, info->subactionPath))
-        return hsrt_fail(XR_ERROR_PATH_INVALID, fn, "subactionPath");
-    return XR_SUCCESS;
+    return check_subaction(s->instance, a, info->subactionPath, fn);
 }
 
 #define ACTION_STATE_FN(Name, StateT, stype, atype)                                                \
@@ -1222,7 +1352,9 @@ static XrResult haptic_check(XrSession session, const XrHapticActionInfo *info, 
         r = hsrt_fail(XR_ERROR_ACTIONSET_NOT_ATTACHED, fn, "action '%s'", a->name);
     else if (a->type != XR_ACTION_TYPE_VIBRATION_OUTPUT)
         r = hsrt_fail(XR_ERROR_ACTION_TYPE_MISMATCH, fn, "action '%s'", a->name);
-    else if (s->state != XR_SESSION_STATE_FOCUSED)
+    else
+        r = check_subaction(s->instance, a, info->subactionPath, fn);
+    if (XR_SUCCEEDED(r) && s->state != XR_SESSION_STATE_FOCUSED)
         r = XR_SESSION_NOT_FOCUSED;
     UNLOCK(s);
     return r;

@@ -258,9 +258,8 @@ static XrResult XRAPI_CALL hsrt_xrCreateVulkanInstanceKHR(XrInstance instance,
     XrResult r = check_system(createInfo->systemId, fn);
     if (XR_FAILED(r))
         return r;
-    if (!inst->graphics_requirements_queried)
-        return hsrt_fail(XR_ERROR_GRAPHICS_REQUIREMENTS_CALL_MISSING, fn,
-                         "xrGetVulkanGraphicsRequirements2KHR was not called");
+    /* No XR_ERROR_GRAPHICS_REQUIREMENTS_CALL_MISSING here: the spec does not list it for this
+     * function (xrCreateSession checks the call). */
     PFN_vkCreateInstance create =
         (PFN_vkCreateInstance)createInfo->pfnGetInstanceProcAddr(NULL, "vkCreateInstance");
     if (!create)
@@ -382,8 +381,50 @@ void hsrt_swapchain_free(hsrt_swapchain *sc)
         if (sc->memory[i])
             vk->FreeMemory(vk->device, sc->memory[i], NULL);
     }
-    sc->magic = 0;
+    if (sc->retire_fence)
+        vk->DestroyFence(vk->device, sc->retire_fence, NULL);
+    hsrt_handle_revoke(sc->handle);
     free(sc);
+}
+
+void hsrt_swapchain_retire(hsrt_session *s, hsrt_swapchain *sc)
+{
+    hsrt_vk *vk = &s->vk;
+    hsrt_handle_revoke(sc->handle);
+    sc->handle = 0;
+    VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkResult vr = vk->CreateFence(vk->device, &fci, NULL, &sc->retire_fence);
+    if (vr == VK_SUCCESS)
+        vr = vk->QueueSubmit(vk->queue, 0, NULL, sc->retire_fence);
+    if (vr != VK_SUCCESS) {
+        U_LOG_W("runtime: xrDestroySwapchain: no fence to defer the free (VkResult %d): waiting "
+                "for the device to go idle",
+                (int)vr);
+        vk->DeviceWaitIdle(vk->device);
+        hsrt_swapchain_free(sc);
+        return;
+    }
+    sc->next_in_session = s->retired;
+    s->retired = sc;
+}
+
+void hsrt_swapchains_reap(hsrt_session *s, bool wait)
+{
+    hsrt_vk *vk = &s->vk;
+    for (hsrt_swapchain **p = &s->retired; *p;) {
+        hsrt_swapchain *sc = *p;
+        VkResult vr = wait
+                          ? vk->WaitForFences(vk->device, 1, &sc->retire_fence, VK_TRUE, UINT64_MAX)
+                          : vk->GetFenceStatus(vk->device, sc->retire_fence);
+        if (vr == VK_NOT_READY) {
+            p = &sc->next_in_session;
+            continue;
+        }
+        if (vr != VK_SUCCESS) /* device lost: nothing runs any more */
+            U_LOG_W("runtime: waiting for a destroyed swapchain's fence: VkResult %d", (int)vr);
+        *p = sc->next_in_session;
+        hsrt_swapchain_free(sc);
+    }
 }
 
 static void readback_free(hsrt_vk *vk)
@@ -403,13 +444,14 @@ static void readback_free(hsrt_vk *vk)
 void hsrt_vk_session_fini(hsrt_session *s)
 {
     hsrt_vk *vk = &s->vk;
+    if (!vk->device)
+        return;
     while (s->swapchains) {
         hsrt_swapchain *sc = s->swapchains;
         s->swapchains = sc->next_in_session;
-        hsrt_swapchain_free(sc);
+        hsrt_swapchain_retire(s, sc);
     }
-    if (!vk->device)
-        return;
+    hsrt_swapchains_reap(s, true);
     readback_free(vk);
     if (vk->fence)
         vk->DestroyFence(vk->device, vk->fence, NULL);
@@ -450,14 +492,12 @@ static VkResult begin_cmd(hsrt_vk *vk)
 
 static hsrt_session *session_of(XrSession handle)
 {
-    hsrt_session *s = (hsrt_session *)(uintptr_t)handle;
-    return s && s->magic == HSRT_MAGIC_SESSION ? s : NULL;
+    return hsrt_handle_get(HSRT_VALUE(handle), HSRT_HANDLE_SESSION);
 }
 
 static hsrt_swapchain *swapchain_of(XrSwapchain handle)
 {
-    hsrt_swapchain *sc = (hsrt_swapchain *)(uintptr_t)handle;
-    return sc && sc->magic == HSRT_MAGIC_SWAPCHAIN ? sc : NULL;
+    return hsrt_handle_get(HSRT_VALUE(handle), HSRT_HANDLE_SWAPCHAIN);
 }
 
 #define LOCK_SESSION(var, handle, fn)                                                              \
@@ -602,6 +642,7 @@ static XrResult XRAPI_CALL hsrt_xrCreateSwapchain(XrSession session,
     const char *fn = "xrCreateSwapchain";
     LOCK_SESSION(s, session, fn);
     XrResult r = XR_SUCCESS;
+    hsrt_swapchains_reap(s, false);
     hsrt_swapchain *sc = NULL;
     if (!createInfo || !swapchain || createInfo->type != XR_TYPE_SWAPCHAIN_CREATE_INFO) {
         r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad createInfo");
@@ -634,7 +675,6 @@ static XrResult XRAPI_CALL hsrt_xrCreateSwapchain(XrSession session,
         r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "swapchain");
         goto out;
     }
-    sc->magic = HSRT_MAGIC_SWAPCHAIN;
     sc->session = s;
     sc->info = *createInfo;
     sc->info.next = NULL;
@@ -648,9 +688,15 @@ static XrResult XRAPI_CALL hsrt_xrCreateSwapchain(XrSession session,
         hsrt_swapchain_free(sc);
         goto out;
     }
+    sc->handle = hsrt_handle_issue(sc, HSRT_HANDLE_SWAPCHAIN);
+    if (!sc->handle) {
+        hsrt_swapchain_free(sc);
+        r = hsrt_fail(XR_ERROR_OUT_OF_MEMORY, fn, "handle table");
+        goto out;
+    }
     sc->next_in_session = s->swapchains;
     s->swapchains = sc;
-    *swapchain = (XrSwapchain)(uintptr_t)sc;
+    *swapchain = HSRT_XR(XrSwapchain, sc->handle);
 out:
     UNLOCK(s);
     return r;
@@ -669,7 +715,8 @@ static XrResult XRAPI_CALL hsrt_xrDestroySwapchain(XrSwapchain swapchain)
             break;
         }
     }
-    hsrt_swapchain_free(sc);
+    hsrt_swapchain_retire(s, sc);
+    hsrt_swapchains_reap(s, false);
     UNLOCK(s);
     return XR_SUCCESS;
 }
@@ -683,7 +730,7 @@ static XrResult XRAPI_CALL hsrt_xrEnumerateSwapchainImages(XrSwapchain swapchain
     hsrt_swapchain *sc = swapchain_of(swapchain);
     if (!sc)
         return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrSwapchain");
-    LOCK_SESSION(s, (XrSession)(uintptr_t)sc->session, fn);
+    LOCK_SESSION(s, HSRT_XR(XrSession, sc->session->handle), fn);
     XrResult r = XR_SUCCESS;
     if (!imageCountOutput) {
         r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "NULL count");
@@ -714,7 +761,7 @@ static XrResult XRAPI_CALL hsrt_xrAcquireSwapchainImage(XrSwapchain swapchain,
     hsrt_swapchain *sc = swapchain_of(swapchain);
     if (!sc)
         return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrSwapchain");
-    LOCK_SESSION(s, (XrSession)(uintptr_t)sc->session, fn);
+    LOCK_SESSION(s, HSRT_XR(XrSession, sc->session->handle), fn);
     XrResult r = XR_SUCCESS;
     if ((acquireInfo && acquireInfo->type != XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO) || !index)
         r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad arguments");
@@ -738,7 +785,7 @@ static XrResult XRAPI_CALL hsrt_xrWaitSwapchainImage(XrSwapchain swapchain,
     hsrt_swapchain *sc = swapchain_of(swapchain);
     if (!sc)
         return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrSwapchain");
-    LOCK_SESSION(s, (XrSession)(uintptr_t)sc->session, fn);
+    LOCK_SESSION(s, HSRT_XR(XrSession, sc->session->handle), fn);
     XrResult r = XR_SUCCESS;
     if (!waitInfo || waitInfo->type != XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO)
         r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad waitInfo");
@@ -757,7 +804,7 @@ static XrResult XRAPI_CALL hsrt_xrReleaseSwapchainImage(XrSwapchain swapchain,
     hsrt_swapchain *sc = swapchain_of(swapchain);
     if (!sc)
         return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrSwapchain");
-    LOCK_SESSION(s, (XrSession)(uintptr_t)sc->session, fn);
+    LOCK_SESSION(s, HSRT_XR(XrSession, sc->session->handle), fn);
     XrResult r = XR_SUCCESS;
     if (releaseInfo && releaseInfo->type != XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO)
         r = hsrt_fail(XR_ERROR_VALIDATION_FAILURE, fn, "bad releaseInfo");
