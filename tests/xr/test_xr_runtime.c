@@ -176,6 +176,139 @@ static void library_serves_every_core_function(void)
     dlclose(lib);
 }
 
+/* ---- issue 20: the conformance rules, called on the library directly (no loader in between,
+ * so made-up handles reach the runtime) ---- */
+
+typedef struct t_direct {
+    void *lib;
+    PFN_xrGetInstanceProcAddr gipa;
+    XrInstance inst;
+} t_direct;
+
+/** Negotiates with the library and creates an instance with an API layer name passed through. */
+static bool direct_open(t_direct *d)
+{
+    memset(d, 0, sizeof(*d));
+    d->lib = dlopen(XRSC_RUNTIME_LIB, RTLD_NOW | RTLD_LOCAL);
+    t_negotiate_fn negotiate =
+        d->lib ? (t_negotiate_fn)dlsym(d->lib, "xrNegotiateLoaderRuntimeInterface") : NULL;
+    t_loader_info li = {T_LOADER_INFO, 1, sizeof(li), 1, 1, XR_MAKE_VERSION(1, 0, 0),
+                        XR_MAKE_VERSION(1, 0, 0xffff)};
+    t_runtime_request rq = {T_RUNTIME_REQUEST, 1, sizeof(rq), 0, 0, NULL};
+    CHECK(negotiate && negotiate(&li, &rq) == XR_SUCCESS && rq.getInstanceProcAddr);
+    if (!negotiate || !rq.getInstanceProcAddr)
+        return false;
+    d->gipa = rq.getInstanceProcAddr;
+    PFN_xrCreateInstance create = NULL;
+    XR_CHECK(d->gipa(XR_NULL_HANDLE, "xrCreateInstance", (PFN_xrVoidFunction *)&create));
+    XrInstanceCreateInfo ci = {.type = XR_TYPE_INSTANCE_CREATE_INFO};
+    snprintf(ci.applicationInfo.applicationName, sizeof(ci.applicationInfo.applicationName), "t");
+    ci.applicationInfo.apiVersion = XR_MAKE_VERSION(1, 0, 0);
+    /* the loader passes the application's layer names through: they are ignored */
+    const char *layer = "XR_APILAYER_LUNARG_core_validation";
+    ci.enabledApiLayerCount = 1;
+    ci.enabledApiLayerNames = &layer;
+    XR_CHECK(create(&ci, &d->inst));
+    return d->inst != XR_NULL_HANDLE;
+}
+
+/** Declares PFN_xr<name> <name>, looked up on d's instance. */
+#define T_PROC(d, name)                                                                            \
+    PFN_xr##name name = NULL;                                                                      \
+    XR_CHECK((d)->gipa((d)->inst, "xr" #name, (PFN_xrVoidFunction *)&name))
+
+static XrPath t_path(t_direct *d, const char *s)
+{
+    T_PROC(d, StringToPath);
+    XrPath p = XR_NULL_PATH;
+    XR_CHECK(StringToPath(d->inst, s, &p));
+    return p;
+}
+
+/** xrSuggestInteractionProfileBindings of one binding: the result. */
+static XrResult t_suggest(t_direct *d, const char *profile, XrAction action, const char *binding)
+{
+    T_PROC(d, SuggestInteractionProfileBindings);
+    XrActionSuggestedBinding sb = {action, t_path(d, binding)};
+    XrInteractionProfileSuggestedBinding isb = {.type =
+                                                    XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING,
+                                                .interactionProfile = t_path(d, profile),
+                                                .countSuggestedBindings = 1,
+                                                .suggestedBindings = &sb};
+    return SuggestInteractionProfileBindings(d->inst, &isb);
+}
+
+static void runtime_applies_the_conformance_rules(void)
+{
+    t_direct d;
+    if (!direct_open(&d)) {
+        if (d.lib)
+            dlclose(d.lib);
+        return;
+    }
+    T_PROC(&d, GetSystem);
+    T_PROC(&d, CreateActionSet);
+    T_PROC(&d, DestroyActionSet);
+    T_PROC(&d, CreateAction);
+    T_PROC(&d, DestroyAction);
+    T_PROC(&d, DestroyInstance);
+    /* any form factor but HMD: FORM_FACTOR_UNSUPPORTED, also one no version defines */
+    XrSystemGetInfo gi = {.type = XR_TYPE_SYSTEM_GET_INFO, .formFactor = (XrFormFactor)0x7fff};
+    XrSystemId sys = XR_NULL_SYSTEM_ID;
+    XR_EXPECT(GetSystem(d.inst, &gi, &sys), XR_ERROR_FORM_FACTOR_UNSUPPORTED);
+    /* names: empty, localized empty, localized duplicated */
+    XrActionSetCreateInfo asci = {.type = XR_TYPE_ACTION_SET_CREATE_INFO};
+    snprintf(asci.localizedActionSetName, sizeof(asci.localizedActionSetName), "Set");
+    XrActionSet set = XR_NULL_HANDLE, set2 = XR_NULL_HANDLE;
+    XR_EXPECT(CreateActionSet(d.inst, &asci, &set), XR_ERROR_NAME_INVALID);
+    snprintf(asci.actionSetName, sizeof(asci.actionSetName), "set");
+    XR_CHECK(CreateActionSet(d.inst, &asci, &set));
+    snprintf(asci.actionSetName, sizeof(asci.actionSetName), "set2");
+    XR_EXPECT(CreateActionSet(d.inst, &asci, &set2), XR_ERROR_LOCALIZED_NAME_DUPLICATED);
+    asci.localizedActionSetName[0] = '\0';
+    XR_EXPECT(CreateActionSet(d.inst, &asci, &set2), XR_ERROR_LOCALIZED_NAME_INVALID);
+    XrActionCreateInfo aci = {.type = XR_TYPE_ACTION_CREATE_INFO,
+                              .actionType = XR_ACTION_TYPE_BOOLEAN_INPUT};
+    snprintf(aci.actionName, sizeof(aci.actionName), "click");
+    snprintf(aci.localizedActionName, sizeof(aci.localizedActionName), "Click");
+    /* subaction paths: top-level user paths, each once */
+    XrPath subs[2] = {t_path(&d, "/user/head"), t_path(&d, "/user/head")};
+    aci.countSubactionPaths = 2;
+    aci.subactionPaths = subs;
+    XrAction a = XR_NULL_HANDLE, a2 = XR_NULL_HANDLE;
+    XR_EXPECT(CreateAction(set, &aci, &a), XR_ERROR_PATH_UNSUPPORTED);
+    subs[1] = t_path(&d, "/user/invalid");
+    XR_EXPECT(CreateAction(set, &aci, &a), XR_ERROR_PATH_UNSUPPORTED);
+    subs[1] = t_path(&d, "/user/hand/left");
+    XR_CHECK(CreateAction(set, &aci, &a));
+    snprintf(aci.actionName, sizeof(aci.actionName), "click2");
+    XR_EXPECT(CreateAction(set, &aci, &a2), XR_ERROR_LOCALIZED_NAME_DUPLICATED);
+    /* the interaction-profile table */
+    const char *simple = "/interaction_profiles/khr/simple_controller";
+    const char *touch = "/interaction_profiles/oculus/touch_controller";
+    XR_CHECK(t_suggest(&d, simple, a, "/user/hand/left/input/select/click"));
+    XR_CHECK(t_suggest(&d, simple, a, "/user/hand/right/input/select")); /* identifier alone */
+    XR_CHECK(t_suggest(&d, touch, a, "/user/hand/left/input/x/click"));
+    XR_EXPECT(t_suggest(&d, simple, a, "/user/hand/left/input/trigger/value"),
+              XR_ERROR_PATH_UNSUPPORTED);
+    XR_EXPECT(t_suggest(&d, touch, a, "/user/hand/right/input/x/click"), XR_ERROR_PATH_UNSUPPORTED);
+    XR_EXPECT(t_suggest(&d, touch, a, "/user/head/input/x/click"), XR_ERROR_PATH_UNSUPPORTED);
+    XR_EXPECT(t_suggest(&d, "/interaction_profiles/xrsc/no_such_controller", a,
+                        "/user/hand/left/input/select/click"),
+              XR_ERROR_PATH_UNSUPPORTED);
+    /* handles: made-up and destroyed values are HANDLE_INVALID, not dereferenced */
+    XR_EXPECT(CreateActionSet((XrInstance)(uintptr_t)0x1234, &asci, &set2),
+              XR_ERROR_HANDLE_INVALID);
+    XR_CHECK(DestroyActionSet(set)); /* destroys its action too */
+    XR_EXPECT(DestroyAction(a), XR_ERROR_HANDLE_INVALID);
+    XR_EXPECT(DestroyActionSet(set), XR_ERROR_HANDLE_INVALID);
+    XR_CHECK(DestroyInstance(d.inst));
+    XR_EXPECT(DestroyInstance(d.inst), XR_ERROR_HANDLE_INVALID);
+    PFN_xrVoidFunction fn = NULL;
+    XR_EXPECT(d.gipa(d.inst, "xrGetSystem", &fn), XR_ERROR_HANDLE_INVALID);
+    dlclose(d.lib);
+}
+
 /* ---- an application through the loader ---- */
 
 typedef struct t_app {
@@ -495,6 +628,8 @@ static void session_open(t_app *app, t_session *ts)
     XR_CHECK(xrCreateAction(ts->set, &aci, &ts->select));
     aci.actionType = XR_ACTION_TYPE_POSE_INPUT;
     snprintf(aci.actionName, sizeof(aci.actionName), "aim");
+    /* localized names are unique within a set, as names are */
+    snprintf(aci.localizedActionName, sizeof(aci.localizedActionName), "Aim");
     XR_CHECK(xrCreateAction(ts->set, &aci, &ts->aim));
     XrPath profile, click, pose, bad;
     XR_CHECK(xrStringToPath(app->instance, "/interaction_profiles/khr/simple_controller", &profile));
@@ -833,6 +968,7 @@ static void missing_manifest_is_an_error(void)
 int main(void)
 {
     RUN(library_serves_every_core_function);
+    RUN(runtime_applies_the_conformance_rules);
     RUN(sessions_end_and_start_again);
     RUN(lost_session_is_reported_and_a_new_one_works);
     RUN(missing_manifest_is_an_error);
