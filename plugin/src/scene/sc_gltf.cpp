@@ -8,6 +8,11 @@
  * JSON is checked once with nlohmann::json: syntax errors get their line, nesting depth is
  * bounded (tinygltf converts extras recursively), extensionsRequired is checked, and buffer
  * views are checked against their buffers (tinygltf 2.7.0 reads image bufferViews unchecked).
+ * Before that, the bytes are checked to be glTF 2.0 at all (check_container: another format
+ * is named, a GLB's lengths are checked against the file, glTF 1.0 is refused by name). After
+ * tinygltf, EXT_meshopt_compression buffer views are decoded with libmeshoptimizer (tinygltf
+ * does not know the extension; its fallback buffers without a uri get a stand-in data uri so
+ * that tinygltf accepts them).
  */
 // stb_image is compiled static here so another module may compile its own copy; xrsc never
 // writes glTF, so stb_image_write is left out.
