@@ -356,7 +356,6 @@ static void test_meshopt_twin(void)
     size_t total = (p2 + n2 + 3) & ~(size_t)3;
     CHECK(n0 > 0 && n1 > 0 && n2 > 0);
     uri = t_data_uri(enc, total);
-    free(enc);
     buffers = malloc(strlen(uri) + 256);
     sprintf(buffers,
             "{\"byteLength\": %zu, \"uri\": \"%s\"}, {\"byteLength\": %zu, \"extensions\":"
@@ -385,6 +384,39 @@ static void test_meshopt_twin(void)
     if (!packed) fprintf(stderr, "%s\n", xrsc_diag_format(&d, buf, sizeof buf));
     free(json);
     free(buffers);
+    /* The same as a GLB (gltfpack's layout): the compressed bytes in the BIN chunk, buffer 1
+     * the fallback without data (xrsc rewrites the JSON chunk for tinygltf). */
+    char glb_buffers[256];
+    snprintf(glb_buffers, sizeof glb_buffers,
+             "{\"byteLength\": %zu}, {\"byteLength\": %zu, \"extensions\":"
+             " {\"EXT_meshopt_compression\": {\"fallback\": true}}}",
+             total, sizeof plain);
+    json = grid_json("\"extensionsUsed\": [\"EXT_meshopt_compression\"],"
+                     " \"extensionsRequired\": [\"EXT_meshopt_compression\"],",
+                     views, glb_buffers, "\"componentType\": 5126",
+                     "\"componentType\": 5120, \"normalized\": true");
+    size_t jn = strlen(json), jp = (jn + 3) & ~(size_t)3, glb_size = 28 + jp + total;
+    uint8_t *glb = calloc(1, glb_size);
+    uint32_t hdr[5] = {0x46546C67u, 2, (uint32_t)glb_size, (uint32_t)jp, 0x4E4F534Au};
+    memcpy(glb, hdr, 20);
+    memset(glb + 20, ' ', jp);
+    memcpy(glb + 20, json, jn);
+    uint32_t bin_hdr[2] = {(uint32_t)total, 0x004E4942u};
+    memcpy(glb + 20 + jp, bin_hdr, 8);
+    memcpy(glb + 28 + jp, enc, total);
+    sc_scene *packed_glb = NULL;
+    CHECK_EQ_INT(sc_scene_load_memory("packed.glb", glb, glb_size, NULL, &o, &packed_glb, &d),
+                 XRSC_OK);
+    if (packed && packed_glb) {
+        CHECK_EQ_INT(packed_glb->index_count, packed->index_count);
+        CHECK(packed_glb->vertex_count == packed->vertex_count &&
+              !memcmp(packed_glb->vertices, packed->vertices,
+                      packed->vertex_count * sizeof(sc_vertex)));
+    }
+    sc_scene_destroy(&packed_glb);
+    free(glb);
+    free(json);
+    free(enc);
     if (twin && packed) {
         CHECK_EQ_INT(packed->vertex_count, twin->vertex_count);
         CHECK_EQ_INT(packed->index_count, twin->index_count);
