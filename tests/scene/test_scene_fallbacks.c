@@ -18,6 +18,7 @@
 #endif
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -596,33 +597,66 @@ static void test_spec_gloss(void)
         CHECK_NEAR(m->base_color[2], 0.4, 1e-3);
         sc_scene_destroy(&s);
     }
-    /* Textured: the diffuse texture is the base colour texture; the spec-gloss texture becomes
-     * a metal/rough texture: texel 0 dark specular, glossy -> metal 0, rough 0; texel 1 white
-     * specular, alpha 0 -> metal 1 (diffuse factor 1), rough 1. */
-    const char *png = t_temp_file("sg.png", "");
-    static const uint8_t texels[8] = {10, 10, 10, 255, 255, 255, 255, 0};
-    CHECK_EQ_INT(write_png_rgba(png, texels, 2, 1), XRSC_OK);
-    const char *base = strrchr(png, '/');
-    char images[512];
+    /* Textured, the two textures paired (same size and mapping): converted per texel.
+     * Texel 0: a dielectric (dark specular), glossy: metal 0, rough 0, base ~ diffuse, alpha
+     * kept. Texel 1: black diffuse, coloured specular, glossiness 128/255: metal 1, base =
+     * specular (sRGB 255 204 102), rough 127. */
+    static const uint8_t diffuse[8] = {128, 64, 32, 200, 0, 0, 0, 255};
+    static const uint8_t sg[8] = {10, 10, 10, 255, 255, 204, 102, 128};
+    static const uint8_t sg_small[4] = {10, 10, 10, 255};
+    char names[3][256];
+    const uint8_t *px[3] = {diffuse, sg, sg_small};
+    for (int k = 0; k < 3; k++) {
+        static const char *files[3] = {"sg-diffuse.png", "sg.png", "sg-small.png"};
+        const char *png = t_temp_file(files[k], "");
+        CHECK_EQ_INT(write_png_rgba(png, px[k], k == 2 ? 1 : 2, 1), XRSC_OK);
+        const char *slash = strrchr(png, '/');
+        snprintf(names[k], sizeof names[k], "%s", slash ? slash + 1 : png);
+    }
+    char images[1024];
     snprintf(images, sizeof images,
-             "\"images\": [{\"uri\": \"%s\"}], \"textures\": [{\"source\": 0}],",
-             base ? base + 1 : png);
+             "\"images\": [{\"uri\": \"%s\"}, {\"uri\": \"%s\"}, {\"uri\": \"%s\"}],"
+             " \"textures\": [{\"source\": 0}, {\"source\": 1}, {\"source\": 2}],",
+             names[0], names[1], names[2]);
     s = load_spec_gloss("sg-textured.gltf",
                         "\"diffuseTexture\": {\"index\": 0}, \"specularGlossinessTexture\":"
-                        " {\"index\": 0}",
+                        " {\"index\": 1}",
                         images);
     if (s) {
         const sc_material *m = &s->materials[0];
-        CHECK(m->base_color_tex != SC_NO_TEXTURE && m->metal_rough_tex != SC_NO_TEXTURE);
         CHECK_NEAR(m->metallic, 1.0, 0.0);
         CHECK_NEAR(m->roughness, 1.0, 0.0);
+        CHECK_NEAR(m->base_color[0], 1.0, 0.0);
+        CHECK(m->base_color_tex < s->texture_count && m->metal_rough_tex < s->texture_count);
         if (m->metal_rough_tex < s->texture_count && m->base_color_tex < s->texture_count) {
-            const sc_texture *t = &s->textures[m->metal_rough_tex];
-            CHECK(!t->srgb && s->textures[m->base_color_tex].srgb);
-            CHECK_EQ_INT(t->rgba8[1], 0);   /* rough */
-            CHECK_EQ_INT(t->rgba8[2], 0);   /* metal */
-            CHECK_EQ_INT(t->rgba8[5], 255); /* rough */
-            CHECK_EQ_INT(t->rgba8[6], 255); /* metal */
+            const uint8_t *mr = s->textures[m->metal_rough_tex].rgba8;
+            const uint8_t *bc = s->textures[m->base_color_tex].rgba8;
+            CHECK(!s->textures[m->metal_rough_tex].srgb && s->textures[m->base_color_tex].srgb);
+            printf("  per texel: base %u %u %u %u | %u %u %u; rough/metal %u %u | %u %u\n", bc[0],
+                   bc[1], bc[2], bc[3], bc[4], bc[5], bc[6], mr[1], mr[2], mr[5], mr[6]);
+            CHECK(mr[1] == 0 && mr[2] == 0);
+            CHECK(abs(mr[5] - 127) <= 1 && mr[6] == 255);
+            CHECK(bc[0] >= 128 && bc[0] <= 134 && bc[3] == 200);
+            CHECK(abs(bc[4] - 255) <= 1 && abs(bc[5] - 204) <= 1 && abs(bc[6] - 102) <= 1);
+        }
+        sc_scene_destroy(&s);
+    }
+    /* Textures that do not pair up (different sizes): the factors converted, the diffuse
+     * texture used as it is, the spec-gloss texture converted alone. */
+    s = load_spec_gloss("sg-unpaired.gltf",
+                        "\"diffuseTexture\": {\"index\": 0}, \"specularGlossinessTexture\":"
+                        " {\"index\": 2}",
+                        images);
+    if (s) {
+        const sc_material *m = &s->materials[0];
+        if (m->metal_rough_tex < s->texture_count && m->base_color_tex < s->texture_count) {
+            const uint8_t *bc = s->textures[m->base_color_tex].rgba8;
+            const uint8_t *mr = s->textures[m->metal_rough_tex].rgba8;
+            CHECK(bc[0] == 128 && bc[4] == 0); /* the diffuse texels unchanged */
+            CHECK(mr[1] == 0 && mr[2] == 0);
+            CHECK_NEAR(m->metallic, 1.0, 0.0);
+        } else {
+            CHECK(false);
         }
         sc_scene_destroy(&s);
     }

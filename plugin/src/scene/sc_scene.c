@@ -862,10 +862,9 @@ static float srgb_to_linear(float v)
     return v <= 0.04045f ? v / 12.92f : powf((v + 0.055f) / 1.055f, 2.4f);
 }
 
-/** specularGlossinessTexture → a metal/rough texture (G roughness, B metallic), per texel
- *  with the factors applied; metallic is solved against the diffuse factor (the diffuse
- *  texture is not read: an approximation where diffuse texels are dark and specular ones
- *  coloured, i.e. metals painted in a diffuse map). */
+/** specularGlossinessTexture alone → a metal/rough texture (G roughness, B metallic), per
+ *  texel with the factors applied; metallic is solved against the diffuse *factor* (the
+ *  approximation used when the diffuse texture does not pair up with it). */
 static xrsc_result spec_gloss_texture(sc_build *b, const sc_gltf_material *g, const char *field,
                                       uint32_t *out)
 {
@@ -898,16 +897,90 @@ static xrsc_result spec_gloss_texture(sc_build *b, const sc_gltf_material *g, co
                         sampler_of(&b->doc->textures[ref.texture]), out);
 }
 
-/** A KHR_materials_pbrSpecularGlossiness material as metal/rough (see above). */
+/** Entries of the linear → 8-bit sRGB table of spec_gloss_per_texel. */
+#define SC_SRGB_LUT 4096
+
+static bool same_mapping(const sc_gltf_texref *a, const sc_gltf_texref *b)
+{
+    return a->tex_coord == b->tex_coord && a->offset[0] == b->offset[0] &&
+           a->offset[1] == b->offset[1] && a->rotation_rad == b->rotation_rad &&
+           a->scale[0] == b->scale[0] && a->scale[1] == b->scale[1];
+}
+
+/**
+ * The exact conversion per texel when the diffuse and the specular-glossiness textures pair
+ * up (both decoded, same size, same UV mapping, as exporters write them): a new base colour
+ * texture (sRGB, alpha = diffuse alpha) and a metal/rough texture; the factors become 1.
+ * *done false (nothing changed) when they do not pair up.
+ */
+static xrsc_result spec_gloss_per_texel(sc_build *b, const sc_gltf_material *g,
+                                        const char *field, sc_material *mt, bool *done)
+{
+    *done = false;
+    const sc_gltf_texref *dr = &g->diffuse_tex, *sr = &g->spec_gloss_tex;
+    uint32_t tc = b->doc->texture_count;
+    if (dr->texture < 0 || sr->texture < 0 || (uint32_t)dr->texture >= tc ||
+        (uint32_t)sr->texture >= tc || dr->tex_coord != 0 || !same_mapping(dr, sr))
+        return XRSC_OK;
+    const sc_gltf_image *di = texture_image(b, *dr, field), *si = texture_image(b, *sr, field);
+    if (!di || !si || di->width != si->width || di->height != si->height) return XRSC_OK;
+    size_t n = (size_t)di->width * di->height;
+    uint8_t *base = malloc(n * 4), *mr = malloc(n * 4), enc[SC_SRGB_LUT];
+    if (!base || !mr) {
+        free(base);
+        free(mr);
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, field, "out of memory");
+    }
+    float lut[256];
+    for (int k = 0; k < 256; k++) lut[k] = srgb_to_linear(k / 255.0f);
+    for (int k = 0; k < SC_SRGB_LUT; k++) {
+        float v = (float)k / (SC_SRGB_LUT - 1);
+        v = v <= 0.0031308f ? 12.92f * v : 1.055f * powf(v, 1.0f / 2.4f) - 0.055f;
+        enc[k] = (uint8_t)lrintf(clamp01(v) * 255.0f);
+    }
+    for (size_t i = 0; i < n; i++) {
+        const uint8_t *dt = di->rgba8 + 4 * i, *st = si->rgba8 + 4 * i;
+        float dif[3], spec[3], out[3], m, r;
+        for (int c = 0; c < 3; c++)
+            dif[c] = lut[dt[c]] * g->diffuse[c], spec[c] = lut[st[c]] * g->specular[c];
+        spec_gloss_factors(dif, spec, st[3] / 255.0f * g->glossiness, out, &m, &r);
+        for (int c = 0; c < 3; c++) base[4 * i + c] = enc[lrintf(out[c] * (SC_SRGB_LUT - 1))];
+        base[4 * i + 3] = (uint8_t)lrintf(clamp01(dt[3] / 255.0f * g->diffuse[3]) * 255.0f);
+        mr[4 * i] = 255;
+        mr[4 * i + 1] = (uint8_t)lrintf(r * 255.0f);
+        mr[4 * i + 2] = (uint8_t)lrintf(m * 255.0f);
+        mr[4 * i + 3] = 255;
+    }
+    xrsc_result res = push_texture(b, di->width, di->height, NULL, base, true,
+                                   sampler_of(&b->doc->textures[dr->texture]), &mt->base_color_tex);
+    if (res == XRSC_OK)
+        res = push_texture(b, si->width, si->height, NULL, mr, false,
+                           sampler_of(&b->doc->textures[sr->texture]), &mt->metal_rough_tex);
+    else
+        free(mr);
+    if (res != XRSC_OK) return res;
+    for (int c = 0; c < 4; c++) mt->base_color[c] = 1.0f;
+    mt->metallic = mt->roughness = 1.0f;
+    *done = true;
+    return XRSC_OK;
+}
+
+/** A KHR_materials_pbrSpecularGlossiness material as metal/rough (see above): exact per
+ *  texel when its two textures pair up, else the factors converted, the diffuse texture as
+ *  the base colour texture and the spec-gloss texture converted alone (spec_gloss_texture). */
 static xrsc_result convert_spec_gloss(sc_build *b, uint32_t i, const sc_gltf_material *g,
                                       sc_material *mt)
 {
     char field[96];
+    FIELD(field, "materials[%u].extensions.KHR_materials_pbrSpecularGlossiness", i);
+    uv_transform(&g->diffuse_tex, mt->uv_transform[SC_TEX_BASE]);
+    uv_transform(&g->spec_gloss_tex, mt->uv_transform[SC_TEX_METAL_ROUGH]);
+    bool done;
+    xrsc_result pr = spec_gloss_per_texel(b, g, field, mt, &done);
+    if (pr != XRSC_OK || done) return pr;
     spec_gloss_factors(g->diffuse, g->specular, g->glossiness, mt->base_color, &mt->metallic,
                        &mt->roughness);
     mt->base_color[3] = g->diffuse[3];
-    uv_transform(&g->diffuse_tex, mt->uv_transform[SC_TEX_BASE]);
-    uv_transform(&g->spec_gloss_tex, mt->uv_transform[SC_TEX_METAL_ROUGH]);
     FIELD(field, "materials[%u].extensions.KHR_materials_pbrSpecularGlossiness.diffuseTexture", i);
     xrsc_result r = map_texture(b, g->diffuse_tex, true, field, &mt->base_color_tex);
     if (r != XRSC_OK) return r;
