@@ -30,6 +30,10 @@
 /** Accessors without a bufferView (zeros, perhaps with sparse values) may have at most this
  *  many elements: their size is not bounded by the file's size. */
 #define SC_MAX_ZERO_ELEMENTS (1u << 16)
+/** More mesh instances than this are refused (EXT_mesh_gpu_instancing can ask for many): it
+ *  bounds the memory a small file can claim (~150 bytes per instance on the CPU, more on the
+ *  GPU) and stays below the 24 bits of a TLAS instance's instanceCustomIndex. */
+#define SC_MAX_INSTANCES (1u << 22)
 /** Rec. 709 luminance weights, for emitter power. */
 #define SC_LUMA_R 0.2126f
 #define SC_LUMA_G 0.7152f
@@ -1320,11 +1324,16 @@ static xrsc_result add_node_instances(sc_walk *w, int32_t ni, const sc_gltf_mesh
         for (uint32_t p = 0; p < gm->primitive_count; p++) {
             uint32_t mesh = b->prim_mesh[gm->first_primitive + p];
             if (mesh == SC_SKIPPED) continue;
+            if (b->instances.count >= SC_MAX_INSTANCES) {
+                free(local);
+                return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "nodes",
+                                  "more than %u mesh instances", SC_MAX_INSTANCES);
+            }
             sc_instance *inst = vec_push(&b->instances, 1);
-            if (!inst || b->instances.count > SC_MAX_ELEMENTS) {
+            if (!inst) {
                 free(local);
                 return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "",
-                                  "out of memory (instances)");
+                                  "out of memory");
             }
             inst->mesh = mesh;
             inst->node = (uint32_t)ni;
