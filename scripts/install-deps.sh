@@ -15,8 +15,10 @@ PKGS=(
   libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation
   xvfb xauth gnuplot-nox mesa-vulkan-drivers
   libdraco-dev assimp-testmodels
+  libmeshoptimizer-dev
 )
 # libdraco-dev: KHR_draco_mesh_compression (optional at build time: CMake XRSC_DRACO);
+# libmeshoptimizer-dev: EXT_meshopt_compression (optional at build time: CMake XRSC_MESHOPT);
 # assimp-testmodels: third-party glTF 2.0 files for test_gltf_assimp (which skips without it).
 # libopenexr-dev: OpenEXR 3.1's C library (OpenEXRCore) for `xrsc --write exr`. ffmpeg (for
 # `xrsc --video`) is optional and deliberately not installed here.

@@ -2,7 +2,9 @@
 /**
  * @file fuzz_gltf.c
  * @brief libFuzzer target: bytes → sc_scene_load_memory (GLB when they start with "glTF",
- * else JSON), then animation evaluation. No file is ever read (base_dir NULL).
+ * else JSON), then animation evaluation. No file is ever read (base_dir NULL). Inputs of odd
+ * length are named "fuzz.glb" so that the GLB-magic check (a .glb that is not GLB) is reached
+ * too.
  */
 #include "sc_scene.h"
 
@@ -24,7 +26,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     sc_scene *scene = NULL;
     xrsc_diag diag;
-    if (sc_scene_load_memory("fuzz.gltf", data, size, NULL, NULL, &scene, &diag) == XRSC_OK) {
+    const char *name = size % 2 ? "fuzz.glb" : "fuzz.gltf";
+    if (sc_scene_load_memory(name, data, size, NULL, NULL, &scene, &diag) == XRSC_OK) {
         sc_scene_evaluate(scene, 0.37);
         sc_scene_evaluate(scene, 1e6);
         sc_scene_evaluate(scene, -2.5);

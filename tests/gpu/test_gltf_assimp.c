@@ -133,7 +133,9 @@ static void check_file(const char *path)
         g_unsupported++;
     } else if (broken && diag.message[0] &&
                (r == XRSC_ERROR_GLTF_INVALID || r == XRSC_ERROR_GLTF_PARSE ||
-                r == XRSC_ERROR_GLTF_MISSING_BUFFER)) {
+                r == XRSC_ERROR_GLTF_MISSING_BUFFER || r == XRSC_ERROR_GLTF_NOT_GLTF ||
+                r == XRSC_ERROR_GLTF_VERSION || r == XRSC_ERROR_GLB_MAGIC ||
+                r == XRSC_ERROR_GLB_TRUNCATED)) {
         outcome = "invalid";
         g_invalid++;
     } else {

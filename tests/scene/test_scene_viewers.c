@@ -238,7 +238,8 @@ static void test_folder_and_draco(void)
 static void test_strip_and_fan(void)
 {
     /* glTF §3.7.2.1: strip triangle 0 = (p0, p1, p2); fan triangle 0 = (p1, p2, p0): both keep
-     * the counter-clockwise winding (+Z normal). Points and lines stay unsupported. */
+     * the counter-clockwise winding (+Z normal). A file of lines alone is refused (nothing to
+     * draw; lines beside triangles are skipped with a warning: test_scene_fallbacks). */
     const int modes[2] = {5, 6};
     for (int k = 0; k < 2; k++) {
         char *g = sct_triangle_gltf(NULL, modes[k], "", 0, 1, 2, 3);

@@ -3,7 +3,9 @@
  * @file result.h
  * @brief One result enum for all of xrsc, generated with its names from one X-macro list.
  *
- * 0 is success, negative values are errors. Tests assert on these IDs, never on message text.
+ * 0 is success, negative values are errors, positive values are warnings (never returned by a
+ * function: recorded where the API says, e.g. a loaded scene's warning list). Tests assert on
+ * these IDs, never on message text.
  * Errors about input carry the file, line and field in an ::xrsc_diag.
  */
 #pragma once
@@ -38,7 +40,20 @@ extern "C" {
     X(XRSC_ERROR_DEVICE_NOT_FOUND, -21, "the requested Vulkan device does not exist")          \
     X(XRSC_ERROR_XR, -22, "an OpenXR call failed")                                                 \
     X(XRSC_ERROR_XR_RUNTIME_UNAVAILABLE, -23, "no OpenXR runtime (see XR_RUNTIME_JSON)")           \
-    X(XRSC_ERROR_XR_SESSION_LOST, -24, "the OpenXR runtime lost the session or instance")
+    X(XRSC_ERROR_XR_SESSION_LOST, -24, "the OpenXR runtime lost the session or instance")         \
+    XRSC_RESULT_LIST_LOADER(X)
+
+/* Scene loader (issue 18): bad-file errors found before the bytes reach tinygltf, and
+ * warnings (positive: the load succeeds) that a scene records in sc_scene.warning_ids. */
+#define XRSC_RESULT_LIST_LOADER(X)                                                                 \
+    X(XRSC_ERROR_GLTF_NOT_GLTF, -40, "file is not glTF 2.0 (another format)")                      \
+    X(XRSC_ERROR_GLTF_VERSION, -41, "glTF asset.version is not 2.x (glTF 1.0 is not read)")       \
+    X(XRSC_ERROR_GLB_MAGIC, -42, "GLB file does not start with the magic 'glTF'")                  \
+    X(XRSC_ERROR_GLB_TRUNCATED, -43, "GLB file is shorter than its header or chunks say")          \
+    X(XRSC_WARN_GLTF_IMAGE_MISSING, 40, "glTF image file is missing: neutral stand-in used")       \
+    X(XRSC_WARN_GLTF_IMAGE_UNDECODABLE, 41, "glTF image cannot be decoded: neutral stand-in used") \
+    X(XRSC_WARN_GLTF_PRIMITIVE_SKIPPED, 42, "glTF points or lines primitives skipped")             \
+    X(XRSC_WARN_GLTF_EXTENSION_IGNORED, 43, "optional glTF extension ignored")
 
 typedef enum xrsc_result {
 #define XRSC_X_ENUM(name, value, text) name = value,

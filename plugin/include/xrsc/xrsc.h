@@ -115,6 +115,10 @@ xrsc_result xrsc_scene_inspect(const char *path, xrsc_scene_info *out_info, xrsc
  * (0 for a NULL scene).
  */
 uint32_t xrsc_scene_instance_flags(const xrsc_scene *scene, uint8_t *out, uint32_t max_count);
+/** True when loading the scene printed a warning with this ID (XRSC_WARN_* of result.h: a
+ *  missing or undecodable image stood in for, points/lines skipped, an optional extension
+ *  ignored). False for a NULL scene. */
+bool xrsc_scene_warned(const xrsc_scene *scene, xrsc_result id);
 
 /**
  * Rendering methods.

@@ -206,6 +206,11 @@ void xrsc_scene_get_info(const xrsc_scene *scene, xrsc_scene_info *out_info)
 #define SPECULAR_METALLIC_MIN 0.5f
 #define SPECULAR_ROUGHNESS_MAX 0.5f
 
+bool xrsc_scene_warned(const xrsc_scene *scene, xrsc_result id)
+{
+    return scene && sc_scene_warned(scene->cpu, id);
+}
+
 uint32_t xrsc_scene_instance_flags(const xrsc_scene *scene, uint8_t *out, uint32_t max_count)
 {
     if (!scene)

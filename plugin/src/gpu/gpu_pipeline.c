@@ -155,8 +155,8 @@ void gpu_descriptors_write_storage_image(gpu_context *ctx, gpu_descriptors *d, u
 }
 
 void gpu_descriptors_write_textures(gpu_context *ctx, gpu_descriptors *d, uint32_t binding,
-                                    const gpu_image *textures, uint32_t n, const gpu_image *fill,
-                                    VkSampler sampler)
+                                    const gpu_image *textures, const VkSampler *samplers,
+                                    uint32_t n, const gpu_image *fill, VkSampler fill_sampler)
 {
     const gpu_binding *b = find_binding(d, binding);
     if (!b)
@@ -166,7 +166,7 @@ void gpu_descriptors_write_textures(gpu_context *ctx, gpu_descriptors *d, uint32
         return;
     for (uint32_t i = 0; i < b->count; i++) {
         const gpu_image *img = i < n ? &textures[i] : fill;
-        ii[i] = (VkDescriptorImageInfo){.sampler = sampler,
+        ii[i] = (VkDescriptorImageInfo){.sampler = i < n ? samplers[i] : fill_sampler,
                                         .imageView = img->view,
                                         .imageLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     }

@@ -61,10 +61,11 @@ void gpu_descriptors_write_buffer(gpu_context *ctx, gpu_descriptors *d, uint32_t
 /** Writes a storage image (layout GENERAL, all layers) to a STORAGE_IMAGE binding. */
 void gpu_descriptors_write_storage_image(gpu_context *ctx, gpu_descriptors *d, uint32_t binding,
                                          const gpu_image *img);
-/** Writes textures[0..n) to a SAMPLED_IMAGES binding and `fill` to the remaining elements. */
+/** Writes textures[0..n) with samplers[0..n) to a COMBINED_IMAGE_SAMPLER array binding and
+ *  `fill` with fill_sampler to the remaining elements. */
 void gpu_descriptors_write_textures(gpu_context *ctx, gpu_descriptors *d, uint32_t binding,
-                                    const gpu_image *textures, uint32_t n, const gpu_image *fill,
-                                    VkSampler sampler);
+                                    const gpu_image *textures, const VkSampler *samplers,
+                                    uint32_t n, const gpu_image *fill, VkSampler fill_sampler);
 void gpu_descriptors_write_tlas(gpu_context *ctx, gpu_descriptors *d, uint32_t binding,
                                 VkAccelerationStructureKHR tlas);
 

@@ -409,14 +409,23 @@ xrsc_result gpu_image_read_layer(gpu_context *ctx, const gpu_image *img, uint32_
 
 xrsc_result gpu_sampler_create(gpu_context *ctx, VkSampler *out, xrsc_diag *diag)
 {
+    return gpu_sampler_create_mode(ctx, VK_SAMPLER_ADDRESS_MODE_REPEAT,
+                                   VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_FILTER_LINEAR,
+                                   VK_FILTER_LINEAR, out, diag);
+}
+
+xrsc_result gpu_sampler_create_mode(gpu_context *ctx, VkSamplerAddressMode u,
+                                    VkSamplerAddressMode v, VkFilter mag, VkFilter min,
+                                    VkSampler *out, xrsc_diag *diag)
+{
     xrsc_result res = XRSC_OK;
     VkSamplerCreateInfo sci = {
         .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
-        .magFilter = VK_FILTER_LINEAR,
-        .minFilter = VK_FILTER_LINEAR,
+        .magFilter = mag,
+        .minFilter = min,
         .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
-        .addressModeU = VK_SAMPLER_ADDRESS_MODE_REPEAT,
-        .addressModeV = VK_SAMPLER_ADDRESS_MODE_REPEAT,
+        .addressModeU = u,
+        .addressModeV = v,
         .addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT,
         .maxLod = 0.0f,
     };

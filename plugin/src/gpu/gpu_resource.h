@@ -81,6 +81,10 @@ xrsc_result gpu_image_read_layer(gpu_context *ctx, const gpu_image *img, uint32_
 
 /** A linear, repeating sampler for textures. */
 xrsc_result gpu_sampler_create(gpu_context *ctx, VkSampler *out, xrsc_diag *diag);
+/** A texture sampler with the given address modes (u, v) and filters, without mipmaps. */
+xrsc_result gpu_sampler_create_mode(gpu_context *ctx, VkSamplerAddressMode u,
+                                    VkSamplerAddressMode v, VkFilter mag, VkFilter min,
+                                    VkSampler *out, xrsc_diag *diag);
 void gpu_sampler_destroy(gpu_context *ctx, VkSampler *sampler);
 
 #ifdef __cplusplus

@@ -24,6 +24,9 @@ _Static_assert(SC_NO_TEXTURE == XS_NO_TEXTURE, "no-texture markers agree");
     (VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |              \
      VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR)
 
+/** Distinct sc_sampler values: 3 wrap modes per axis x 2 mag x 2 min filters. */
+#define GPU_SAMPLER_KINDS (3 * 3 * 2 * 2)
+
 typedef struct gpu_accel {
     gpu_buffer buffer;
     VkAccelerationStructureKHR handle;
@@ -36,7 +39,11 @@ struct gpu_scene {
     gpu_image *textures;
     uint32_t texture_count;
     gpu_image white;
-    VkSampler sampler;
+    VkSampler sampler; /**< linear, repeat: the white fill's */
+    /** One VkSampler per distinct glTF sampler (wrap u, wrap v, mag, min: see sampler_key),
+     *  created on first use; tex_samplers[i] is textures[i]'s (not owned). */
+    VkSampler sampler_table[GPU_SAMPLER_KINDS];
+    VkSampler *tex_samplers;
 
     gpu_accel *blas;
     uint32_t blas_count;
@@ -304,6 +311,36 @@ static xrsc_result upload_env_map(gpu_context *ctx, gpu_scene *gs, const sc_scen
     return res;
 }
 
+static uint32_t sampler_key(sc_sampler s)
+{
+    return (((uint32_t)s.wrap_u * 3 + (uint32_t)s.wrap_v) * 2 + (s.mag_nearest ? 1 : 0)) * 2 +
+           (s.min_nearest ? 1 : 0);
+}
+
+static VkSamplerAddressMode vk_wrap(sc_wrap w)
+{
+    return w == SC_WRAP_CLAMP_TO_EDGE       ? VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE
+           : w == SC_WRAP_MIRRORED_REPEAT ? VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT
+                                          : VK_SAMPLER_ADDRESS_MODE_REPEAT;
+}
+
+/** The VkSampler of a glTF sampler, one per distinct value (sampler_table). */
+static xrsc_result texture_sampler(gpu_context *ctx, gpu_scene *gs, sc_sampler s, VkSampler *out,
+                                   xrsc_diag *diag)
+{
+    uint32_t key = sampler_key(s);
+    if (key >= GPU_SAMPLER_KINDS) key = 0; /* values outside the enums: the default */
+    if (!gs->sampler_table[key]) {
+        xrsc_result res = gpu_sampler_create_mode(
+            ctx, vk_wrap(s.wrap_u), vk_wrap(s.wrap_v),
+            s.mag_nearest ? VK_FILTER_NEAREST : VK_FILTER_LINEAR,
+            s.min_nearest ? VK_FILTER_NEAREST : VK_FILTER_LINEAR, &gs->sampler_table[key], diag);
+        if (res != XRSC_OK) return res;
+    }
+    *out = gs->sampler_table[key];
+    return XRSC_OK;
+}
+
 static xrsc_result upload_textures(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
                                    xrsc_diag *diag)
 {
@@ -320,7 +357,8 @@ static xrsc_result upload_textures(gpu_context *ctx, gpu_scene *gs, const sc_sce
         n = XS_MAX_TEXTURES;
     }
     gs->textures = calloc(n ? n : 1, sizeof(*gs->textures));
-    if (!gs->textures)
+    gs->tex_samplers = calloc(n ? n : 1, sizeof(*gs->tex_samplers));
+    if (!gs->textures || !gs->tex_samplers)
         return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
     for (uint32_t i = 0; i < n; i++) {
         const sc_texture *t = &scene->textures[i];
@@ -332,6 +370,8 @@ static xrsc_result upload_textures(gpu_context *ctx, gpu_scene *gs, const sc_sce
         if (res != XRSC_OK)
             return res;
         gs->texture_count = i + 1;
+        if ((res = texture_sampler(ctx, gs, t->sampler, &gs->tex_samplers[i], diag)) != XRSC_OK)
+            return res;
     }
     return XRSC_OK;
 }
@@ -735,6 +775,8 @@ void gpu_scene_destroy(gpu_context *ctx, gpu_scene **pgs)
     free(gs->textures);
     gpu_image_destroy(ctx, &gs->white);
     gpu_sampler_destroy(ctx, &gs->sampler);
+    for (uint32_t k = 0; k < GPU_SAMPLER_KINDS; k++) gpu_sampler_destroy(ctx, &gs->sampler_table[k]);
+    free(gs->tex_samplers);
     gpu_buffer_destroy(ctx, &gs->vertices);
     gpu_buffer_destroy(ctx, &gs->indices);
     gpu_buffer_destroy(ctx, &gs->instances);
@@ -846,8 +888,8 @@ void gpu_scene_write_descriptors(gpu_context *ctx, const gpu_scene *gs, gpu_desc
     gpu_descriptors_write_buffer(ctx, d, XS_BIND_MATERIALS, &gs->materials);
     gpu_descriptors_write_buffer(ctx, d, XS_BIND_EMITTERS, &gs->emitters);
     gpu_descriptors_write_buffer(ctx, d, XS_BIND_ENV_MAP, &gs->env_map);
-    gpu_descriptors_write_textures(ctx, d, XS_BIND_TEXTURES, gs->textures, gs->texture_count,
-                                   &gs->white, gs->sampler);
+    gpu_descriptors_write_textures(ctx, d, XS_BIND_TEXTURES, gs->textures, gs->tex_samplers,
+                                   gs->texture_count, &gs->white, gs->sampler);
 }
 
 uint32_t gpu_scene_emitter_count(const gpu_scene *gs) { return gs->emitter_count; }

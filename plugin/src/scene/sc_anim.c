@@ -85,7 +85,9 @@ void sc_scene_evaluate(sc_scene *scene, double time_s)
         if (n->parent < 0) memcpy(n->world, local, sizeof local);
         else sc_mat4_mul(scene->nodes[n->parent].world, local, n->world);
     }
-    for (uint32_t i = 0; i < scene->instance_count; i++)
-        memcpy(scene->instances[i].world, scene->nodes[scene->instances[i].node].world,
-               sizeof scene->instances[i].world);
+    for (uint32_t i = 0; i < scene->instance_count; i++) {
+        sc_instance *in = &scene->instances[i];
+        if (in->has_local) sc_mat4_mul(scene->nodes[in->node].world, in->local, in->world);
+        else memcpy(in->world, scene->nodes[in->node].world, sizeof in->world);
+    }
 }

@@ -8,6 +8,11 @@
  * JSON is checked once with nlohmann::json: syntax errors get their line, nesting depth is
  * bounded (tinygltf converts extras recursively), extensionsRequired is checked, and buffer
  * views are checked against their buffers (tinygltf 2.7.0 reads image bufferViews unchecked).
+ * Before that, the bytes are checked to be glTF 2.0 at all (check_container: another format
+ * is named, a GLB's lengths are checked against the file, glTF 1.0 is refused by name). After
+ * tinygltf, EXT_meshopt_compression buffer views are decoded with libmeshoptimizer (tinygltf
+ * does not know the extension; its fallback buffers without a uri get a stand-in data uri so
+ * that tinygltf accepts them).
  */
 // stb_image is compiled static here so another module may compile its own copy; xrsc never
 // writes glTF, so stb_image_write is left out.
@@ -20,6 +25,11 @@
 #include "sc_gltf.h"
 #include "u_diag.h"
 
+#ifdef XRSC_HAVE_MESHOPT
+#include <meshoptimizer.h>
+#endif
+
+#include <strings.h>
 #include <sys/stat.h>
 
 #include <cmath>
@@ -45,7 +55,10 @@ const uint64_t kMaxFileBytes = 2ull << 30;
 const char *const kSupportedExtensions[] = {
     "KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior",
     "KHR_lights_punctual", "KHR_mesh_quantization", "KHR_materials_unlit",
-    "KHR_texture_transform",
+    "KHR_texture_transform", "EXT_mesh_gpu_instancing", "KHR_materials_pbrSpecularGlossiness",
+#ifdef XRSC_HAVE_MESHOPT
+    "EXT_meshopt_compression", // decoded after parsing with libmeshoptimizer (CMake: XRSC_MESHOPT)
+#endif
 #ifdef XRSC_HAVE_DRACO
     "KHR_draco_mesh_compression", // decoded by tinygltf with libdraco (CMake: XRSC_DRACO)
 #endif
@@ -245,7 +258,85 @@ template <typename Info> sc_gltf_texref texref(sc_gltf_doc *doc, const Info &ti)
 struct precheck {
     std::vector<std::string> buffer_uris;
     std::vector<std::string> image_uris;
+    /** JSON for tinygltf when it had to be changed (meshopt fallback buffers), else empty. */
+    std::string rewritten;
 };
+
+/** Data that stands in for a meshopt fallback buffer (no uri, no bytes: tinygltf would
+ *  refuse it); its views are decoded from the compressed buffer instead. */
+const char *const kFallbackUri = "data:application/octet-stream;base64,AAAAAA==";
+const unsigned kFallbackBytes = 4;
+
+/** glTF 1.0 (asset.version "1.0", or objects where 2.0 has arrays) is refused by name. */
+xrsc_result check_version(const char *name, const char *text, size_t size,
+                          const nlohmann::json &j, xrsc_diag *diag)
+{
+    std::string version;
+    auto a = j.find("asset");
+    if (a != j.end() && a->is_object()) {
+        auto v = a->find("version");
+        if (v != a->end() && v->is_string()) version = v->get<std::string>();
+    }
+    auto meshes = j.find("meshes");
+    bool v1_layout = meshes != j.end() && meshes->is_object();
+    if ((!version.empty() && version.compare(0, 2, "2.") != 0) ||
+        (version.empty() && v1_layout))
+        return u_diag_set(diag, XRSC_ERROR_GLTF_VERSION, name,
+                          line_of(text, size, "\"version\""), "asset.version",
+                          "glTF %s: xrsc reads glTF 2.0 only (convert the file, e.g. with "
+                          "gltf-pipeline or Blender)",
+                          version.empty() ? "1.0 layout (meshes is an object)" : version.c_str());
+    return XRSC_OK;
+}
+
+/** extensionsRequired: every name must be one xrsc renders. */
+xrsc_result check_required(const char *name, const char *text, size_t size,
+                           const nlohmann::json &j, xrsc_diag *diag)
+{
+    auto it = j.find("extensionsRequired");
+    if (it == j.end() || !it->is_array()) return XRSC_OK;
+    int line = line_of(text, size, "\"extensionsRequired\"");
+    for (const nlohmann::json &e : *it) {
+        std::string ext = e.is_string() ? e.get<std::string>() : std::string("(not a string)");
+        if (is_supported_extension(ext)) continue;
+        const char *why = "";
+        if (ext == "KHR_draco_mesh_compression")
+            // Built without libdraco (CMake found no draco package, or XRSC_DRACO=OFF).
+            why = " (Draco-compressed meshes: this build of xrsc has no libdraco-dev); export "
+                  "the file without mesh compression";
+        else if (ext == "EXT_meshopt_compression")
+            why = " (this build of xrsc has no libmeshoptimizer-dev); export the file without "
+                  "meshopt compression";
+        else if (ext == "KHR_texture_basisu")
+            why = " (KTX2/Basis Universal textures, which xrsc cannot decode); export the "
+                  "textures as PNG or JPEG, or with a PNG/JPEG fallback source";
+        return u_diag_set(diag, XRSC_ERROR_GLTF_UNSUPPORTED, name, line, "extensionsRequired",
+                          "required extension %s is not supported by xrsc%s", ext.c_str(), why);
+    }
+    return XRSC_OK;
+}
+
+/** EXT_meshopt_compression fallback buffers (no uri) get a small data uri for tinygltf;
+ *  true when j was changed. */
+bool stand_in_fallback_buffers(nlohmann::json &j)
+{
+    bool changed = false;
+    auto it = j.find("buffers");
+    if (it == j.end() || !it->is_array()) return false;
+    for (nlohmann::json &b : *it) {
+        if (!b.is_object() || b.contains("uri")) continue;
+        auto x = b.find("extensions");
+        if (x == b.end() || !x->is_object()) continue;
+        auto m = x->find("EXT_meshopt_compression");
+        if (m == x->end() || !m->is_object()) continue;
+        auto f = m->find("fallback");
+        if (f == m->end() || !f->is_boolean() || !f->get<bool>()) continue;
+        b["uri"] = kFallbackUri;
+        b["byteLength"] = kFallbackBytes;
+        changed = true;
+    }
+    return changed;
+}
 
 /** Checks what tinygltf does not (see the file comment). Returns XRSC_OK or fills diag. */
 xrsc_result precheck_json(const char *name, const char *text, size_t size, precheck *pc,
@@ -268,30 +359,12 @@ xrsc_result precheck_json(const char *name, const char *text, size_t size, prech
         return u_diag_set(diag, XRSC_ERROR_GLTF_PARSE, name, 1, "",
                           "the root of a glTF file must be a JSON object");
 
-    auto it = j.find("extensionsRequired");
-    if (it != j.end() && it->is_array()) {
-        for (const json &e : *it) {
-            std::string ext = e.is_string() ? e.get<std::string>() : std::string("(not a string)");
-            if (ext == "KHR_draco_mesh_compression" && !is_supported_extension(ext))
-                // Built without libdraco (CMake found no draco package, or XRSC_DRACO=OFF):
-                // the file needs re-exporting without mesh compression.
-                return u_diag_set(diag, XRSC_ERROR_GLTF_UNSUPPORTED, name,
-                                  line_of(text, size, "\"extensionsRequired\""),
-                                  "extensionsRequired",
-                                  "required extension KHR_draco_mesh_compression (Draco-"
-                                  "compressed meshes) is not supported by this build of "
-                                  "xrsc (built without libdraco-dev); export the file "
-                                  "without mesh compression");
-            if (!is_supported_extension(ext))
-                return u_diag_set(diag, XRSC_ERROR_GLTF_UNSUPPORTED, name,
-                                  line_of(text, size, "\"extensionsRequired\""),
-                                  "extensionsRequired",
-                                  "required extension %s is not supported by xrsc", ext.c_str());
-        }
-    }
+    xrsc_result r = check_version(name, text, size, j, diag);
+    if (r == XRSC_OK) r = check_required(name, text, size, j, diag);
+    if (r != XRSC_OK) return r;
 
     std::vector<uint64_t> buffer_len;
-    it = j.find("buffers");
+    auto it = j.find("buffers");
     if (it != j.end() && it->is_array()) {
         for (const json &b : *it) {
             uint64_t len = 0;
@@ -344,29 +417,214 @@ xrsc_result precheck_json(const char *name, const char *text, size_t size, prech
             i++;
         }
     }
+    if (stand_in_fallback_buffers(j)) pc->rewritten = j.dump();
     return XRSC_OK;
 }
 
+/* ------------------------------------------------------------ EXT_meshopt_compression -- */
+
+/** The tinygltf model and what xrsc decoded beside it (sc_gltf_doc.impl). */
+struct doc_impl {
+    tinygltf::Model model;
+    std::vector<std::vector<uint8_t>> decoded; /**< meshopt buffer views, decoded */
+    std::vector<int32_t> view_decoded;         /**< per bufferView: index in decoded or -1 */
+    std::vector<size_t> view_stride;           /**< per bufferView: the decoded byteStride */
+};
+
+#ifdef XRSC_HAVE_MESHOPT
+/** A decoded view may be at most this many times its compressed bytes (+ kMeshoptSlack):
+ *  the codecs spend at least 2 bits per 16 vertex bytes and 4 bits per triangle, so real
+ *  data stays far below; a forged count cannot make xrsc allocate unbounded memory. */
+const uint64_t kMeshoptMaxRatio = 256, kMeshoptSlack = 1 << 16;
+
+/** One view's EXT_meshopt_compression object, decoded into out (count * byteStride bytes).
+ *  Returns "" or what is wrong. */
+std::string meshopt_decode_view(const tinygltf::Model &m, const tinygltf::Value &x,
+                                std::vector<uint8_t> *out, size_t *out_stride)
+{
+    if (!x.IsObject()) return "is not an object";
+    int32_t buf = x.Has("buffer") ? value_index(x.Get("buffer")) : -1;
+    double off = value_number(x, "byteOffset", 0.0), len = value_number(x, "byteLength", -1.0);
+    double stride = value_number(x, "byteStride", -1.0), count = value_number(x, "count", -1.0);
+    std::string mode = x.Has("mode") && x.Get("mode").IsString() ? x.Get("mode").Get<std::string>()
+                                                                : "";
+    std::string filter = x.Has("filter") && x.Get("filter").IsString()
+                             ? x.Get("filter").Get<std::string>()
+                             : "NONE";
+    if (buf < 0 || (size_t)buf >= m.buffers.size()) return "buffer does not exist";
+    const std::vector<unsigned char> &src = m.buffers[(size_t)buf].data;
+    if (!(off >= 0 && len >= 0 && off + len <= (double)src.size()))
+        return "byteOffset/byteLength overrun the buffer";
+    if (!(stride >= 1 && stride <= 256 && count >= 0 && count < 4294967296.0))
+        return "byteStride or count is missing or out of range";
+    uint64_t bytes = (uint64_t)count * (uint64_t)stride;
+    if (bytes > (uint64_t)len * kMeshoptMaxRatio + kMeshoptSlack)
+        return "count x byteStride is implausibly large for its compressed bytes";
+    out->assign((size_t)bytes, 0);
+    *out_stride = (size_t)stride;
+    const unsigned char *p = src.data() + (size_t)off;
+    size_t n = (size_t)count, sz = (size_t)stride, l = (size_t)len;
+    int rc;
+    if (mode == "ATTRIBUTES") {
+        if (sz % 4 != 0) return "ATTRIBUTES need a byteStride that is a multiple of 4";
+        rc = meshopt_decodeVertexBuffer(out->data(), n, sz, p, l);
+    } else if (mode == "TRIANGLES" || mode == "INDICES") {
+        if (sz != 2 && sz != 4) return "indices need a byteStride of 2 or 4";
+        if (mode == "TRIANGLES" && n % 3 != 0) return "TRIANGLES count is not a multiple of 3";
+        rc = mode == "TRIANGLES" ? meshopt_decodeIndexBuffer(out->data(), n, sz, p, l)
+                                 : meshopt_decodeIndexSequence(out->data(), n, sz, p, l);
+    } else {
+        return "mode '" + mode + "' is not ATTRIBUTES, TRIANGLES or INDICES";
+    }
+    if (rc != 0) return "the compressed data does not decode (meshopt error " +
+                        std::to_string(rc) + ")";
+    if (filter == "NONE") return "";
+    if (mode != "ATTRIBUTES") return "filters apply to ATTRIBUTES only";
+    if (filter == "OCTAHEDRAL" && (sz == 4 || sz == 8))
+        meshopt_decodeFilterOct(out->data(), n, sz);
+    else if (filter == "QUATERNION" && sz == 8)
+        meshopt_decodeFilterQuat(out->data(), n, sz);
+    else if (filter == "EXPONENTIAL")
+        meshopt_decodeFilterExp(out->data(), n, sz);
+    else
+        return "filter '" + filter + "' with byteStride " + std::to_string(sz) + " is invalid";
+    return "";
+}
+#endif
+
+/** Decodes every bufferView that has EXT_meshopt_compression (when built with meshopt;
+ *  otherwise the extension is optional-and-ignored or was refused as required). */
+xrsc_result decode_meshopt(const char *name, doc_impl *d, xrsc_diag *diag)
+{
+    const tinygltf::Model &m = d->model;
+    d->view_decoded.assign(m.bufferViews.size(), -1);
+    d->view_stride.assign(m.bufferViews.size(), 0);
+#ifdef XRSC_HAVE_MESHOPT
+    for (size_t i = 0; i < m.bufferViews.size(); i++) {
+        auto x = m.bufferViews[i].extensions.find("EXT_meshopt_compression");
+        if (x == m.bufferViews[i].extensions.end()) continue;
+        std::vector<uint8_t> out;
+        std::string why = meshopt_decode_view(m, x->second, &out, &d->view_stride[i]);
+        if (!why.empty()) {
+            char field[96];
+            snprintf(field, sizeof field, "bufferViews[%zu].extensions.EXT_meshopt_compression",
+                     i);
+            return u_diag_set(diag, XRSC_ERROR_GLTF_INVALID, name, 0, field, "%s", why.c_str());
+        }
+        d->view_decoded[i] = (int32_t)d->decoded.size();
+        d->decoded.push_back(std::move(out));
+    }
+#else
+    (void)name;
+    (void)diag;
+#endif
+    return XRSC_OK;
+}
+
+bool is_data_uri(const std::string &uri) { return uri.compare(0, 5, "data:") == 0; }
+
+/** KHR_texture_transform of a texture-info JSON object into r (identity when absent). */
+void texture_transform(const tinygltf::Value &info, sc_gltf_texref *r)
+{
+    if (!info.IsObject() || !info.Has("extensions")) return;
+    const tinygltf::Value &exts = info.Get("extensions");
+    if (!exts.IsObject() || !exts.Has("KHR_texture_transform")) return;
+    const tinygltf::Value &v = exts.Get("KHR_texture_transform");
+    if (!v.IsObject()) return;
+    const char *keys[2] = {"offset", "scale"};
+    float *dst[2] = {r->offset, r->scale};
+    for (int k = 0; k < 2; k++) {
+        if (!v.Has(keys[k])) continue;
+        const tinygltf::Value &a = v.Get(keys[k]);
+        if (a.IsArray() && a.ArrayLen() == 2 && a.Get(0).IsNumber() && a.Get(1).IsNumber())
+            for (int c = 0; c < 2; c++) dst[k][c] = clamp_float(a.Get(c).GetNumberAsDouble());
+    }
+    r->rotation_rad = clamp_float(value_number(v, "rotation", 0.0));
+    if (v.Has("texCoord") && v.Get("texCoord").IsNumber())
+        r->tex_coord = value_index(v.Get("texCoord"));
+}
+
+/** A texture-info given as a JSON value (extensions' textures: tinygltf keeps them raw). */
+sc_gltf_texref texref_value(sc_gltf_doc *doc, const tinygltf::Value &parent, const char *key)
+{
+    sc_gltf_texref r = {-1, 0, {0.0f, 0.0f}, 0.0f, {1.0f, 1.0f}};
+    if (!parent.IsObject() || !parent.Has(key)) return r;
+    const tinygltf::Value &info = parent.Get(key);
+    if (!info.IsObject() || !info.Has("index")) return r;
+    r.texture = value_index(info.Get("index"));
+    if (r.texture < 0) r.texture = INT32_MAX; // present but invalid: sc_scene.c names it
+    if (info.Has("texCoord")) r.tex_coord = value_index(info.Get("texCoord"));
+    texture_transform(info, &r);
+    if (r.tex_coord != 0) sc_gltf_note(doc, "texCoord sets other than 0");
+    return r;
+}
+
+/** KHR_materials_pbrSpecularGlossiness's factors and textures (converted in sc_scene.c). */
+void fill_spec_gloss(sc_gltf_doc *doc, const tinygltf::Value &v, sc_gltf_material *o)
+{
+    o->spec_gloss = true;
+    for (int c = 0; c < 4; c++) o->diffuse[c] = 1.0f;
+    for (int c = 0; c < 3; c++) o->specular[c] = 1.0f;
+    o->glossiness = clamp_float(value_number(v, "glossinessFactor", 1.0));
+    const char *keys[2] = {"diffuseFactor", "specularFactor"};
+    float *dst[2] = {o->diffuse, o->specular};
+    for (int k = 0; k < 2; k++) {
+        if (!v.IsObject() || !v.Has(keys[k])) continue;
+        const tinygltf::Value &a = v.Get(keys[k]);
+        int n = k == 0 ? 4 : 3;
+        if (!a.IsArray() || a.ArrayLen() != (size_t)n) continue;
+        for (int c = 0; c < n; c++)
+            if (a.Get(c).IsNumber()) dst[k][c] = clamp_float(a.Get(c).GetNumberAsDouble());
+    }
+    o->diffuse_tex = texref_value(doc, v, "diffuseTexture");
+    o->spec_gloss_tex = texref_value(doc, v, "specularGlossinessTexture");
+}
+
+/** EXT_mesh_gpu_instancing's attribute accessors of node n. */
+void fill_instancing(const tinygltf::Node &n, sc_gltf_node *o)
+{
+    o->inst_translation = o->inst_rotation = o->inst_scale = -1;
+    auto x = n.extensions.find("EXT_mesh_gpu_instancing");
+    if (x == n.extensions.end() || !x->second.IsObject()) return;
+    o->instanced = true;
+    if (!x->second.Has("attributes")) return;
+    const tinygltf::Value &a = x->second.Get("attributes");
+    if (!a.IsObject()) return;
+    if (a.Has("TRANSLATION")) o->inst_translation = value_index(a.Get("TRANSLATION"));
+    if (a.Has("ROTATION")) o->inst_rotation = value_index(a.Get("ROTATION"));
+    if (a.Has("SCALE")) o->inst_scale = value_index(a.Get("SCALE"));
+}
+
 /** Fills doc from the loaded model. Returns XRSC_OK or an error for malformed node data. */
-xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, sc_gltf_doc *doc,
+xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_gltf_doc *doc,
                      xrsc_diag *diag)
 {
     char field[96];
+    tinygltf::Model &m = di.model;
     for (const std::string &ext : m.extensionsUsed)
-        if (!is_supported_extension(ext)) sc_gltf_note(doc, ext.c_str());
+        if (!is_supported_extension(ext)) sc_gltf_note_extension(doc, ext.c_str());
     if (!m.skins.empty()) sc_gltf_note(doc, "skins");
 
-    doc->buffer_count = (uint32_t)m.buffers.size();
-    doc->buffers = alloc_array<sc_gltf_buffer>(m.buffers.size());
-    for (size_t i = 0; i < m.buffers.size(); i++) {
-        doc->buffers[i].data = m.buffers[i].data.data();
-        doc->buffers[i].size = m.buffers[i].data.size();
+    // The file's buffers, then one per meshopt-decoded view.
+    size_t nbuf = m.buffers.size() + di.decoded.size();
+    doc->buffer_count = (uint32_t)nbuf;
+    doc->buffers = alloc_array<sc_gltf_buffer>(nbuf);
+    for (size_t i = 0; doc->buffers && i < nbuf; i++) {
+        const std::vector<unsigned char> &data =
+            i < m.buffers.size() ? m.buffers[i].data : di.decoded[i - m.buffers.size()];
+        doc->buffers[i].data = data.data();
+        doc->buffers[i].size = data.size();
     }
     doc->view_count = (uint32_t)m.bufferViews.size();
     doc->views = alloc_array<sc_gltf_view>(m.bufferViews.size());
-    for (size_t i = 0; i < m.bufferViews.size(); i++) {
+    for (size_t i = 0; doc->views && i < m.bufferViews.size(); i++) {
         const tinygltf::BufferView &v = m.bufferViews[i];
-        doc->views[i] = {v.buffer, v.byteOffset, v.byteLength, v.byteStride};
+        int32_t dec = i < di.view_decoded.size() ? di.view_decoded[i] : -1;
+        if (dec >= 0)
+            doc->views[i] = {(int32_t)(m.buffers.size() + (size_t)dec), 0,
+                             di.decoded[(size_t)dec].size(), v.byteStride};
+        else
+            doc->views[i] = {v.buffer, v.byteOffset, v.byteLength, v.byteStride};
     }
     doc->accessor_count = (uint32_t)m.accessors.size();
     doc->accessors = alloc_array<sc_gltf_accessor>(m.accessors.size());
@@ -461,15 +719,30 @@ xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, 
                 o->unlit = true;
             } else if (ext.first == "KHR_materials_ior") {
                 o->ior = clamp_float(value_number(v, "ior", 1.5));
+            } else if (ext.first == "KHR_materials_pbrSpecularGlossiness") {
+                fill_spec_gloss(doc, v, o);
             } else {
-                sc_gltf_note(doc, ext.first.c_str());
+                sc_gltf_note_extension(doc, ext.first.c_str());
             }
         }
     }
 
     doc->texture_count = (uint32_t)m.textures.size();
     doc->textures = alloc_array<sc_gltf_texture>(m.textures.size());
-    for (size_t i = 0; i < m.textures.size(); i++) doc->textures[i].image = m.textures[i].source;
+    for (size_t i = 0; doc->textures && i < m.textures.size(); i++) {
+        const tinygltf::Texture &t = m.textures[i];
+        sc_gltf_texture *o = &doc->textures[i];
+        o->image = t.source;
+        o->wrap_s = o->wrap_t = SC_GLTF_WRAP_REPEAT;
+        o->mag_filter = o->min_filter = -1;
+        if (t.sampler >= 0 && (size_t)t.sampler < m.samplers.size()) {
+            const tinygltf::Sampler &sm = m.samplers[(size_t)t.sampler];
+            o->wrap_s = sm.wrapS;
+            o->wrap_t = sm.wrapT;
+            o->mag_filter = sm.magFilter;
+            o->min_filter = sm.minFilter;
+        }
+    }
 
     doc->image_count = (uint32_t)m.images.size();
     doc->images = alloc_array<sc_gltf_image>(m.images.size());
@@ -478,12 +751,18 @@ xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, 
         bool ok = i < ctx.image_status.size() && ctx.image_status[i] == IMAGE_DECODED &&
                   im.width > 0 && im.height > 0 &&
                   im.image.size() == (size_t)im.width * (size_t)im.height * 4;
+        copy_name(doc->images[i].uri, sizeof doc->images[i].uri,
+                  is_data_uri(im.uri) ? std::string("(data uri)") : im.uri);
         if (ok) {
             doc->images[i].width = (uint32_t)im.width;
             doc->images[i].height = (uint32_t)im.height;
             doc->images[i].rgba8 = im.image.data();
         } else {
-            sc_gltf_note(doc, "undecodable images");
+            // Never read: an external file that is missing (a data uri or bufferView that
+            // was not decodable reached load_image).
+            bool read = i < ctx.image_status.size() && ctx.image_status[i] != IMAGE_NOT_READ;
+            doc->images[i].missing = !read && im.bufferView < 0 && !im.uri.empty() &&
+                                     !is_data_uri(im.uri);
         }
     }
 
@@ -525,6 +804,7 @@ xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, 
         o->skin = n.skin;
         o->has_weights = !n.weights.empty();
         o->light = -1;
+        fill_instancing(n, o);
         auto le = n.extensions.find("KHR_lights_punctual");
         if (le != n.extensions.end() && le->second.IsObject() && le->second.Has("light"))
             o->light = value_index(le->second.Get("light"));
@@ -621,7 +901,7 @@ xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, 
     }
     doc->default_scene = m.defaultScene;
 
-    bool oom = (m.buffers.size() && !doc->buffers) || (m.bufferViews.size() && !doc->views) ||
+    bool oom = (nbuf && !doc->buffers) || (m.bufferViews.size() && !doc->views) ||
                (m.accessors.size() && !doc->accessors) || (prim_total && !doc->primitives) ||
                (m.meshes.size() && !doc->meshes) || (m.materials.size() && !doc->materials) ||
                (m.textures.size() && !doc->textures) || (m.images.size() && !doc->images) ||
@@ -633,7 +913,185 @@ xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, 
     return XRSC_OK;
 }
 
-bool is_data_uri(const std::string &uri) { return uri.compare(0, 5, "data:") == 0; }
+/* ------------------------------------------------------------ container checks ------- */
+
+/** A name for the format data looks like (glTF 2.0 being JSON or GLB), "" when unknown. */
+const char *guess_format(const uint8_t *data, size_t size)
+{
+    struct magic {
+        const char *bytes;
+        size_t len;
+        const char *format;
+    };
+    static const magic kMagics[] = {
+        {"\x89PNG", 4, "a PNG image"},       {"\xff\xd8\xff", 3, "a JPEG image"},
+        {"PK\x03\x04", 4, "a ZIP archive"},  {"\x1f\x8b", 2, "a gzip archive"},
+        {"Kaydara FBX Binary", 18, "FBX"},   {"; FBX", 5, "FBX"},
+        {"ply", 3, "PLY"},                   {"solid", 5, "ASCII STL"},
+        {"#usda", 5, "USD"},                 {"PXR-USDC", 8, "USD"},
+        {"BLENDER", 7, "a .blend file"},     {"<?xml", 5, "XML (COLLADA?)"},
+        {"<COLLADA", 8, "COLLADA"},          {"\xabKTX", 4, "a KTX texture"},
+        {"#?RADIANCE", 10, "a Radiance .hdr image"},
+    };
+    for (const magic &m : kMagics)
+        if (size >= m.len && memcmp(data, m.bytes, m.len) == 0) return m.format;
+    // OBJ: its first line that is not a comment or blank starts with an OBJ statement.
+    static const char *const kObjWords[] = {"v", "vn", "vt", "f", "o", "g", "s",
+                                            "mtllib", "usemtl", "l", "p"};
+    size_t i = 0;
+    while (i < size) {
+        size_t end = i;
+        while (end < size && data[end] != '\n') end++;
+        size_t w = i;
+        while (w < end && (data[w] == ' ' || data[w] == '\t' || data[w] == '\r')) w++;
+        if (w < end && data[w] != '#') {
+            size_t we = w;
+            while (we < end && data[we] != ' ' && data[we] != '\t') we++;
+            for (const char *word : kObjWords)
+                if (we - w == strlen(word) && memcmp(data + w, word, we - w) == 0 && we < end)
+                    return "OBJ";
+            return "";
+        }
+        i = end + 1;
+    }
+    return "";
+}
+
+bool ends_with_glb(const char *name)
+{
+    size_t n = strlen(name);
+    return n >= 4 && strcasecmp(name + n - 4, ".glb") == 0;
+}
+
+/** A GLB's header and chunk lengths against the file's size (before tinygltf reads it). */
+xrsc_result check_glb(const char *name, const uint8_t *data, size_t size, xrsc_diag *diag)
+{
+    const size_t kHeader = 12, kChunkHeader = 8;
+    if (size < kHeader)
+        return u_diag_set(diag, XRSC_ERROR_GLB_TRUNCATED, name, 0, "header",
+                          "GLB is truncated: its header needs %zu bytes, the file has %zu",
+                          kHeader, size);
+    uint32_t version = rd_u32(data + 4), length = rd_u32(data + 8);
+    if (version != 2)
+        return u_diag_set(diag, XRSC_ERROR_GLTF_VERSION, name, 0, "header.version",
+                          "GLB version %u: xrsc reads glTF 2.0 only%s", version,
+                          version == 1 ? " (this is glTF 1.0; convert it, e.g. with gltf-pipeline)"
+                                       : "");
+    if (length > size)
+        return u_diag_set(diag, XRSC_ERROR_GLB_TRUNCATED, name, 0, "header.length",
+                          "GLB is truncated: its header says %u bytes, the file has %zu", length,
+                          size);
+    size_t pos = kHeader;
+    for (int chunk = 0; pos + kChunkHeader <= length; chunk++) {
+        uint64_t end = (uint64_t)pos + kChunkHeader + rd_u32(data + pos);
+        if (end > length)
+            return u_diag_set(diag, XRSC_ERROR_GLB_TRUNCATED, name, 0,
+                              chunk == 0 ? "JSON chunk" : "BIN chunk",
+                              "GLB is truncated: chunk %d needs %llu bytes, the file has %u",
+                              chunk, (unsigned long long)end, length);
+        pos = (size_t)end;
+    }
+    if (pos == kHeader)
+        return u_diag_set(diag, XRSC_ERROR_GLB_TRUNCATED, name, 0, "JSON chunk",
+                          "GLB is truncated: no JSON chunk after the header (%u bytes)", length);
+    return XRSC_OK;
+}
+
+/** Refuses bytes that are neither GLB nor JSON, with what they look like. */
+xrsc_result check_container(const char *name, const uint8_t *data, size_t size, bool *out_glb,
+                            xrsc_diag *diag)
+{
+    *out_glb = size >= 4 && memcmp(data, "glTF", 4) == 0;
+    if (*out_glb) return check_glb(name, data, size, diag);
+    size_t i = 0;
+    if (size >= 3 && memcmp(data, "\xef\xbb\xbf", 3) == 0) i = 3; // UTF-8 byte order mark
+    while (i < size && (data[i] == ' ' || data[i] == '\t' || data[i] == '\r' || data[i] == '\n'))
+        i++;
+    if (i < size && (data[i] == '{' || data[i] == '[')) return XRSC_OK; // JSON: precheck_json
+    const char *format = guess_format(data, size);
+    char looks[96];
+    snprintf(looks, sizeof looks, "%s%s", *format ? ": looks like " : "", format);
+    if (ends_with_glb(name)) {
+        unsigned char m[4] = {0, 0, 0, 0};
+        memcpy(m, data, size < 4 ? size : 4);
+        return u_diag_set(diag, XRSC_ERROR_GLB_MAGIC, name, 0, "header.magic",
+                          "not a GLB file: it starts with bytes %02x %02x %02x %02x, not 'glTF'%s",
+                          m[0], m[1], m[2], m[3], looks);
+    }
+    return u_diag_set(diag, XRSC_ERROR_GLTF_NOT_GLTF, name, 1, "", "not a glTF 2.0 file%s",
+                      *format ? looks : " (neither JSON nor GLB)");
+}
+
+/** A GLB whose JSON chunk is replaced by json (the BIN chunk and others kept). */
+std::vector<uint8_t> glb_with_json(const uint8_t *data, size_t size, const std::string &json)
+{
+    size_t old_end = 20 + rd_u32(data + 12), padded = (json.size() + 3) & ~(size_t)3;
+    std::vector<uint8_t> out(20 + padded + (size - old_end), ' ');
+    auto put = [&out](size_t at, uint32_t v) {
+        for (int k = 0; k < 4; k++) out[at + (size_t)k] = (uint8_t)(v >> (8 * k));
+    };
+    memcpy(out.data(), data, 12);
+    put(8, (uint32_t)out.size());
+    put(12, (uint32_t)padded);
+    memcpy(out.data() + 16, data + 16, 4);
+    memcpy(out.data() + 20, json.data(), json.size());
+    if (size > old_end) memcpy(out.data() + 20 + padded, data + old_end, size - old_end);
+    return out;
+}
+
+/** Runs tinygltf on the (possibly rewritten) bytes. Returns XRSC_OK or fills diag. */
+xrsc_result run_tinygltf(const char *name, const uint8_t *data, size_t size, bool glb,
+                         const char *json_text, size_t json_size, const precheck &pc,
+                         const char *base_dir, load_ctx *ctx, tinygltf::Model *model,
+                         xrsc_diag *diag)
+{
+    tinygltf::TinyGLTF loader;
+    tinygltf::FsCallbacks fs = {fs_file_exists, fs_expand, fs_read, fs_write, ctx};
+    loader.SetFsCallbacks(fs);
+    loader.SetImageLoader(load_image, ctx);
+    std::string err, warn, dir = base_dir ? base_dir : "";
+    std::vector<uint8_t> glb_bytes;
+    if (glb && !pc.rewritten.empty()) glb_bytes = glb_with_json(data, size, pc.rewritten);
+    const std::string *text = pc.rewritten.empty() ? nullptr : &pc.rewritten;
+    bool ok;
+    try {
+        if (glb)
+            ok = glb_bytes.empty()
+                     ? loader.LoadBinaryFromMemory(model, &err, &warn, data, (unsigned)size, dir)
+                     : loader.LoadBinaryFromMemory(model, &err, &warn, glb_bytes.data(),
+                                                   (unsigned)glb_bytes.size(), dir);
+        else
+            ok = text ? loader.LoadASCIIFromString(model, &err, &warn, text->data(),
+                                                   (unsigned)text->size(), dir)
+                      : loader.LoadASCIIFromString(model, &err, &warn, json_text,
+                                                   (unsigned)json_size, dir);
+    } catch (const std::bad_alloc &) {
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, name, 0, "", "out of memory");
+    } catch (const std::exception &e) {
+        err = e.what();
+        ok = false;
+    }
+    while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
+    if (!warn.empty()) U_LOG_D("%s: tinygltf: %s", name, warn.c_str());
+    if (ok) return XRSC_OK;
+    if (err.find("File not found") != std::string::npos ||
+        err.find("File read error") != std::string::npos) {
+        size_t b = model->buffers.size();
+        std::string uri = b < pc.buffer_uris.size() ? pc.buffer_uris[b] : "";
+        char field[64];
+        snprintf(field, sizeof field, "buffers[%zu].uri", b);
+        return u_diag_set(diag, XRSC_ERROR_GLTF_MISSING_BUFFER, name,
+                          line_of(json_text, json_size, "\"" + uri + "\""), field,
+                          "buffer file '%s' cannot be read%s", uri.c_str(),
+                          base_dir ? "" : " (no base folder to read files from)");
+    }
+    bool syntax = err.find("JSON") != std::string::npos || err.find("GLB") != std::string::npos ||
+                  err.find("glTF") != std::string::npos ||
+                  err.find("not found in .gltf") != std::string::npos ||
+                  err.find("asset") != std::string::npos;
+    return u_diag_set(diag, syntax ? XRSC_ERROR_GLTF_PARSE : XRSC_ERROR_GLTF_INVALID, name, 0,
+                      "", "tinygltf: %s", err.c_str());
+}
 
 xrsc_result parse(const char *name, const uint8_t *data, size_t size, const char *base_dir,
                   sc_gltf_doc **out, xrsc_diag *diag)
@@ -643,11 +1101,14 @@ xrsc_result parse(const char *name, const uint8_t *data, size_t size, const char
                           "%zu bytes is more than tinygltf can read", size);
     if (size == 0) return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, name, 0, "", "file is empty");
 
-    bool glb = size >= 4 && memcmp(data, "glTF", 4) == 0;
+    bool glb = false;
+    xrsc_result r = check_container(name, data, size, &glb, diag);
+    if (r != XRSC_OK) return r;
     const char *json_text = reinterpret_cast<const char *>(data);
     size_t json_size = size;
     if (glb) {
-        // GLB: 12-byte header, then the JSON chunk (length, type "JSON", bytes).
+        // GLB: 12-byte header, then the JSON chunk (length, type "JSON", bytes); the lengths
+        // were checked against the file by check_glb.
         const uint32_t kChunkJson = 0x4E4F534Au;
         if (size < 20 || rd_u32(data + 16) != kChunkJson || rd_u32(data + 12) > size - 20)
             return u_diag_set(diag, XRSC_ERROR_GLTF_PARSE, name, 0, "",
@@ -656,69 +1117,22 @@ xrsc_result parse(const char *name, const uint8_t *data, size_t size, const char
         json_size = rd_u32(data + 12);
     }
     precheck pc;
-    xrsc_result r = precheck_json(name, json_text, json_size, &pc, diag);
+    r = precheck_json(name, json_text, json_size, &pc, diag);
     if (r != XRSC_OK) return r;
 
     load_ctx ctx;
     ctx.allow_fs = base_dir != nullptr;
-    tinygltf::TinyGLTF loader;
-    tinygltf::FsCallbacks fs = {fs_file_exists, fs_expand, fs_read, fs_write, &ctx};
-    loader.SetFsCallbacks(fs);
-    loader.SetImageLoader(load_image, &ctx);
-    std::unique_ptr<tinygltf::Model> model(new tinygltf::Model());
-    std::string err, warn, dir = base_dir ? base_dir : "";
-    bool ok;
-    try {
-        ok = glb ? loader.LoadBinaryFromMemory(model.get(), &err, &warn, data,
-                                               (unsigned int)size, dir)
-                 : loader.LoadASCIIFromString(model.get(), &err, &warn, json_text,
-                                              (unsigned int)json_size, dir);
-    } catch (const std::bad_alloc &) {
-        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, name, 0, "", "out of memory");
-    } catch (const std::exception &e) {
-        err = e.what();
-        ok = false;
-    }
-    while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
-    if (!ok) {
-        if (err.find("File not found") != std::string::npos ||
-            err.find("File read error") != std::string::npos) {
-            size_t b = model->buffers.size();
-            std::string uri = b < pc.buffer_uris.size() ? pc.buffer_uris[b] : "";
-            char field[64];
-            snprintf(field, sizeof field, "buffers[%zu].uri", b);
-            return u_diag_set(diag, XRSC_ERROR_GLTF_MISSING_BUFFER, name,
-                              line_of(json_text, json_size, "\"" + uri + "\""), field,
-                              "buffer file '%s' cannot be read%s", uri.c_str(),
-                              base_dir ? "" : " (no base folder to read files from)");
-        }
-        bool syntax = err.find("JSON") != std::string::npos ||
-                      err.find("GLB") != std::string::npos ||
-                      err.find("glTF") != std::string::npos ||
-                      err.find("not found in .gltf") != std::string::npos ||
-                      err.find("asset") != std::string::npos;
-        return u_diag_set(diag, syntax ? XRSC_ERROR_GLTF_PARSE : XRSC_ERROR_GLTF_INVALID, name,
-                          0, "", "tinygltf: %s", err.c_str());
-    }
-    if (!warn.empty()) U_LOG_D("%s: tinygltf: %s", name, warn.c_str());
-
-    // A missing image file is only a warning to tinygltf; for xrsc it is an error.
-    for (size_t i = 0; i < model->images.size(); i++) {
-        const tinygltf::Image &im = model->images[i];
-        bool read = i < ctx.image_status.size() && ctx.image_status[i] != IMAGE_NOT_READ;
-        if (!read && im.bufferView < 0 && !im.uri.empty() && !is_data_uri(im.uri)) {
-            char field[64];
-            snprintf(field, sizeof field, "images[%zu].uri", i);
-            return u_diag_set(diag, XRSC_ERROR_GLTF_MISSING_BUFFER, name,
-                              line_of(json_text, json_size, "\"" + im.uri + "\""), field,
-                              "image file '%s' cannot be read", im.uri.c_str());
-        }
-    }
+    std::unique_ptr<doc_impl> impl(new doc_impl());
+    r = run_tinygltf(name, data, size, glb, json_text, json_size, pc, base_dir, &ctx,
+                     &impl->model, diag);
+    if (r == XRSC_OK) r = decode_meshopt(name, impl.get(), diag);
+    if (r != XRSC_OK) return r;
 
     sc_gltf_doc *doc = static_cast<sc_gltf_doc *>(calloc(1, sizeof(sc_gltf_doc)));
     if (!doc) return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, name, 0, "", "out of memory");
-    doc->impl = model.release();
-    r = fill_doc(name, *static_cast<tinygltf::Model *>(doc->impl), ctx, doc, diag);
+    doc_impl *di = impl.release();
+    doc->impl = di;
+    r = fill_doc(name, *di, ctx, doc, diag);
     if (r != XRSC_OK) {
         sc_gltf_doc_destroy(&doc);
         return r;
@@ -746,7 +1160,7 @@ extern "C" void sc_gltf_doc_destroy(sc_gltf_doc **pdoc)
 {
     if (!pdoc || !*pdoc) return;
     sc_gltf_doc *doc = *pdoc;
-    delete static_cast<tinygltf::Model *>(doc->impl);
+    delete static_cast<doc_impl *>(doc->impl);
     free(doc->buffers);
     free(doc->views);
     free(doc->accessors);
@@ -766,17 +1180,28 @@ extern "C" void sc_gltf_doc_destroy(sc_gltf_doc **pdoc)
     *pdoc = nullptr;
 }
 
-extern "C" void sc_gltf_note(sc_gltf_doc *doc, const char *feature)
+/** Adds feature to a comma-separated list unless it is already an entry. */
+static void note_in(char *list, size_t cap, const char *feature)
 {
-    size_t n = strlen(doc->unsupported), f = strlen(feature);
+    size_t n = strlen(list), f = strlen(feature);
     // Look for the name as a whole list entry.
-    const char *p = doc->unsupported;
+    const char *p = list;
     while ((p = strstr(p, feature)) != nullptr) {
-        bool start = p == doc->unsupported || (p >= doc->unsupported + 2 && p[-2] == ',');
+        bool start = p == list || (p >= list + 2 && p[-2] == ',');
         bool end = p[f] == '\0' || p[f] == ',';
         if (start && end) return;
         p += f;
     }
-    if (n + f + 3 >= sizeof doc->unsupported) return;
-    snprintf(doc->unsupported + n, sizeof doc->unsupported - n, "%s%s", n ? ", " : "", feature);
+    if (n + f + 3 >= cap) return;
+    snprintf(list + n, cap - n, "%s%s", n ? ", " : "", feature);
+}
+
+extern "C" void sc_gltf_note(sc_gltf_doc *doc, const char *feature)
+{
+    note_in(doc->unsupported, sizeof doc->unsupported, feature);
+}
+
+extern "C" void sc_gltf_note_extension(sc_gltf_doc *doc, const char *name)
+{
+    note_in(doc->ignored_extensions, sizeof doc->ignored_extensions, name);
 }

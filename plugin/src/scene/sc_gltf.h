@@ -34,6 +34,13 @@ enum {
 #define SC_GLTF_MODE_TRIANGLE_STRIP 5
 #define SC_GLTF_MODE_TRIANGLE_FAN 6
 
+/** glTF sampler values (GL enums), sc_gltf_texture. */
+#define SC_GLTF_WRAP_REPEAT 10497
+#define SC_GLTF_WRAP_CLAMP_TO_EDGE 33071
+#define SC_GLTF_WRAP_MIRRORED_REPEAT 33648
+#define SC_GLTF_FILTER_NEAREST 9728
+#define SC_GLTF_FILTER_LINEAR 9729
+
 typedef struct sc_gltf_buffer {
     const uint8_t *data;
     size_t size;
@@ -90,15 +97,25 @@ typedef struct sc_gltf_material {
     float normal_scale;      /**< normalTexture.scale, 1 when absent */
     bool unlit;              /**< KHR_materials_unlit */
     bool double_sided;
+    /** KHR_materials_pbrSpecularGlossiness (converted to metal/rough by sc_scene.c). */
+    bool spec_gloss;
+    float diffuse[4], specular[3], glossiness;
+    sc_gltf_texref diffuse_tex, spec_gloss_tex;
 } sc_gltf_material;
 
 typedef struct sc_gltf_texture {
     int32_t image; /**< index in images, -1 when none */
+    /** Its sampler: wrap modes SC_GLTF_WRAP_* (REPEAT when absent); filters as in the file
+     *  (NEAREST/LINEAR and the mipmap variants), -1 when absent. */
+    int32_t wrap_s, wrap_t, mag_filter, min_filter;
 } sc_gltf_texture;
 
 typedef struct sc_gltf_image {
     uint32_t width, height;
-    const uint8_t *rgba8; /**< NULL when it could not be decoded (then a warning is noted) */
+    const uint8_t *rgba8; /**< NULL when it could not be read or decoded (sc_scene.c warns
+                           *   when a material uses it) */
+    bool missing;         /**< an external file that could not be read */
+    char uri[160];        /**< for messages ("" for bufferView images) */
 } sc_gltf_image;
 
 typedef enum sc_gltf_light_type {
@@ -128,6 +145,10 @@ typedef struct sc_gltf_node {
     float matrix[16]; /**< column-major, when has_matrix */
     float translation[3], rotation[4], scale[3];
     uint32_t first_child, child_count; /**< range in sc_gltf_doc.children */
+    /** EXT_mesh_gpu_instancing attribute accessors (-1 when absent); `instanced` when the
+     *  node has the extension. */
+    bool instanced;
+    int32_t inst_translation, inst_rotation, inst_scale;
 } sc_gltf_node;
 
 typedef enum sc_gltf_path {
@@ -178,21 +199,31 @@ typedef struct sc_gltf_doc {
     int32_t default_scene; /**< -1 when the file names none */
     /** Comma-separated names of ignored features, each once (see ::sc_gltf_note). */
     char unsupported[1024];
-    void *impl; /**< the tinygltf model that owns buffers and images */
+    /** Comma-separated optional extensions that are ignored, each once: one warning each. */
+    char ignored_extensions[1024];
+    void *impl; /**< owns buffers, images and meshopt-decoded buffer views */
 } sc_gltf_doc;
 
 /**
  * Parses glTF JSON or GLB bytes (GLB when data starts with "glTF"). name is used in
  * messages; external files are looked up in base_dir, and none are read when base_dir is
- * NULL. Errors: XRSC_ERROR_GLTF_PARSE (JSON/GLB syntax, with the line), _MISSING_BUFFER
- * (buffers[i].uri / images[i].uri with the line of the uri), _UNSUPPORTED
- * (extensionsRequired), _INVALID (inconsistent structure found by tinygltf).
+ * NULL. Before tinygltf sees the bytes: XRSC_ERROR_GLTF_NOT_GLTF (neither JSON nor GLB; the
+ * message names the format it looks like), XRSC_ERROR_GLB_MAGIC (a .glb without the magic),
+ * XRSC_ERROR_GLB_TRUNCATED (expected and actual length), XRSC_ERROR_GLTF_VERSION (glTF 1.0).
+ * Errors: XRSC_ERROR_GLTF_PARSE (JSON/GLB syntax, with the line), _MISSING_BUFFER
+ * (buffers[i].uri with the line of the uri), _UNSUPPORTED (extensionsRequired), _INVALID
+ * (inconsistent structure, a meshopt buffer view that does not decode). A missing or
+ * undecodable image is not an error (sc_gltf_image.rgba8 NULL). EXT_meshopt_compression
+ * buffer views are decoded here (libmeshoptimizer, when built with it): their sc_gltf_view
+ * points into a decoded buffer appended after the file's buffers.
  */
 xrsc_result sc_gltf_parse(const char *name, const uint8_t *data, size_t size,
                           const char *base_dir, sc_gltf_doc **out, xrsc_diag *diag);
 void sc_gltf_doc_destroy(sc_gltf_doc **doc);
 /** Adds a feature name to doc->unsupported unless already listed. */
 void sc_gltf_note(sc_gltf_doc *doc, const char *feature);
+/** Adds an optional extension's name to doc->ignored_extensions unless already listed. */
+void sc_gltf_note_extension(sc_gltf_doc *doc, const char *name);
 
 #ifdef __cplusplus
 }

@@ -17,6 +17,7 @@
 #include <errno.h>
 #include <float.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +30,10 @@
 /** Accessors without a bufferView (zeros, perhaps with sparse values) may have at most this
  *  many elements: their size is not bounded by the file's size. */
 #define SC_MAX_ZERO_ELEMENTS (1u << 16)
+/** More mesh instances than this are refused (EXT_mesh_gpu_instancing can ask for many): it
+ *  bounds the memory a small file can claim (~150 bytes per instance on the CPU, more on the
+ *  GPU) and stays below the 24 bits of a TLAS instance's instanceCustomIndex. */
+#define SC_MAX_INSTANCES (1u << 22)
 /** Rec. 709 luminance weights, for emitter power. */
 #define SC_LUMA_R 0.2126f
 #define SC_LUMA_G 0.7152f
@@ -67,11 +72,50 @@ typedef struct sc_build {
     const sc_load_options *opt;
     sc_scene *s;
     sc_vec vertices, indices, meshes, textures, instances, emitters;
-    uint32_t *prim_mesh;      /**< doc primitive → sc mesh */
+    uint32_t *prim_mesh;      /**< doc primitive → sc mesh, SC_SKIPPED when skipped */
     int32_t *tex_map;         /**< doc texture * 2 + srgb → sc texture, -1 unused */
+    bool *image_warned;       /**< per doc image: its stand-in was warned about */
+    uint32_t skipped_prims;   /**< points/lines primitives skipped */
+    char skipped_field[96];   /**< the first of them */
 } sc_build;
 
+/** prim_mesh value of a primitive that is not drawn (points, lines). */
+#define SC_SKIPPED UINT32_MAX
+
 #define FIELD(buf, ...) snprintf(buf, sizeof buf, __VA_ARGS__)
+
+/** Counts a printed warning and records its ID once (sc_scene.warning_ids). */
+static void record_warning(sc_scene *s, xrsc_result id)
+{
+    s->warning_count++;
+    for (uint32_t i = 0; i < s->warning_id_count; i++)
+        if (s->warning_ids[i] == id) return;
+    if (s->warning_id_count < SC_MAX_WARNING_IDS) s->warning_ids[s->warning_id_count++] = id;
+}
+
+/** Logs "file: field: message [ID]" as a warning and records the ID. */
+static void sc_warn(sc_build *b, xrsc_result id, const char *field, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+static void sc_warn(sc_build *b, xrsc_result id, const char *field, const char *fmt, ...)
+{
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    U_LOG_W("%s: %s%s%s [%s]", b->name, field, field[0] ? ": " : "", msg, xrsc_result_name(id));
+    record_warning(b->s, id);
+}
+
+bool sc_scene_warned(const sc_scene *scene, xrsc_result id)
+{
+    for (uint32_t i = 0; scene && i < scene->warning_id_count; i++)
+        if (scene->warning_ids[i] == id) return true;
+    return false;
+}
 
 /* ---------------------------------------------------------------- accessors ------------ */
 
@@ -417,17 +461,18 @@ typedef struct sc_prim_out {
     uint32_t first_vertex, first_index;
 } sc_prim_out;
 
-/** Rejects non-triangle modes, a missing POSITION and a material that does not exist. */
+/** glTF modes 0-3: POINTS, LINES, LINE_LOOP, LINE_STRIP (skipped with one warning). */
+#define SC_GLTF_MODE_LAST_NON_TRIANGLE 3
+
+/** Rejects unknown modes, a missing POSITION and a material that does not exist. */
 static xrsc_result check_primitive(sc_build *b, uint32_t m, uint32_t p, const sc_gltf_primitive *pr)
 {
     char field[96];
     if (pr->mode != SC_GLTF_MODE_TRIANGLES && pr->mode != SC_GLTF_MODE_TRIANGLE_STRIP &&
         pr->mode != SC_GLTF_MODE_TRIANGLE_FAN) {
         FIELD(field, "meshes[%u].primitives[%u].mode", m, p);
-        return u_diag_set(b->diag, XRSC_ERROR_GLTF_UNSUPPORTED, b->name, 0, field,
-                          "mode %d (points or lines) is not a triangle mode (4, 5, 6); xrsc "
-                          "renders triangles only",
-                          pr->mode);
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                          "mode %d is not a glTF primitive mode (0-6)", pr->mode);
     }
     if (pr->position < 0) {
         FIELD(field, "meshes[%u].primitives[%u].attributes.POSITION", m, p);
@@ -633,6 +678,13 @@ static xrsc_result add_mesh(sc_build *b, const sc_gltf_primitive *pr, uint32_t g
 static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t gp)
 {
     const sc_gltf_primitive *pr = &b->doc->primitives[gp];
+    if (pr->mode >= 0 && pr->mode <= SC_GLTF_MODE_LAST_NON_TRIANGLE) {
+        /* Points and lines have no surface for a ray to hit: skipped (one warning). */
+        if (b->skipped_prims++ == 0)
+            FIELD(b->skipped_field, "meshes[%u].primitives[%u].mode", m, p);
+        b->prim_mesh[gp] = SC_SKIPPED;
+        return XRSC_OK;
+    }
     xrsc_result r = check_primitive(b, m, p, pr);
     if (r != XRSC_OK)
         return r;
@@ -661,6 +713,70 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
 
 /* ---------------------------------------------------------------- materials ------------ */
 
+/** glTF sampler values → sc_sampler (unknown values: the defaults). */
+static sc_sampler sampler_of(const sc_gltf_texture *t)
+{
+    sc_sampler sm = {0};
+    const int32_t wraps[2] = {t->wrap_s, t->wrap_t};
+    sc_wrap *dst[2] = {&sm.wrap_u, &sm.wrap_v};
+    for (int k = 0; k < 2; k++)
+        *dst[k] = wraps[k] == SC_GLTF_WRAP_CLAMP_TO_EDGE     ? SC_WRAP_CLAMP_TO_EDGE
+                  : wraps[k] == SC_GLTF_WRAP_MIRRORED_REPEAT ? SC_WRAP_MIRRORED_REPEAT
+                                                             : SC_WRAP_REPEAT;
+    /* 9728 NEAREST, 9984 NEAREST_MIPMAP_NEAREST, 9986 NEAREST_MIPMAP_LINEAR: nearest texels. */
+    sm.mag_nearest = t->mag_filter == SC_GLTF_FILTER_NEAREST;
+    sm.min_nearest = t->min_filter == SC_GLTF_FILTER_NEAREST || t->min_filter == 9984 ||
+                     t->min_filter == 9986;
+    return sm;
+}
+
+/** The decoded image of a texture reference, or NULL after warning (once per image) that
+ *  the slot is stood in for (treated as absent). */
+static const sc_gltf_image *texture_image(sc_build *b, sc_gltf_texref ref, const char *field)
+{
+    sc_gltf_doc *d = b->doc;
+    int32_t img = d->textures[ref.texture].image;
+    if (img < 0 || (uint32_t)img >= d->image_count) {
+        sc_gltf_note(d, "textures without a PNG/JPEG source");
+        return NULL;
+    }
+    const sc_gltf_image *im = &d->images[img];
+    if (im->rgba8) return im;
+    if (!b->image_warned[img]) {
+        b->image_warned[img] = true;
+        if (im->missing)
+            sc_warn(b, XRSC_WARN_GLTF_IMAGE_MISSING, field,
+                    "images[%d] file '%s' is missing; the texture is left out (white base "
+                    "colour, flat normal: the factors alone)",
+                    img, im->uri);
+        else
+            sc_warn(b, XRSC_WARN_GLTF_IMAGE_UNDECODABLE, field,
+                    "images[%d] ('%s') cannot be decoded (xrsc reads PNG, JPEG and what "
+                    "stb_image reads, up to 8k x 8k); the texture is left out",
+                    img, im->uri[0] ? im->uri : "bufferView");
+    }
+    return NULL;
+}
+
+/** Appends a texture with a copy of (or, when px_owned, ownership of) the pixels. */
+static xrsc_result push_texture(sc_build *b, uint32_t w, uint32_t h, const uint8_t *px,
+                                uint8_t *px_owned, bool srgb, sc_sampler sm, uint32_t *out)
+{
+    sc_texture *t = vec_push(&b->textures, 1);
+    size_t bytes = (size_t)w * h * 4;
+    uint8_t *copy = px_owned ? px_owned : t ? malloc(bytes) : NULL;
+    if (!t || !copy) {
+        if (t) b->textures.count--;
+        free(px_owned);
+        if (!px_owned) free(copy);
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    }
+    if (!px_owned) memcpy(copy, px, bytes);
+    *t = (sc_texture){.width = w, .height = h, .rgba8 = copy, .srgb = srgb, .sampler = sm};
+    *out = (uint32_t)(b->textures.count - 1);
+    return XRSC_OK;
+}
+
 /** sc texture index for a material's texture reference, creating it on first use. */
 static xrsc_result map_texture(sc_build *b, sc_gltf_texref ref, bool srgb, const char *field,
                                uint32_t *out)
@@ -672,29 +788,15 @@ static xrsc_result map_texture(sc_build *b, sc_gltf_texref ref, bool srgb, const
         return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                           "texture %d does not exist", ref.texture);
     if (ref.tex_coord != 0) return XRSC_OK; /* noted by sc_gltf.cpp */
-    int32_t img = d->textures[ref.texture].image;
-    if (img < 0 || (uint32_t)img >= d->image_count) {
-        sc_gltf_note(d, "textures without a PNG/JPEG source");
-        return XRSC_OK;
-    }
-    const sc_gltf_image *im = &d->images[img];
-    if (!im->rgba8) return XRSC_OK; /* undecodable: noted by sc_gltf.cpp */
+    const sc_gltf_image *im = texture_image(b, ref, field);
+    if (!im) return XRSC_OK;
     int32_t *slot = &b->tex_map[(size_t)ref.texture * 2 + (srgb ? 1 : 0)];
     if (*slot < 0) {
-        sc_texture *t = vec_push(&b->textures, 1);
-        size_t bytes = (size_t)im->width * im->height * 4;
-        uint8_t *px = t ? malloc(bytes) : NULL;
-        if (!px) {
-            if (t) b->textures.count--;
-            return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, field,
-                              "out of memory");
-        }
-        memcpy(px, im->rgba8, bytes);
-        t->width = im->width;
-        t->height = im->height;
-        t->rgba8 = px;
-        t->srgb = srgb;
-        *slot = (int32_t)(b->textures.count - 1);
+        uint32_t idx;
+        xrsc_result r = push_texture(b, im->width, im->height, im->rgba8, NULL, srgb,
+                                     sampler_of(&d->textures[ref.texture]), &idx);
+        if (r != XRSC_OK) return r;
+        *slot = (int32_t)idx;
     }
     *out = (uint32_t)*slot;
     return XRSC_OK;
@@ -715,6 +817,186 @@ static void uv_identity(sc_material *mt)
     for (int k = 0; k < SC_TEX_SLOTS; k++) memcpy(mt->uv_transform[k], id, sizeof id);
 }
 
+/* KHR_materials_pbrSpecularGlossiness → metal/rough, with the conversion published beside
+ * the extension (KhronosGroup/glTF, extensions/2.0/Archived/KHR_materials_pbrSpecularGlossiness,
+ * examples/convert-between-workflows, three.pbrUtilities.js): metallic solved from the
+ * perceived brightness of diffuse and specular against a dielectric's F0, the base colour
+ * blended between the diffuse and the specular estimate by metallic^2, roughness =
+ * 1 - glossiness. */
+#define SC_DIELECTRIC_F0 0.04f
+#define SC_SG_EPSILON 1e-6f
+
+static float clamp01(float v) { return v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v; }
+
+static float perceived_brightness(const float c[3])
+{
+    return sqrtf(0.299f * c[0] * c[0] + 0.587f * c[1] * c[1] + 0.114f * c[2] * c[2]);
+}
+
+static float solve_metallic(float diffuse, float specular, float one_minus_specular_strength)
+{
+    if (specular < SC_DIELECTRIC_F0) return 0.0f;
+    float a = SC_DIELECTRIC_F0;
+    float bq = diffuse * one_minus_specular_strength / (1.0f - SC_DIELECTRIC_F0) + specular -
+               2.0f * SC_DIELECTRIC_F0;
+    float c = SC_DIELECTRIC_F0 - specular;
+    float disc = fmaxf(bq * bq - 4.0f * a * c, 0.0f);
+    return clamp01((-bq + sqrtf(disc)) / (2.0f * a));
+}
+
+static float max3(const float c[3]) { return fmaxf(c[0], fmaxf(c[1], c[2])); }
+
+/** Converts spec-gloss factors: base colour (rgb), metallic and roughness. */
+static void spec_gloss_factors(const float diffuse[3], const float specular[3], float gloss,
+                               float base[3], float *metallic, float *roughness)
+{
+    float oms = 1.0f - max3(specular);
+    float m = solve_metallic(perceived_brightness(diffuse), perceived_brightness(specular), oms);
+    for (int c = 0; c < 3; c++) {
+        float from_d = diffuse[c] * oms / (1.0f - SC_DIELECTRIC_F0) / fmaxf(1.0f - m, SC_SG_EPSILON);
+        float from_s = (specular[c] - SC_DIELECTRIC_F0 * (1.0f - m)) / fmaxf(m, SC_SG_EPSILON);
+        base[c] = clamp01(from_d + (from_s - from_d) * m * m);
+    }
+    *metallic = m;
+    *roughness = clamp01(1.0f - gloss);
+}
+
+static float srgb_to_linear(float v)
+{
+    return v <= 0.04045f ? v / 12.92f : powf((v + 0.055f) / 1.055f, 2.4f);
+}
+
+/** specularGlossinessTexture alone → a metal/rough texture (G roughness, B metallic), per
+ *  texel with the factors applied; metallic is solved against the diffuse *factor* (the
+ *  approximation used when the diffuse texture does not pair up with it). */
+static xrsc_result spec_gloss_texture(sc_build *b, const sc_gltf_material *g, const char *field,
+                                      uint32_t *out)
+{
+    *out = SC_NO_TEXTURE;
+    sc_gltf_texref ref = g->spec_gloss_tex;
+    if (ref.texture < 0) return XRSC_OK;
+    if ((uint32_t)ref.texture >= b->doc->texture_count)
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                          "texture %d does not exist", ref.texture);
+    if (ref.tex_coord != 0) return XRSC_OK;
+    const sc_gltf_image *im = texture_image(b, ref, field);
+    if (!im) return XRSC_OK;
+    size_t n = (size_t)im->width * im->height;
+    uint8_t *px = malloc(n * 4);
+    if (!px) return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, field, "out of memory");
+    float lut[256], diffuse_b = perceived_brightness(g->diffuse);
+    for (int i = 0; i < 256; i++) lut[i] = srgb_to_linear(i / 255.0f);
+    for (size_t i = 0; i < n; i++) {
+        const uint8_t *t = im->rgba8 + 4 * i;
+        float spec[3];
+        for (int c = 0; c < 3; c++) spec[c] = lut[t[c]] * g->specular[c];
+        float m = solve_metallic(diffuse_b, perceived_brightness(spec), 1.0f - max3(spec));
+        float rough = clamp01(1.0f - t[3] / 255.0f * g->glossiness);
+        px[4 * i] = 255;
+        px[4 * i + 1] = (uint8_t)lrintf(rough * 255.0f);
+        px[4 * i + 2] = (uint8_t)lrintf(m * 255.0f);
+        px[4 * i + 3] = 255;
+    }
+    return push_texture(b, im->width, im->height, NULL, px, false,
+                        sampler_of(&b->doc->textures[ref.texture]), out);
+}
+
+/** Entries of the linear → 8-bit sRGB table of spec_gloss_per_texel. */
+#define SC_SRGB_LUT 4096
+
+static bool same_mapping(const sc_gltf_texref *a, const sc_gltf_texref *b)
+{
+    return a->tex_coord == b->tex_coord && a->offset[0] == b->offset[0] &&
+           a->offset[1] == b->offset[1] && a->rotation_rad == b->rotation_rad &&
+           a->scale[0] == b->scale[0] && a->scale[1] == b->scale[1];
+}
+
+/**
+ * The exact conversion per texel when the diffuse and the specular-glossiness textures pair
+ * up (both decoded, same size, same UV mapping, as exporters write them): a new base colour
+ * texture (sRGB, alpha = diffuse alpha) and a metal/rough texture; the factors become 1.
+ * *done false (nothing changed) when they do not pair up.
+ */
+static xrsc_result spec_gloss_per_texel(sc_build *b, const sc_gltf_material *g,
+                                        const char *field, sc_material *mt, bool *done)
+{
+    *done = false;
+    const sc_gltf_texref *dr = &g->diffuse_tex, *sr = &g->spec_gloss_tex;
+    uint32_t tc = b->doc->texture_count;
+    if (dr->texture < 0 || sr->texture < 0 || (uint32_t)dr->texture >= tc ||
+        (uint32_t)sr->texture >= tc || dr->tex_coord != 0 || !same_mapping(dr, sr))
+        return XRSC_OK;
+    const sc_gltf_image *di = texture_image(b, *dr, field), *si = texture_image(b, *sr, field);
+    if (!di || !si || di->width != si->width || di->height != si->height) return XRSC_OK;
+    size_t n = (size_t)di->width * di->height;
+    uint8_t *base = malloc(n * 4), *mr = malloc(n * 4), enc[SC_SRGB_LUT];
+    if (!base || !mr) {
+        free(base);
+        free(mr);
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, field, "out of memory");
+    }
+    float lut[256];
+    for (int k = 0; k < 256; k++) lut[k] = srgb_to_linear(k / 255.0f);
+    for (int k = 0; k < SC_SRGB_LUT; k++) {
+        float v = (float)k / (SC_SRGB_LUT - 1);
+        v = v <= 0.0031308f ? 12.92f * v : 1.055f * powf(v, 1.0f / 2.4f) - 0.055f;
+        enc[k] = (uint8_t)lrintf(clamp01(v) * 255.0f);
+    }
+    for (size_t i = 0; i < n; i++) {
+        const uint8_t *dt = di->rgba8 + 4 * i, *st = si->rgba8 + 4 * i;
+        float dif[3], spec[3], out[3], m, r;
+        for (int c = 0; c < 3; c++)
+            dif[c] = lut[dt[c]] * g->diffuse[c], spec[c] = lut[st[c]] * g->specular[c];
+        spec_gloss_factors(dif, spec, st[3] / 255.0f * g->glossiness, out, &m, &r);
+        for (int c = 0; c < 3; c++) base[4 * i + c] = enc[lrintf(out[c] * (SC_SRGB_LUT - 1))];
+        base[4 * i + 3] = (uint8_t)lrintf(clamp01(dt[3] / 255.0f * g->diffuse[3]) * 255.0f);
+        mr[4 * i] = 255;
+        mr[4 * i + 1] = (uint8_t)lrintf(r * 255.0f);
+        mr[4 * i + 2] = (uint8_t)lrintf(m * 255.0f);
+        mr[4 * i + 3] = 255;
+    }
+    xrsc_result res = push_texture(b, di->width, di->height, NULL, base, true,
+                                   sampler_of(&b->doc->textures[dr->texture]), &mt->base_color_tex);
+    if (res == XRSC_OK)
+        res = push_texture(b, si->width, si->height, NULL, mr, false,
+                           sampler_of(&b->doc->textures[sr->texture]), &mt->metal_rough_tex);
+    else
+        free(mr);
+    if (res != XRSC_OK) return res;
+    for (int c = 0; c < 4; c++) mt->base_color[c] = 1.0f;
+    mt->metallic = mt->roughness = 1.0f;
+    *done = true;
+    return XRSC_OK;
+}
+
+/** A KHR_materials_pbrSpecularGlossiness material as metal/rough (see above): exact per
+ *  texel when its two textures pair up, else the factors converted, the diffuse texture as
+ *  the base colour texture and the spec-gloss texture converted alone (spec_gloss_texture). */
+static xrsc_result convert_spec_gloss(sc_build *b, uint32_t i, const sc_gltf_material *g,
+                                      sc_material *mt)
+{
+    char field[96];
+    FIELD(field, "materials[%u].extensions.KHR_materials_pbrSpecularGlossiness", i);
+    uv_transform(&g->diffuse_tex, mt->uv_transform[SC_TEX_BASE]);
+    uv_transform(&g->spec_gloss_tex, mt->uv_transform[SC_TEX_METAL_ROUGH]);
+    bool done;
+    xrsc_result pr = spec_gloss_per_texel(b, g, field, mt, &done);
+    if (pr != XRSC_OK || done) return pr;
+    spec_gloss_factors(g->diffuse, g->specular, g->glossiness, mt->base_color, &mt->metallic,
+                       &mt->roughness);
+    mt->base_color[3] = g->diffuse[3];
+    FIELD(field, "materials[%u].extensions.KHR_materials_pbrSpecularGlossiness.diffuseTexture", i);
+    xrsc_result r = map_texture(b, g->diffuse_tex, true, field, &mt->base_color_tex);
+    if (r != XRSC_OK) return r;
+    FIELD(field,
+          "materials[%u].extensions.KHR_materials_pbrSpecularGlossiness.specularGlossinessTexture",
+          i);
+    r = spec_gloss_texture(b, g, field, &mt->metal_rough_tex);
+    if (r == XRSC_OK && mt->metal_rough_tex != SC_NO_TEXTURE)
+        mt->metallic = mt->roughness = 1.0f; /* the texture carries the converted values */
+    return r;
+}
+
 static xrsc_result build_materials(sc_build *b)
 {
     sc_gltf_doc *d = b->doc;
@@ -722,7 +1004,8 @@ static xrsc_result build_materials(sc_build *b)
     s->material_count = d->material_count + 1; /* + the glTF default material */
     s->materials = calloc(s->material_count, sizeof(sc_material));
     b->tex_map = malloc(sizeof(int32_t) * 2 * (d->texture_count + 1));
-    if (!s->materials || !b->tex_map)
+    b->image_warned = calloc(d->image_count + 1, sizeof(bool));
+    if (!s->materials || !b->tex_map || !b->image_warned)
         return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
     for (uint32_t i = 0; i < 2 * (d->texture_count + 1); i++) b->tex_map[i] = -1;
     for (uint32_t i = 0; i < d->material_count; i++) {
@@ -757,6 +1040,7 @@ static xrsc_result build_materials(sc_build *b)
         FIELD(field, "materials[%u].normalTexture.index", i);
         if ((r = map_texture(b, g->normal_tex, false, field, &mt->normal_tex)) != XRSC_OK)
             return r;
+        if (g->spec_gloss && (r = convert_spec_gloss(b, i, g, mt)) != XRSC_OK) return r;
     }
     /* The glTF default material (§3.9.6): white, metallic 1, roughness 1. */
     sc_material *def = &s->materials[d->material_count];
@@ -979,18 +1263,86 @@ static xrsc_result scene_roots(sc_build *b, int32_t scene_index, const int32_t *
     return XRSC_OK;
 }
 
-/** One instance per primitive of node ni's mesh. */
+/** The EXT_mesh_gpu_instancing attributes of node ni as one TRS matrix per instance
+ *  (*out_local, malloc'd, *out_count entries). */
+static xrsc_result read_gpu_instances(sc_build *b, int32_t ni, float **out_local,
+                                      size_t *out_count)
+{
+    const sc_gltf_node *g = &b->doc->nodes[ni];
+    const int32_t acc[3] = {g->inst_translation, g->inst_rotation, g->inst_scale};
+    static const uint32_t comps[3] = {3, 4, 3};
+    static const char *const names[3] = {"TRANSLATION", "ROTATION", "SCALE"};
+    double *v[3] = {NULL, NULL, NULL};
+    size_t n[3] = {0, 0, 0}, count = 0;
+    bool have = false;
+    char field[128];
+    xrsc_result r = XRSC_OK;
+    for (int k = 0; k < 3 && r == XRSC_OK; k++) {
+        if (acc[k] < 0) continue;
+        FIELD(field, "nodes[%d].extensions.EXT_mesh_gpu_instancing.attributes.%s", ni, names[k]);
+        r = read_accessor(b, acc[k], comps[k], field, &v[k], &n[k]);
+        if (r == XRSC_OK && have && n[k] != count)
+            r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                           "%zu elements, the other attributes have %zu", n[k], count);
+        count = n[k], have = true;
+    }
+    float *local = r == XRSC_OK ? malloc((count ? count : 1) * 16 * sizeof(float)) : NULL;
+    if (r == XRSC_OK && !local)
+        r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    for (size_t i = 0; r == XRSC_OK && i < count; i++) {
+        float t[3] = {0, 0, 0}, q[4] = {0, 0, 0, 1}, sc[3] = {1, 1, 1};
+        for (int c = 0; c < 3; c++) {
+            if (v[0]) t[c] = (float)v[0][i * 3 + c];
+            if (v[2]) sc[c] = (float)v[2][i * 3 + c];
+        }
+        for (int c = 0; v[1] && c < 4; c++) q[c] = (float)v[1][i * 4 + c];
+        sc_mat4_from_trs(t, q, sc, local + 16 * i);
+    }
+    for (int k = 0; k < 3; k++) free(v[k]);
+    if (r != XRSC_OK) {
+        free(local);
+        return r;
+    }
+    *out_local = local;
+    *out_count = count;
+    return XRSC_OK;
+}
+
+/** One instance per drawn primitive of node ni's mesh (and per EXT_mesh_gpu_instancing
+ *  instance: local = that instance's TRS). */
 static xrsc_result add_node_instances(sc_walk *w, int32_t ni, const sc_gltf_mesh *gm)
 {
     sc_build *b = w->b;
-    for (uint32_t p = 0; p < gm->primitive_count; p++) {
-        sc_instance *inst = vec_push(&b->instances, 1);
-        if (!inst)
-            return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
-        inst->mesh = b->prim_mesh[gm->first_primitive + p];
-        inst->node = (uint32_t)ni;
-        inst->animated = w->anim_below[ni];
+    float *local = NULL;
+    size_t copies = 1;
+    bool gpu = b->doc->nodes[ni].instanced;
+    if (gpu) {
+        xrsc_result r = read_gpu_instances(b, ni, &local, &copies);
+        if (r != XRSC_OK) return r;
     }
+    for (size_t c = 0; c < copies; c++) {
+        for (uint32_t p = 0; p < gm->primitive_count; p++) {
+            uint32_t mesh = b->prim_mesh[gm->first_primitive + p];
+            if (mesh == SC_SKIPPED) continue;
+            if (b->instances.count >= SC_MAX_INSTANCES) {
+                free(local);
+                return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "nodes",
+                                  "more than %u mesh instances", SC_MAX_INSTANCES);
+            }
+            sc_instance *inst = vec_push(&b->instances, 1);
+            if (!inst) {
+                free(local);
+                return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "",
+                                  "out of memory");
+            }
+            inst->mesh = mesh;
+            inst->node = (uint32_t)ni;
+            inst->animated = w->anim_below[ni];
+            inst->has_local = gpu;
+            if (gpu) memcpy(inst->local, local + 16 * c, sizeof inst->local);
+        }
+    }
+    free(local);
     return XRSC_OK;
 }
 
@@ -1391,6 +1743,10 @@ static xrsc_result build_scene(sc_build *b)
         for (uint32_t p = 0; p < gm->primitive_count; p++)
             if ((r = build_primitive(b, m, p, gm->first_primitive + p)) != XRSC_OK) return r;
     }
+    if (b->skipped_prims)
+        sc_warn(b, XRSC_WARN_GLTF_PRIMITIVE_SKIPPED, b->skipped_field,
+                "%u points/lines primitive(s) skipped (xrsc ray traces triangles only)",
+                b->skipped_prims);
 
     bool *node_animated = calloc(d->node_count ? d->node_count : 1, sizeof(bool));
     if (!node_animated)
@@ -1415,6 +1771,10 @@ static xrsc_result build_scene(sc_build *b)
 
     for (uint32_t i = 0; i < s->instance_count; i++)
         s->triangle_count += s->meshes[s->instances[i].mesh].index_count / 3;
+    if (s->triangle_count == 0 && b->skipped_prims)
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_UNSUPPORTED, b->name, 0, b->skipped_field,
+                          "the scene has only points or lines, which xrsc does not draw "
+                          "(it ray traces triangles)");
     if (s->triangle_count == 0)
         return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "meshes",
                           "the scene has no triangles to render");
@@ -1433,6 +1793,20 @@ static xrsc_result build_scene(sc_build *b)
     if ((r = set_environment(b, scene_index)) != XRSC_OK) return r;
     warn_if_no_light(b);
     return XRSC_OK;
+}
+
+/** One warning per optional extension that is ignored (sc_gltf_doc.ignored_extensions). */
+static void warn_ignored_extensions(sc_build *b)
+{
+    const char *p = b->doc->ignored_extensions;
+    while (*p) {
+        const char *end = strstr(p, ", ");
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        sc_warn(b, XRSC_WARN_GLTF_EXTENSION_IGNORED, "extensionsUsed",
+                "optional extension %.*s is not supported by xrsc; drawn without it", (int)len,
+                p);
+        p += len + (end ? 2 : 0);
+    }
 }
 
 /** Directory part of path ("" for a bare file name), into buf. */
@@ -1480,6 +1854,7 @@ xrsc_result sc_scene_load_memory(const char *name, const void *data, size_t size
         U_LOG_W("%s: ignored (not supported by xrsc): %s", name, b.doc->unsupported);
         b.s->warning_count++;
     }
+    if (r == XRSC_OK) warn_ignored_extensions(&b);
 
     /* Whatever was not handed to the scene. */
     for (size_t i = 0; i < b.textures.count; i++) free(((sc_texture *)b.textures.data)[i].rgba8);
@@ -1491,6 +1866,7 @@ xrsc_result sc_scene_load_memory(const char *name, const void *data, size_t size
     free(b.emitters.data);
     free(b.prim_mesh);
     free(b.tex_map);
+    free(b.image_warned);
     sc_gltf_doc_destroy(&b.doc);
     if (r != XRSC_OK) {
         sc_scene_destroy(&b.s);

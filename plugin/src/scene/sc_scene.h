@@ -23,6 +23,8 @@ extern "C" {
 #endif
 
 #define SC_NO_TEXTURE UINT32_MAX
+/** Distinct warning IDs a scene records (sc_scene.warning_ids). */
+#define SC_MAX_WARNING_IDS 16
 /** Default environment radiance of a scene without a directional light and without
  *  extras.xrsc_environment (grey). */
 #define SC_DEFAULT_ENVIRONMENT 1.0f
@@ -72,10 +74,21 @@ typedef struct sc_material {
     char name[64];
 } sc_material;
 
+/** glTF sampler wrap modes (zero: REPEAT, glTF's default). */
+typedef enum sc_wrap { SC_WRAP_REPEAT, SC_WRAP_CLAMP_TO_EDGE, SC_WRAP_MIRRORED_REPEAT } sc_wrap;
+
+/** A texture's glTF sampler; zero = REPEAT, linear filtering (no mipmaps are kept: a
+ *  minFilter's mipmap variants use their base filter). */
+typedef struct sc_sampler {
+    sc_wrap wrap_u, wrap_v; /**< wrapS, wrapT */
+    bool mag_nearest, min_nearest;
+} sc_sampler;
+
 typedef struct sc_texture {
     uint32_t width, height;
     uint8_t *rgba8; /**< width*height*4 bytes, rows top to bottom */
     bool srgb;      /**< true for base colour and emission */
+    sc_sampler sampler;
 } sc_texture;
 
 typedef struct sc_node {
@@ -95,6 +108,10 @@ typedef struct sc_instance {
     uint32_t node;      /**< index in sc_scene.nodes */
     float world[16];    /**< node world transform (column-major), from ::sc_scene_evaluate */
     bool animated;      /**< the node or one of its ancestors is animated */
+    /** EXT_mesh_gpu_instancing: world = node world x local (column-major TRS of the
+     *  instance's TRANSLATION/ROTATION/SCALE), when has_local. */
+    bool has_local;
+    float local[16];
 } sc_instance;
 
 /** One emissive triangle: an area light. The emitters of one instance are contiguous and in
@@ -155,6 +172,10 @@ typedef struct sc_scene {
     float bounds_min[3], bounds_max[3]; /**< world AABB at time 0 */
     uint64_t triangle_count; /**< over all instances */
     uint32_t warning_count;  /**< warnings the load printed (each at most once), for tests */
+    /** The IDs (XRSC_WARN_*) of the warnings the load printed, each ID once, in order of
+     *  first occurrence (see ::sc_scene_warned). */
+    xrsc_result warning_ids[SC_MAX_WARNING_IDS];
+    uint32_t warning_id_count;
     uint32_t *node_order; /**< internal: node indices, parents before children */
 } sc_scene;
 
@@ -187,11 +208,22 @@ typedef struct sc_load_options {
 /**
  * Loads a .gltf or .glb file. On error returns a negative ::xrsc_result, fills diag with
  * file, line (best effort for JSON) and field, and leaves *out NULL. Features that are
- * ignored are named in ONE warning (logged once per load). A required extension that is not
- * supported, a missing buffer or image file, or indices out of range are errors.
- * Supported: meshes (TRIANGLES; TRIANGLE_STRIP and TRIANGLE_FAN become triangle lists; points
- * and lines are XRSC_ERROR_GLTF_UNSUPPORTED), KHR_draco_mesh_compression when built with
- * libdraco (CMake XRSC_DRACO; else a required one is refused naming it), node hierarchy, materials (baseColor factor
+ * ignored are named in ONE warning (logged once per load); each ignored optional extension
+ * gets its own warning (XRSC_WARN_GLTF_EXTENSION_IGNORED). What cannot be drawn is stood in
+ * for with a warning whose ID sc_scene.warning_ids records: a missing image file
+ * (XRSC_WARN_GLTF_IMAGE_MISSING) or an undecodable image (_IMAGE_UNDECODABLE) makes its
+ * texture slot absent (white base colour, flat normal, the factors alone); points and lines
+ * are skipped (XRSC_WARN_GLTF_PRIMITIVE_SKIPPED, one warning). Errors: a required extension
+ * that is not supported, a missing buffer file, indices out of range, and the container
+ * errors of sc_gltf_parse (not glTF: XRSC_ERROR_GLTF_NOT_GLTF; glTF 1.0: _GLTF_VERSION; a .glb
+ * without its magic: _GLB_MAGIC; a truncated GLB: _GLB_TRUNCATED).
+ * Supported: meshes (TRIANGLES; TRIANGLE_STRIP and TRIANGLE_FAN become triangle lists),
+ * KHR_draco_mesh_compression when built with libdraco (CMake XRSC_DRACO; else a required one
+ * is refused naming it), EXT_meshopt_compression when built with libmeshoptimizer (CMake
+ * XRSC_MESHOPT; same), EXT_mesh_gpu_instancing (one instance per TRANSLATION/ROTATION/SCALE
+ * element), sampler wrap modes and nearest/linear filters per texture,
+ * KHR_materials_pbrSpecularGlossiness (converted to metal/rough at load, see sc_scene.c),
+ * node hierarchy, materials (baseColor factor
  * and texture, metallicRoughness factor and texture, emissive factor and texture, normal
  * texture (tangent space, TANGENT or generated tangents), KHR_materials_emissive_strength,
  * KHR_materials_transmission, KHR_materials_ior, KHR_materials_unlit, KHR_texture_transform),
@@ -212,6 +244,8 @@ xrsc_result sc_scene_load(const char *path, const sc_load_options *opt, sc_scene
 xrsc_result sc_scene_load_memory(const char *name, const void *data, size_t size,
                                  const char *base_dir, const sc_load_options *opt,
                                  sc_scene **out, xrsc_diag *diag);
+/** True when loading the scene printed a warning with this ID (XRSC_WARN_*). */
+bool sc_scene_warned(const sc_scene *scene, xrsc_result id);
 /** Frees the scene; accepts NULL and sets *scene to NULL. */
 void sc_scene_destroy(sc_scene **scene);
 /**
