@@ -2,11 +2,13 @@
 /**
  * @file hs_metrics_cmd.c
  * @brief `xrsc metrics`: compares a test run with a reference run frame by frame, both eyes,
- *        with the metrics of xrsc_metrics.h, and prints or writes the values.
+ *        with the metrics of xrsc_metrics.h, and prints or writes the values; `--stereo DIR`
+ *        scores one run's stereo and temporal consistency instead (hs_metrics_stereo.c).
  */
 #include "hs_metrics_cmd.h"
 
 #include "hs_args.h"
+#include "hs_metrics_stereo.h"
 #include "hs_run_dir.h"
 #include "u_diag.h"
 #include "xrsc/xrsc_metrics.h"
@@ -25,6 +27,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
 "usage: xrsc metrics --ref DIR --test DIR [options]\n"
+"       xrsc metrics --stereo DIR [--views FILE] [options]\n"
 "\n"
 "Compares two runs frame by frame, both eyes: linear colour PFM files as `xrsc replay\n"
 "--write linear` writes them, else EXR files (--write exr), else the PNGs of runs that have\n"
@@ -54,9 +57,21 @@ static void usage(FILE *f)
 "  --quiet             print only the mean lines\n"
 "  -h, --help          this help\n"
 "\n"
-"The temporal (frame-to-frame reprojected) difference and the stereo discrepancy need each\n"
-"frame's depth and eye poses, which the replay does not write yet; they are in the library\n"
-"(xrsc_metrics.h) and in the preview window's difference view, not in this command.\n");
+"\n"
+"--stereo DIR scores one run's stereo frames, as `xrsc bench` does (its temporal_msd and\n"
+"stereo_msd): per frame the stereo discrepancy (the left eye reprojected into the right by\n"
+"depth, disocclusions excluded; mean squared RGB difference over the valid pixels) and the\n"
+"temporal difference (each eye against the previous frame reprojected into it, both eyes'\n"
+"means weighted by their valid pixels), then their means. Input: frame_NNNNN_left.exr and\n"
+"_right.exr with colour R, G, B and depth Z (metres along -Z at the pixel centre, 0 = no hit;\n"
+"`xrsc replay --write exr` writes them) and views.csv (each frame's eye poses, FOVs and\n"
+"sizes; the replay writes it; README.md, \"views.csv\"), so frames of any renderer can be\n"
+"scored. --pattern (with \"left\", ending .exr), --first, --frames, --csv and --quiet apply.\n"
+"  --stereo DIR        the run to score (instead of --ref/--test)\n"
+"  --views FILE        the eye poses and FOVs               [DIR/views.csv]\n"
+"  --warmup N          the first N frames are listed but left out of the means (as\n"
+"                      `xrsc bench --warmup`)                [0]\n"
+"  --depth-tolerance X relative depth test of the reprojection [0.05]\n");
 }
 /* clang-format on */
 
@@ -189,18 +204,23 @@ static void print_mean(const char *eye, const sums *s)
 
 typedef struct metrics_args {
     const char *ref_dir, *test_dir, *csv_path, *pattern;
+    const char *stereo_dir, *views_path; /**< --stereo mode (hs_metrics_stereo.h) */
+    uint32_t warmup;
     uint32_t first, max_frames;
     bool first_given, quiet;
     double floor_relmse; /**< 0: none */
     xrsc_metrics_options mo;
 } metrics_args;
 
+static int check_mode(const metrics_args *a);
+
 /* Parses the command line; returns -1 to go on, else the exit code. */
 static int parse_args(int argc, char **argv, metrics_args *a)
 {
-    static const char *const with_value[] = {"--ref",   "--test",       "--pattern",
-                                             "--first", "--frames",     "--csv",
-                                             "--floor", "--relmse-eps", "--range"};
+    static const char *const with_value[] = {
+        "--ref",   "--test",        "--pattern", "--first",  "--frames",         "--csv",
+        "--floor", "--relmse-eps",  "--range",   "--stereo", "--views",          "--warmup",
+        "--depth-tolerance"};
     hs_args args; /* --opt=value; without config files the values stay in argv */
     int prep = hs_args_normalize(&args, "xrsc metrics", with_value, sizeof(with_value) / sizeof(with_value[0]), &argc, &argv);
     if (prep)
@@ -250,8 +270,35 @@ static int parse_args(int argc, char **argv, metrics_args *a)
         } else if (!strcmp(f, "--range")) {
             if (!parse_positive(v, &a->mo.display_range))
                 return bad_arg(f, v, "expected a positive number");
+        } else if (!strcmp(f, "--stereo")) {
+            a->stereo_dir = v;
+        } else if (!strcmp(f, "--views")) {
+            a->views_path = v;
+        } else if (!strcmp(f, "--warmup")) {
+            if (!hs_parse_u32(v, &a->warmup))
+                return bad_arg(f, v, "expected a count");
+        } else if (!strcmp(f, "--depth-tolerance")) {
+            if (!parse_positive(v, &a->mo.depth_tolerance))
+                return bad_arg(f, v, "expected a positive number");
         }
     }
+    return check_mode(a);
+}
+
+/* --stereo excludes --ref/--test (and their options); else both are required. */
+static int check_mode(const metrics_args *a)
+{
+    if (a->stereo_dir) {
+        if (a->ref_dir || a->test_dir)
+            return bad_arg(a->ref_dir ? "--ref" : "--test", NULL,
+                           "scores two runs; --stereo scores one (run them separately)");
+        if (a->floor_relmse > 0.0)
+            return bad_arg("--floor", NULL, "applies to --ref/--test, not --stereo");
+        return -1;
+    }
+    if (a->views_path || a->warmup || a->mo.depth_tolerance > 0.0)
+        return bad_arg(a->views_path ? "--views" : a->warmup ? "--warmup" : "--depth-tolerance",
+                       NULL, "applies to --stereo only");
     if (!a->ref_dir || !a->test_dir)
         return bad_arg(a->ref_dir ? "--test" : "--ref", NULL, "is required");
     return -1;
@@ -307,6 +354,13 @@ int hs_metrics_main(int argc, char **argv)
     int rc = parse_args(argc, argv, &a);
     if (rc >= 0)
         return rc;
+    if (a.stereo_dir) {
+        hs_stereo_args sa = {.dir = a.stereo_dir, .views_path = a.views_path,
+                             .pattern = a.pattern, .csv_path = a.csv_path, .first = a.first,
+                             .max_frames = a.max_frames, .warmup = a.warmup,
+                             .first_given = a.first_given, .quiet = a.quiet, .mo = a.mo};
+        return hs_metrics_stereo_run(&sa);
+    }
     sequences seq;
     if ((rc = pick_sequences(&a, &seq)) >= 0)
         return rc;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file hs_metrics_cmd.h
- * @brief The `xrsc metrics` subcommand: per-frame relMSE/RMSE/SSIM/CPBD of two PFM sequences.
+ * @brief The `xrsc metrics` subcommand: per-frame relMSE/RMSE/SSIM/CPBD of two PFM sequences,
+ *        or (--stereo) one run's stereo discrepancy and temporal difference (hs_metrics_stereo.h).
  */
 #pragma once
 

@@ -34,6 +34,7 @@ struct hs_outputs {
     FILE *video; /**< ffmpeg's stdin; NULL without a video */
     pid_t ffmpeg_pid;
     char video_tmp[PATH_CHARS];
+    xrsc_renderer *depth_r; /**< the EXRs' Z when set (hs_outputs_set_depth), else the frame's */
 };
 
 /* The ffmpeg program: XRSC_FFMPEG, else "ffmpeg"; found as execvp would (a name with '/' as
@@ -212,7 +213,8 @@ xrsc_result hs_outputs_frame(hs_outputs *o, xrsc_renderer *r, uint32_t frame, xr
         xrsc_result res =
             xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, o->color[e], n * 4 * sizeof(float));
         if (res == XRSC_OK && o->exr)
-            res = xrsc_renderer_read(r, e, XRSC_OUTPUT_DEPTH, o->depth, n * sizeof(float));
+            res = xrsc_renderer_read(o->depth_r ? o->depth_r : r, e, XRSC_OUTPUT_DEPTH, o->depth,
+                                     n * sizeof(float));
         if (res != XRSC_OK)
             return u_diag_set(diag, res, "", 0, "output", "reading eye %u failed", e);
         if (o->exr) {
@@ -234,6 +236,12 @@ xrsc_result hs_outputs_frame(hs_outputs *o, xrsc_renderer *r, uint32_t frame, xr
         hs_tonemap_rgba(&tm, o->color[e], o->w, o->h, o->ldr[e]);
     hs_side_by_side(o->ldr[0], o->ldr[1], o->w, o->h, o->sbs);
     return write_video(o, diag);
+}
+
+void hs_outputs_set_depth(hs_outputs *o, xrsc_renderer *depth)
+{
+    if (o)
+        o->depth_r = depth;
 }
 
 xrsc_result hs_outputs_close(hs_outputs **po, bool keep, xrsc_diag *diag)

@@ -8,7 +8,8 @@
  * the direct path and through OpenXR alike: colour is XRSC_OUTPUT_COLOR after the stereo blend
  * (the pixels the OpenXR path submits in its R32G32B32A32 swapchains, so an EXR equals the
  * runtime's PFM of the same frame), depth is XRSC_OUTPUT_DEPTH in metres (the runtime only
- * sees it as [0, 1] window depth). Frame numbers are the replay's: those of the PNG/PFM files.
+ * sees it as [0, 1] window depth) of hs_outputs_set_depth's renderer: the replay sets the one
+ * of hs_views.h, so Z is the depth at each pixel's centre. Frame numbers are the replay's: those of the PNG/PFM files.
  *
  * Video: the side-by-side frames (tone-mapped as the _sbs.png) are piped as raw RGB24 to
  * `ffmpeg -f rawvideo ... -pix_fmt yuv420p FILE` at the display refresh rate; ffmpeg picks the
@@ -38,6 +39,13 @@ xrsc_result hs_outputs_open(const hs_replay_options *opt, uint32_t w, uint32_t h
 
 /** Writes frame number `frame` from the renderer's current outputs; accepts o == NULL. */
 xrsc_result hs_outputs_frame(hs_outputs *o, xrsc_renderer *r, uint32_t frame, xrsc_diag *diag);
+
+/**
+ * The renderer whose XRSC_OUTPUT_DEPTH the EXRs' Z is read from (hs_views.h: depth at pixel
+ * centres), rendered with the same views before each hs_outputs_frame; NULL: the frame's own
+ * renderer. Accepts o == NULL.
+ */
+void hs_outputs_set_depth(hs_outputs *o, xrsc_renderer *depth);
 
 /**
  * Ends the outputs and frees them (accepts NULL, sets *o to NULL). With keep, waits for ffmpeg

@@ -9,6 +9,7 @@
 #include "hs_file.h"
 #include "hs_image.h"
 #include "hs_outputs.h"
+#include "hs_views.h"
 #include "u_diag.h"
 
 #include <errno.h>
@@ -249,6 +250,7 @@ typedef struct replay_loop {
     int64_t start_ns;      /* --start */
     replay_buffers buf;
     hs_outputs *outs;
+    hs_views *views; /* views.csv and the EXRs' depth (hs_views.h), or NULL */
     FILE *csv; /* frames.csv, or NULL */
     bool csv_header_done;
 } replay_loop;
@@ -304,6 +306,8 @@ static xrsc_result replay_frame(replay_loop *L, uint32_t k, hs_replay_stats *st,
         hs_warn_if_black(opt, L->r, L->w, L->h);
     if (opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear) &&
         (res = write_frame(opt, L->r, k, L->w, L->h, &L->buf, diag)) != XRSC_OK)
+        return res;
+    if ((res = hs_views_frame(L->views, &frame, k, diag)) != XRSC_OK)
         return res;
     return hs_outputs_frame(L->outs, L->r, k, diag);
 }
@@ -402,8 +406,10 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
         L.csv = csv_file.f;
         fprintf(L.csv, "frame,display_time_ns,lookup,render_wall_ms,rays");
     }
-    if ((res = hs_outputs_open(opt, L.w, L.h, NS_PER_S / L.period_ns, &L.outs, diag)) != XRSC_OK)
+    if ((res = hs_outputs_open(opt, L.w, L.h, NS_PER_S / L.period_ns, &L.outs, diag)) != XRSC_OK ||
+        (res = hs_views_open(opt, ctx, scene, L.w, L.h, &L.views, diag)) != XRSC_OK)
         goto done;
+    hs_outputs_set_depth(L.outs, hs_views_depth(L.views));
 
     double started = now_s(), last_print = 0.0;
     for (uint32_t k = 0; k < L.frames; k++) {
@@ -428,6 +434,9 @@ done:
             res = closed;
     }
     xrsc_result out_res = hs_outputs_close(&L.outs, res == XRSC_OK, res == XRSC_OK ? diag : NULL);
+    if (res == XRSC_OK)
+        res = out_res;
+    out_res = hs_views_close(&L.views, true, res == XRSC_OK ? diag : NULL); /* rows whole */
     if (res == XRSC_OK)
         res = out_res;
     buffers_free(&L.buf);

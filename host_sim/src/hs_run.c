@@ -69,8 +69,8 @@ static bool ends_with(const char *name, const char *suffix)
     return n >= s && !strcmp(name + n - s, suffix);
 }
 
-/** A file this program writes: frame_<digits>_<part>.<png|pfm|exr>, frames.csv, run.json,
- *  run.conf, each also with HS_TEMP_SUFFIX (a run killed while writing it). */
+/** A file this program writes: frame_<digits>_<part>.<png|pfm|exr>, frames.csv, views.csv,
+ *  run.json, run.conf, each also with HS_TEMP_SUFFIX (a run killed while writing it). */
 static bool is_run_file(const char *name)
 {
     char base[256];
@@ -80,7 +80,8 @@ static bool is_run_file(const char *name)
     memcpy(base, name, n + 1);
     if (ends_with(base, HS_TEMP_SUFFIX))
         base[n - strlen(HS_TEMP_SUFFIX)] = '\0';
-    if (!strcmp(base, "frames.csv") || !strcmp(base, HS_RUN_JSON) || !strcmp(base, HS_RUN_CONF))
+    if (!strcmp(base, "frames.csv") || !strcmp(base, "views.csv") || !strcmp(base, HS_RUN_JSON) ||
+        !strcmp(base, HS_RUN_CONF))
         return true;
     if (strncmp(base, "frame_", 6) != 0)
         return false;

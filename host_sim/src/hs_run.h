@@ -37,8 +37,8 @@ const char *hs_run_signal_name(int sig, char *buf, size_t size);
 
 /**
  * Makes the output folder ready (mkdir -p). A folder holding files of an earlier run (those
- * this program writes: frame_NNNNN_*.png/.pfm/.exr, frames.csv, run.json, run.conf, and their
- * .tmp leftovers) is refused with XRSC_ERROR_INVALID_ARGUMENT (field "--out", naming one of
+ * this program writes: frame_NNNNN_*.png/.pfm/.exr, frames.csv, views.csv, run.json, run.conf,
+ * and their .tmp leftovers) is refused with XRSC_ERROR_INVALID_ARGUMENT (field "--out", naming one of
  * them and their count) unless overwrite, which removes exactly those files first; any other
  * file is left alone and does not count.
  */

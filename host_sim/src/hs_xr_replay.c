@@ -8,6 +8,7 @@
 
 #include "hs_args.h"
 #include "hs_outputs.h"
+#include "hs_views.h"
 #include "hs_preview_link.h"
 #include "u_diag.h"
 #include "xrsc/xrsc_xr.h"
@@ -219,21 +220,21 @@ static xrsc_result use_scene_fov(const hs_replay_options **opt, hs_replay_option
 
 /* One rendered frame of the session: statistics, the overlay's line, the app's own outputs. */
 static xrsc_result count_frame(const hs_replay_options *opt, const xrsc_xr_frame_info *fi,
-                               xrsc_renderer *r, hs_outputs *outs, hs_preview_link *plink,
-                               hs_replay_stats *st, xrsc_diag *diag)
+                               xrsc_renderer *r, hs_outputs *outs, hs_views *views,
+                               hs_preview_link *plink, hs_replay_stats *st, xrsc_diag *diag)
 {
-    if (opt->on_frame) {
-        xrsc_frame frame = {.display_time_ns = fi->scene_time_ns, .frame_index = fi->frame_index};
-        frame.views[0] = fi->views[0];
-        frame.views[1] = fi->views[1];
+    xrsc_frame frame = {.display_time_ns = fi->scene_time_ns, .frame_index = fi->frame_index};
+    frame.views[0] = fi->views[0];
+    frame.views[1] = fi->views[1];
+    if (opt->on_frame)
         opt->on_frame(opt->on_frame_user, &frame);
-    }
     xrsc_pass_timing passes[XRSC_MAX_PASSES];
     uint32_t np;
     hs_replay_stats_add(st, r, fi->render_ms, passes, &np);
     hs_preview_link_frame(plink, fi->frame_index, fi->render_ms, passes, np);
     /* Numbered as the runtime numbers the PNG/PFM files of this frame. */
-    return hs_outputs_frame(outs, r, fi->frame_index, diag);
+    xrsc_result res = hs_views_frame(views, &frame, fi->frame_index, diag);
+    return res != XRSC_OK ? res : hs_outputs_frame(outs, r, fi->frame_index, diag);
 }
 
 /* Steps the session until the runtime ends it after `frames` shown frames (or a Ctrl-C,
@@ -241,9 +242,9 @@ static xrsc_result count_frame(const hs_replay_options *opt, const xrsc_xr_frame
  * cleanly); w x h per eye. st->frames may end at frames + 1 (a frame past the end, not
  * counted). */
 static xrsc_result run_session(const hs_replay_options *opt, xrsc_xr_session *session,
-                               xrsc_renderer *r, hs_outputs *outs, hs_preview_link *plink,
-                               uint32_t frames, uint32_t w, uint32_t h, hs_replay_stats *st,
-                               xrsc_diag *diag)
+                               xrsc_renderer *r, hs_outputs *outs, hs_views *views,
+                               hs_preview_link *plink, uint32_t frames, uint32_t w, uint32_t h,
+                               hs_replay_stats *st, xrsc_diag *diag)
 {
     xrsc_result res;
     double last_progress = now_s();
@@ -260,7 +261,7 @@ static xrsc_result run_session(const hs_replay_options *opt, xrsc_xr_session *se
             last_progress = now_s();
             if (st->frames == 0)
                 hs_warn_if_black(opt, r, w, h);
-            if ((res = count_frame(opt, &fi, r, outs, plink, st, diag)) != XRSC_OK)
+            if ((res = count_frame(opt, &fi, r, outs, views, plink, st, diag)) != XRSC_OK)
                 return res;
             st->frames++;
             if (opt->progress && st->frames % 30 == 0)
@@ -304,6 +305,7 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     xrsc_renderer *r = NULL;
     xrsc_xr_session *session = NULL;
     hs_outputs *outs = NULL; /* --write exr, --video: written here from the renderer */
+    hs_views *views = NULL;  /* views.csv and the EXRs' depth (hs_views.h) */
     char imported[1100] = ""; /* --pose-columns: the canonical copy given to the runtime */
     hs_preview_link *plink = NULL; /* --preview: the overlay's information (hs_preview_link.h) */
 
@@ -359,8 +361,10 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     xrsc_renderer_options ropt = opt->renderer;
     ropt.width = w;
     ropt.height = h;
-    if ((res = xrsc_renderer_create(ctx, scene, &ropt, &r, diag)) != XRSC_OK)
+    if ((res = xrsc_renderer_create(ctx, scene, &ropt, &r, diag)) != XRSC_OK ||
+        (res = hs_views_open(opt, ctx, scene, w, h, &views, diag)) != XRSC_OK)
         goto done;
+    hs_outputs_set_depth(outs, hs_views_depth(views));
     /* Anchoring: the head at frame 0's display time minus the start is the stream's first
      * sample (the runtime's stream time start + (t - frame 0's)), the pose the direct path
      * anchors. */
@@ -371,7 +375,8 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
         goto done;
     st->load_s = now_s() - t_start;
 
-    if ((res = run_session(opt, session, r, outs, plink, frames, w, h, st, diag)) != XRSC_OK)
+    if ((res = run_session(opt, session, r, outs, views, plink, frames, w, h, st, diag)) !=
+        XRSC_OK)
         goto done;
     if (st->frames > frames)
         st->frames = frames;
@@ -381,6 +386,9 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
 done:
     {
         xrsc_result out_res = hs_outputs_close(&outs, res == XRSC_OK, res == XRSC_OK ? diag : NULL);
+        if (res == XRSC_OK)
+            res = out_res;
+        out_res = hs_views_close(&views, true, res == XRSC_OK ? diag : NULL); /* rows whole */
         if (res == XRSC_OK)
             res = out_res;
     }

@@ -2,9 +2,9 @@
 /**
  * @file test_formats.c
  * @brief Issue 11 item 6 end to end: `--write exr` on both replay paths read back with
- *        OpenEXR's library (RGB bit-identical to the PFMs of the same run, depth equal to the
- *        renderer's depth output), a headset's per-eye FOVs reaching the OpenXR path's views,
- *        and `--video` through a stand-in ffmpeg (the frames piped are the side-by-side stream),
+ *        OpenEXR's library (RGB bit-identical to the PFMs of the same run, depth equal to a
+ *        `primary` renderer's depth output: at pixel centres), a headset's per-eye FOVs
+ *        reaching the OpenXR path's views, and `--video` through a stand-in ffmpeg (the frames piped are the side-by-side stream),
  *        a failing one, and a missing one (a warning, the run still succeeds).
  */
 #include "hs_exr.h"
@@ -42,7 +42,6 @@ static hs_replay_options base_options(const char *out_dir, t_captured *cap)
         .write_exr = true,
         .on_frame = t_capture_frame,
         .on_frame_user = cap,
-        /* spp: no atomics, so a second renderer repeats the depth bit for bit */
         .renderer = {.method = XRSC_METHOD_SPP,
                      .width = EYE_PX,
                      .height = EYE_PX,
@@ -102,13 +101,16 @@ static void test_exr_direct(void)
     CHECK_EQ_INT(st.validation_errors, 0);
     CHECK_EQ_INT(cap.count, FRAMES);
 
-    /* The same frames again on a second renderer: its depth output is what Z must hold. */
+    /* The same frames again on a `primary` renderer: its depth (at pixel centres, hs_views.h)
+     * is what Z must hold, bit for bit. */
     xrsc_context *ctx = NULL;
     xrsc_scene *scene = NULL;
     xrsc_renderer *r = NULL;
     CHECK(xrsc_context_create(&o.context, &ctx, &diag) == XRSC_OK);
     CHECK(ctx && xrsc_scene_load(ctx, SCENE, &o.scene, &scene, &diag) == XRSC_OK);
-    CHECK(scene && xrsc_renderer_create(ctx, scene, &o.renderer, &r, &diag) == XRSC_OK);
+    const xrsc_renderer_options dro = {
+        .method = XRSC_METHOD_PRIMARY, .width = EYE_PX, .height = EYE_PX};
+    CHECK(scene && xrsc_renderer_create(ctx, scene, &dro, &r, &diag) == XRSC_OK);
     float depth[EYE_PX * EYE_PX];
     for (uint32_t k = 0; r && k < cap.count; k++) {
         CHECK(xrsc_renderer_render(r, &cap.frames[k]) == XRSC_OK);
