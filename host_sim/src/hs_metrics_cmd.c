@@ -57,7 +57,6 @@ static void usage(FILE *f)
 "  --quiet             print only the mean lines\n"
 "  -h, --help          this help\n"
 "\n"
-"\n"
 "--stereo DIR scores one run's stereo frames, as `xrsc bench` does (its temporal_msd and\n"
 "stereo_msd): per frame the stereo discrepancy (the left eye reprojected into the right by\n"
 "depth, disocclusions excluded; mean squared RGB difference over the valid pixels) and the\n"
