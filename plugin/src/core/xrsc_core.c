@@ -132,6 +132,8 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
         goto fail;
     for (uint32_t i = 0; i < s->cpu->instance_count; i++)
         s->animated = s->animated || s->cpu->instances[i].animated;
+    for (uint32_t i = 0; i < s->cpu->light_count; i++) /* lights on animated nodes move too */
+        s->animated = s->animated || s->cpu->lights[i].animated;
     s->animated = s->animated && s->cpu->animation_duration_s > 0.0f;
     s->time_ns = 0; /* sc_scene_load evaluates at time 0 */
 

@@ -126,6 +126,22 @@ typedef struct sc_sun {
     float angular_radius_rad;
 } sc_sun;
 
+typedef enum sc_light_type { SC_LIGHT_DIRECTIONAL, SC_LIGHT_POINT, SC_LIGHT_SPOT } sc_light_type;
+
+/** A KHR_lights_punctual light other than the sun (::sc_sun is the file's first directional
+ *  light): every further directional light, every point and spot light, one per node that
+ *  names it. Its position and direction are its node's world transform (sc_node.world:
+ *  origin, and -Z = where it shines), so animated nodes move it; scale does not change it. */
+typedef struct sc_light {
+    sc_light_type type;
+    uint32_t node;        /**< index in sc_scene.nodes */
+    float intensity[3];   /**< colour x intensity: W/sr (point, spot: candela taken as W/sr)
+                           *   or irradiance normal to the light (directional: lux) */
+    float range_m;        /**< 0 = infinite; else glTF's window clamp(1 - (d/range)^4, 0, 1) */
+    float inner_cone_rad, outer_cone_rad; /**< spot: 0 <= inner <= outer <= pi/2 (clamped) */
+    bool animated;        /**< the node or an ancestor is animated */
+} sc_light;
+
 typedef struct sc_scene {
     char path[512];
     sc_vertex *vertices;   uint32_t vertex_count;
@@ -139,6 +155,7 @@ typedef struct sc_scene {
     sc_anim_channel *channels; uint32_t channel_count;
     float animation_duration_s; /**< max key time over all channels, 0 when static */
     sc_sun sun;
+    sc_light *lights;      uint32_t light_count; /**< punctual lights besides the sun */
     float environment[3]; /**< constant environment radiance (see sc_load_options); with a
                            *   map: the map's mean radiance, for passes that do not read it */
     /** Environment map (--env-map or the baked sky): width 0 when the environment is the
