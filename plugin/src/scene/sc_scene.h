@@ -179,7 +179,8 @@ typedef struct sc_scene {
  * Load options. Zero means the documented default.
  * environment: when env_set is false, the scene's `extras.xrsc_environment` [r,g,b] if present,
  * else SC_DEFAULT_ENVIRONMENT grey when the scene has no directional light (emissive
- * triangles notwithstanding: glTF models without lights expect image-based lighting), else 0.
+ * triangles and point/spot lights notwithstanding: glTF models without a sun expect
+ * image-based lighting, which viewers keep on beside lamps), else 0.
  * env_map_path (a Radiance .hdr, equirectangular) or sky replace the constant environment;
  * env_map_path wins over sky.
  */
@@ -190,7 +191,8 @@ typedef struct sc_load_options {
     float env_intensity;      /**< scales the map (the sky: sun and sky); 0 means 1 */
     float env_rotation_deg;   /**< turns the map (or sky) about +Y, counter-clockwise from above */
     /** The Preetham sun and sky (sc_env.h): the sky becomes the environment map and the sun a
-     *  disk light that replaces the file's directional light. */
+     *  disk light that replaces the file's directional lights (sc_scene.lights keeps only
+     *  its point and spot lights). */
     bool sky;
     float sky_turbidity;      /**< 0 means SC_SKY_DEFAULT_TURBIDITY */
     bool sun_direction_set;   /**< else the file's sun direction, else SC_DEFAULT_SUN_DIRECTION */
@@ -213,7 +215,8 @@ typedef struct sc_load_options {
  * texture (tangent space, TANGENT or generated tangents), KHR_materials_emissive_strength,
  * KHR_materials_transmission, KHR_materials_ior, KHR_materials_unlit, KHR_texture_transform),
  * cameras (first perspective camera's node = viewpoint, its yfov and aspectRatio kept),
- * KHR_lights_punctual directional (first one = sun), node animation (T/R/S; LINEAR, STEP,
+ * KHR_lights_punctual (the first directional light = sun; every other light, point and spot
+ * with range and cone angles, in sc_scene.lights), node animation (T/R/S; LINEAR, STEP,
  * CUBICSPLINE). A scene whose `nodes` also lists non-root nodes draws the roots they reach
  * (each node once), with one warning. occlusionTexture is ignored without a warning: a path
  * tracer computes the occlusion it approximates.
