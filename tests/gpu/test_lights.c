@@ -296,6 +296,9 @@ static void test_directional_lights_add(void)
     /* three: two in the buffer, one picked per vertex: the mean within T_SIGMAS errors */
     scene = load(plane_scene("lights_dir3.gltf", lights, nodes3, 3));
     if (!scene) return;
+    xrsc_scene_info info;
+    xrsc_scene_get_info(scene, &info);
+    CHECK_EQ_INT(info.light_count, 3); /* the sun and two in XS_BIND_LIGHTS */
     px = render(scene, XRSC_METHOD_SPP, 4);
     xrsc_scene_destroy(&scene);
     if (!px) return;

@@ -97,6 +97,9 @@ typedef struct xrsc_scene_info {
     XrPosef viewpoint; /**< where a replay's first pose is anchored by default */
     float bounds_min[3], bounds_max[3];
     double blas_build_ms; /**< GPU time of the BLAS builds at load (timestamp queries) */
+    /** KHR_lights_punctual lights drawn: the sun (the first directional light, or --sky's)
+     *  counts as one, plus every point, spot and further directional light. */
+    uint32_t light_count;
 } xrsc_scene_info;
 
 /** Loads a glTF 2.0 file and uploads it (BLAS/TLAS built). */

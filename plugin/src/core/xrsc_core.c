@@ -165,6 +165,7 @@ static void scene_info_fill(const sc_scene *c, xrsc_scene_info *info)
                         c->viewpoint_orientation[2], c->viewpoint_orientation[3]};
     memcpy(info->bounds_min, c->bounds_min, sizeof(info->bounds_min));
     memcpy(info->bounds_max, c->bounds_max, sizeof(info->bounds_max));
+    info->light_count = c->light_count + (c->sun.present ? 1u : 0u);
 }
 
 xrsc_result xrsc_scene_inspect(const char *path, xrsc_scene_info *out_info, xrsc_diag *out_diag)
