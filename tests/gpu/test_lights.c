@@ -132,7 +132,8 @@ static float *render(xrsc_scene *scene, xrsc_method method, uint32_t seed)
     xrsc_diag d = {0};
     xrsc_result res = xrsc_renderer_create(g_ctx, scene, &o, &r, &d);
     CHECK_MSG(res == XRSC_OK, "renderer: %s", d.message);
-    if (res != XRSC_OK) return NULL;
+    if (res != XRSC_OK)
+        return NULL;
     size_t bytes = (size_t)T_SIZE * T_SIZE * 4 * sizeof(float);
     float *px = malloc(2 * bytes);
     xrsc_frame f = make_frame(0);
@@ -158,7 +159,10 @@ static double pixel_radius(uint32_t x, uint32_t y)
 }
 
 /** Measured irradiance E = L pi / albedo (green channel) of pixel i of both eyes' images. */
-static double irradiance(const float *px, uint32_t i) { return px[4 * i + 1] * T_PI / T_ALBEDO; }
+static double irradiance(const float *px, uint32_t i)
+{
+    return px[4 * i + 1] * T_PI / T_ALBEDO;
+}
 
 /** glTF's spot ramp and range window for a light at height T_LIGHT_Y pointing down. */
 static double spot_expected(double r)
@@ -199,7 +203,8 @@ static void check_pixels(const char *what, const float *px, double (*expect)(dou
                         printf("  %s: eye %u pixel (%u, %u), r %.3f m: E %.5f, expected %.5f\n",
                                what, e, x, y, r, got, want);
                 }
-                if (want > 0.0) worst = fmax(worst, err / want);
+                if (want > 0.0)
+                    worst = fmax(worst, err / want);
             }
     printf("  %s: worst relative error %.2e over the lit pixels; %u inner, %u band, %u outside\n",
            what, worst, counts[0], counts[1], counts[2]);
@@ -222,7 +227,8 @@ static const char *spot_scene(void)
 static void test_spot_cone_falloff(void)
 {
     xrsc_scene *scene = load(spot_scene());
-    if (!scene) return;
+    if (!scene)
+        return;
     float *px = render(scene, XRSC_METHOD_SPP, 1);
     float *sc = render(scene, XRSC_METHOD_SAMPLECACHE, 1);
     xrsc_scene_destroy(&scene);
@@ -235,7 +241,8 @@ static void test_spot_cone_falloff(void)
      * position) sees the same light: the same image mean within T_REL_TOL */
     if (px && sc) {
         double a = 0.0, b = 0.0;
-        for (uint32_t i = 0; i < 2 * T_SIZE * T_SIZE; i++) a += irradiance(px, i), b += irradiance(sc, i);
+        for (uint32_t i = 0; i < 2 * T_SIZE * T_SIZE; i++)
+            a += irradiance(px, i), b += irradiance(sc, i);
         printf("  spot: mean E spp %.5f, samplecache + visibility cache %.5f\n",
                a / (2 * T_SIZE * T_SIZE), b / (2 * T_SIZE * T_SIZE));
         CHECK_MSG(fabs(a - b) <= T_REL_TOL * a, "means %.5f %.5f", a, b);
@@ -252,10 +259,12 @@ static void test_point_inverse_square(void)
     xrsc_scene *scene = load(plane_scene(
         "lights_point.gltf", lights,
         "{\"translation\":[0,1,0],\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}}", 1));
-    if (!scene) return;
+    if (!scene)
+        return;
     float *px = render(scene, XRSC_METHOD_SPP, 2);
     xrsc_scene_destroy(&scene);
-    if (!px) return;
+    if (!px)
+        return;
     uint32_t counts[3] = {0, 0, 0};
     check_pixels("point", px, point_expected, counts);
     /* the law itself: E(r = 0.5) / E(r = 1) = ((1 + 1) / (1 + 0.25))^(3/2) */
@@ -267,17 +276,19 @@ static void test_point_inverse_square(void)
 #define T_DIR_E2 (2.0 + 3.0 * 0.5)
 #define T_DIR_E3 (T_DIR_E2 + 1.0 * 0.86602540)
 
-static double dir2_expected(double r) { return (void)r, T_DIR_E2; }
+static double dir2_expected(double r)
+{
+    return (void)r, T_DIR_E2;
+}
 
 static void test_directional_lights_add(void)
 {
     const char *lights = "[{\"type\":\"directional\",\"intensity\":2},"
                          "{\"type\":\"directional\",\"intensity\":3},"
                          "{\"type\":\"directional\",\"intensity\":1}]";
-    const char *nodes2 = "{\"rotation\":" T_ROT_DOWN
-                         ",\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}},"
-                         "{\"rotation\":" T_ROT_60
-                         ",\"extensions\":{\"KHR_lights_punctual\":{\"light\":1}}}";
+    const char *nodes2 =
+        "{\"rotation\":" T_ROT_DOWN ",\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}},"
+        "{\"rotation\":" T_ROT_60 ",\"extensions\":{\"KHR_lights_punctual\":{\"light\":1}}}";
     char nodes3[512];
     snprintf(nodes3, sizeof nodes3,
              "%s,{\"rotation\":" T_ROT_30
@@ -285,7 +296,8 @@ static void test_directional_lights_add(void)
              nodes2);
     /* two: the sun and one buffer light, both deterministic: every pixel exact */
     xrsc_scene *scene = load(plane_scene("lights_dir2.gltf", lights, nodes2, 2));
-    if (!scene) return;
+    if (!scene)
+        return;
     float *px = render(scene, XRSC_METHOD_SPP, 3);
     xrsc_scene_destroy(&scene);
     if (px) {
@@ -295,13 +307,15 @@ static void test_directional_lights_add(void)
     free(px);
     /* three: two in the buffer, one picked per vertex: the mean within T_SIGMAS errors */
     scene = load(plane_scene("lights_dir3.gltf", lights, nodes3, 3));
-    if (!scene) return;
+    if (!scene)
+        return;
     xrsc_scene_info info;
     xrsc_scene_get_info(scene, &info);
     CHECK_EQ_INT(info.light_count, 3); /* the sun and two in XS_BIND_LIGHTS */
     px = render(scene, XRSC_METHOD_SPP, 4);
     xrsc_scene_destroy(&scene);
-    if (!px) return;
+    if (!px)
+        return;
     uint32_t n = 2 * T_SIZE * T_SIZE;
     double sum = 0.0, sum2 = 0.0;
     for (uint32_t i = 0; i < n; i++) {

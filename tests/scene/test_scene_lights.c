@@ -23,18 +23,19 @@ static const char *lights_gltf(const char *name, const char *lights, const char 
     sct_triangle_bytes(bytes, 0, 1, 2);
     char *uri = t_data_uri(bytes, sizeof bytes);
     static char json[8192];
-    snprintf(json, sizeof json,
-             "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [%s]}],"
-             " \"nodes\": [{\"mesh\": 0}, %s],"
-             " \"extensionsUsed\": [\"KHR_lights_punctual\"],"
-             " \"extensions\": {\"KHR_lights_punctual\": {\"lights\": %s}},"
-             " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}, \"indices\": 1}]}],"
-             " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 3,"
-             " \"type\": \"VEC3\"}, {\"bufferView\": 1, \"componentType\": 5123, \"count\": 3,"
-             " \"type\": \"SCALAR\"}], \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 36},"
-             " {\"buffer\": 0, \"byteOffset\": 36, \"byteLength\": 6}],"
-             " \"buffers\": [{\"byteLength\": 44, \"uri\": \"%s\"}]}",
-             roots, nodes, lights, uri);
+    snprintf(
+        json, sizeof json,
+        "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [%s]}],"
+        " \"nodes\": [{\"mesh\": 0}, %s],"
+        " \"extensionsUsed\": [\"KHR_lights_punctual\"],"
+        " \"extensions\": {\"KHR_lights_punctual\": {\"lights\": %s}},"
+        " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}, \"indices\": 1}]}],"
+        " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 3,"
+        " \"type\": \"VEC3\"}, {\"bufferView\": 1, \"componentType\": 5123, \"count\": 3,"
+        " \"type\": \"SCALAR\"}], \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 36},"
+        " {\"buffer\": 0, \"byteOffset\": 36, \"byteLength\": 6}],"
+        " \"buffers\": [{\"byteLength\": 44, \"uri\": \"%s\"}]}",
+        roots, nodes, lights, uri);
     free(uri);
     return t_temp_file(name, json);
 }
@@ -69,7 +70,8 @@ static void test_all_lights(void)
 {
     const char *path = lights_gltf("lights_all.gltf", k_lights, k_nodes, "0, 1, 2, 3, 4, 5, 6");
     sc_scene *s = load(path, NULL);
-    if (!s) return;
+    if (!s)
+        return;
     /* the first directional light: the sun, towards its node's +Z */
     CHECK(s->sun.present);
     CHECK_NEAR(s->sun.direction[2], 1.0, 1e-6);
@@ -103,7 +105,8 @@ static void test_all_lights(void)
     /* --sky: its sun replaces the directional lights, the lamps stay */
     sc_load_options o = {.sky = true};
     s = load(path, &o);
-    if (!s) return;
+    if (!s)
+        return;
     CHECK(s->sun.present && s->sun.angular_radius_rad > 0.0f);
     CHECK_EQ_INT(s->light_count, 3);
     for (uint32_t i = 0; i < s->light_count; i++)
@@ -118,7 +121,8 @@ static void test_lamps_keep_default_environment(void)
         "{\"translation\": [0, 1, 0], \"extensions\": {\"KHR_lights_punctual\": {\"light\": 0}}}",
         "0, 1");
     sc_scene *s = load(path, NULL);
-    if (!s) return;
+    if (!s)
+        return;
     CHECK(!s->sun.present);
     CHECK_EQ_INT(s->light_count, 1);
     CHECK_NEAR(s->environment[1], SC_DEFAULT_ENVIRONMENT, 0.0);
