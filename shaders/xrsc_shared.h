@@ -45,6 +45,7 @@ typedef struct xs_mat4 { float m[16]; } xs_mat4; /* column-major */
 #define XS_BIND_ACCUM 12     /* rgba32f: progressive sum (rgb) and sample count (a) */
 #define XS_BIND_RAY_COUNTER 13 /* buffer uint64 (as uvec2 lo/hi or atomic uint): rays traced */
 #define XS_BIND_ENV_MAP 14     /* readonly buffer float[]: the environment map, XS_ENV_* layout */
+#define XS_BIND_LIGHTS 15      /* readonly buffer xs_light[]: KHR_lights_punctual (not the sun) */
 
 /* Layout of XS_BIND_ENV_MAP for a W x H equirectangular map (sc_env.h), N = W * H, in floats:
  * texel i (row-major, rows top to bottom) at 4i: rgb radiance, a = p_texel W H / (2 pi^2);
@@ -163,7 +164,32 @@ XS_STRUCT(xs_frame)
     xs_uint env_sampling;     /* 1: importance-sample the map in next-event estimation */
     xs_float env_rotation;    /* radians about +Y (sc_env.h) */
     xs_float sun_cos_max;     /* cos of the sun disk's angular radius; 0 = a delta sun */
+    xs_uint light_count;      /* entries of XS_BIND_LIGHTS; 0: no punctual light, no RNG draw */
+    xs_uint light_pad0, light_pad1, light_pad2;
 } XS_END(xs_frame);
+
+/* xs_light.type: KHR_lights_punctual's three kinds */
+#define XS_LIGHT_DIRECTIONAL 0u
+#define XS_LIGHT_POINT 1u
+#define XS_LIGHT_SPOT 2u
+
+/* One punctual (delta) light of XS_BIND_LIGHTS in world space. Next-event estimation picks one
+ * light per path vertex with probability pmf (proportional to an estimate of its power,
+ * gpu_scene.h) by binary search of cdf. Radiometry (glTF units taken as radiometric, as the
+ * sun's lux → irradiance): point/spot give radiant intensity I (candela → W/sr), so the
+ * irradiance at distance d facing the light is I / d^2 x spot x window; directional lights
+ * give irradiance normal to the light (lux). */
+XS_STRUCT(xs_light)
+{
+    xs_vec4 position;  /* xyz world position (point, spot); w = range in metres, 0 = infinite */
+    xs_vec4 direction; /* xyz unit: directional: towards the light (node +Z); spot: the axis
+                        * it shines along (node -Z); w unused */
+    xs_vec4 intensity; /* rgb colour x intensity (W/sr, or W/m^2 for directional); w = pmf */
+    xs_uint type;      /* XS_LIGHT_* */
+    xs_float spot_scale;  /* glTF spot: 1 / max(0.001, cos(inner) - cos(outer)) */
+    xs_float spot_offset; /* -cos(outer) x spot_scale; attenuation = sat(cd x scale + off)^2 */
+    xs_float cdf;         /* inclusive prefix sum of the pmfs (last = 1) */
+} XS_END(xs_light);
 
 /* The primary payload: what the closest-hit shader reports. */
 XS_STRUCT(xs_hit)
@@ -188,6 +214,9 @@ _Static_assert(offsetof(xs_frame, width) == 464, "xs_frame layout");
 _Static_assert(sizeof(xs_frame) % 16 == 0, "xs_frame layout");
 _Static_assert(offsetof(xs_frame, sun_cos_max) == 524, "xs_frame layout");
 _Static_assert(sizeof(xs_hit) == 32, "xs_hit layout");
+_Static_assert(offsetof(xs_frame, light_count) == 528, "xs_frame layout");
+_Static_assert(sizeof(xs_light) == 64, "xs_light layout");
+_Static_assert(offsetof(xs_light, type) == 48, "xs_light layout");
 #endif
 
 #endif /* XRSC_SHARED_H */

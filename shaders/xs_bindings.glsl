@@ -78,6 +78,13 @@ layout(set = 0, binding = XS_BIND_ENV_MAP, std430) readonly buffer XsEnvMapBlock
     float env_map[];
 };
 
+/* KHR_lights_punctual's lights besides the sun (xs_light of xrsc_shared.h, frame.light_count
+ * entries; gpu_scene.h). */
+layout(set = 0, binding = XS_BIND_LIGHTS, std430) readonly buffer XsLightBlock
+{
+    xs_light lights[];
+};
+
 /* One 64-bit counter of all rays traced (primary, bounce and shadow); one atomicAdd per pixel. */
 layout(set = 0, binding = XS_BIND_RAY_COUNTER, std430) buffer XsRayCounterBlock
 {

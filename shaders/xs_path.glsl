@@ -3,11 +3,20 @@
  * @file xs_path.glsl
  * @brief The path tracer's path loop (factored out of spp.rgen, unchanged in behaviour):
  *        next-event estimation of the sun (a delta light, or the sky's disk sun with MIS), the
- *        environment map (importance-sampled with MIS, xs_env.glsl) and one emissive triangle
- *        with MIS, BSDF sampling, Russian roulette (seed 000 §5.1). Used by spp.rgen (camera
- *        paths) and by the sample cache's shading pass (paths continued from a cached first
- *        hit, sc_shade.rgen). Without a map or a disk sun no random number is drawn for them,
- *        so the paths of a constant environment are those of before.
+ *        environment map (importance-sampled with MIS, xs_env.glsl), one emissive triangle
+ *        with MIS and one punctual light of XS_BIND_LIGHTS, BSDF sampling, Russian roulette
+ *        (seed 000 §5.1). Used by spp.rgen (camera paths, also method `taa`'s) and by the
+ *        shading passes that continue paths from a first hit (sc_shade.rgen of the sample
+ *        cache and isrt, hc_shade.rgen and hc_hybrid_shade.rgen of the hash cache). Without a
+ *        map, a disk sun or punctual lights no random number is drawn for them, so the paths
+ *        of a constant environment are those of before.
+ *
+ * Light selection at each non-delta vertex: every light type gets its own estimator, summed
+ * (the sun; one environment sample; one emissive triangle picked by power; one punctual light
+ * picked by its power estimate, gpu_scene.h). Area, environment and disk-sun samples are
+ * combined with BSDF sampling by the power heuristic; the delta sun and the punctual lights
+ * are delta lights that BSDF sampling never finds, so their weight is 1 and no other MIS
+ * weight changes.
  *
  * Light samples ask XS_LIGHT_VISIBLE for their shadow ray: sc_shade.rgen (XS_PATH_VISCACHE)
  * routes it to the visibility cache of seed 002 (xs_viscache.glsl), everyone else traces.
@@ -70,6 +79,40 @@ uint xs_pick_emitter(float u)
     return lo;
 }
 
+/** Index of the punctual light whose cdf interval holds u (first i with cdf[i] > u). */
+uint xs_pick_light(float u)
+{
+    uint lo = 0u;
+    uint hi = frame.light_count - 1u;
+    while (lo < hi) {
+        uint mid = (lo + hi) >> 1u;
+        if (lights[mid].cdf > u)
+            hi = mid;
+        else
+            lo = mid + 1u;
+    }
+    return lo;
+}
+
+/** glTF KHR_lights_punctual's recommended range window: clamp(1 - (d / range)^4, 0, 1), 1 for
+ *  range 0 (infinite). */
+float xs_range_window(float d, float range)
+{
+    if (!(range > 0.0))
+        return 1.0;
+    float x = d / range;
+    x *= x;
+    return clamp(1.0 - x * x, 0.0, 1.0);
+}
+
+/** glTF's spot attenuation (the spec's implementation note): a squared linear ramp in the
+ *  cosine between the axis and the direction from the light, 1 inside the inner cone. */
+float xs_spot_attenuation(xs_light l, vec3 from_light)
+{
+    float a = clamp(dot(l.direction.xyz, from_light) * l.spot_scale + l.spot_offset, 0.0, 1.0);
+    return a * a;
+}
+
 /** Light-sampling pdf (solid angle at the receiver) of a point on an emissive triangle. */
 float xs_light_pdf(float pmf, float area, float dist2, float cos_light)
 {
@@ -110,6 +153,53 @@ void xs_add_light_sample(inout xs_path_out r, vec3 throughput, vec3 wi, float pl
     vec3 o = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
     r.radiance += c * XS_LIGHT_VISIBLE(o, wi, XS_RAY_TMAX, bounce, s, wi_l.z <= 0.0,
                                        XS_VC_LIGHT_SOLID_ANGLE, wi, vec3(0.0), pl, r.rays);
+}
+
+/** Next-event estimation of one punctual light picked by u (a delta light: weight 1, divided
+ *  by its pick probability). Point and spot: irradiance I / d^2 x spot x range window at the
+ *  receiver; directional: its irradiance. */
+void xs_add_punctual_light(inout xs_path_out r, vec3 throughput, float u, xs_bsdf bsdf,
+                           vec3 wo_l, vec3 tb, vec3 bb, xs_surface s, vec3 o_up, uint bounce)
+{
+    xs_light l = lights[xs_pick_light(u)];
+    float pmf = l.intensity.w;
+    vec3 wi = l.direction.xyz;
+    vec3 e = l.intensity.rgb;
+    if (l.type != XS_LIGHT_DIRECTIONAL) {
+        vec3 to_l = l.position.xyz - s.p;
+        float d2 = dot(to_l, to_l);
+        if (!(d2 > 0.0))
+            return;
+        float d = sqrt(d2);
+        wi = to_l / d;
+        float att = xs_range_window(d, l.position.w) / d2;
+        if (l.type == XS_LIGHT_SPOT)
+            att *= xs_spot_attenuation(l, -wi);
+        e *= att;
+    }
+    if (!(pmf > 0.0) || !any(greaterThan(e, vec3(0.0))))
+        return;
+    vec3 wi_l = xs_to_local(wi, tb, bb, s.ns);
+    float pdf_b;
+    vec3 fc = xs_bsdf_eval(bsdf, wo_l, wi_l, pdf_b);
+    if (!any(greaterThan(fc, vec3(0.0))) || !xs_side_ok(wi, s.ng, wi_l.z))
+        return;
+    vec3 c = throughput * fc * e / pmf;
+    if (!xs_finite(c))
+        return;
+    vec3 o = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
+    bool below = wi_l.z <= 0.0;
+    if (l.type == XS_LIGHT_DIRECTIONAL) {
+        r.radiance += c * XS_LIGHT_VISIBLE(o, wi, XS_RAY_TMAX, bounce, s, below,
+                                           XS_VC_LIGHT_DIRECTION, wi, vec3(0.0), 1.0, r.rays);
+        return;
+    }
+    vec3 seg = l.position.xyz - o; /* the shadow ray ends at the light */
+    float len = length(seg);
+    if (len > 0.0)
+        r.radiance += c * XS_LIGHT_VISIBLE(o, seg / len, len, bounce, s, below,
+                                           XS_VC_LIGHT_POINT, l.position.xyz, vec3(0.0), 1.0,
+                                           r.rays);
 }
 
 /**
@@ -246,6 +336,10 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
                     }
                 }
             }
+            /* one punctual light (after the others: their random numbers stay where they were) */
+            if (frame.light_count > 0u)
+                xs_add_punctual_light(r, throughput, xs_rng_next(rng), bsdf, wo_l, tb, bb, s,
+                                      o_up, bounce);
         }
 
         /* BSDF sampling of the bounce ray */

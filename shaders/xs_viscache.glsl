@@ -17,7 +17,9 @@
  * Clusters are world-space, so both eyes share them: where both see X a cluster holds about
  * 2 C_E^2 shading samples (the error region stays C_E x C_E pixels in each eye).
  * The light end (§3.5, light samples per eye path N_P / N_S = 1 for each light):
- * - a delta sun: the direction's float bits;
+ * - a delta light: a directional light's direction (the sun's or one of XS_BIND_LIGHTS), a
+ *   point or spot light's position Y: its float bits (the light is one point of the light
+ *   "patch" grid; a moving light gets new clusters);
  * - a sampled direction (sky sun disk, environment map) with solid-angle pdf P: the cell of an
  *   R x R grid on the octahedral map, R^2 = 4 pi P (a cell of ~4 pi / R^2 sr then holds one
  *   light sample per eye path, as Eq. 7's light patches do; Eq. 9 as printed puts 4 pi in the
@@ -174,7 +176,7 @@ vec2 vc_octahedral(vec3 w)
 uint64_t vc_light_digest(uint kind, bool below, vec3 lp, vec3 ln, float density)
 {
     uint64_t h = vc_step(VC_SEED, int(kind | (below ? 4u : 0u)));
-    if (kind == XS_VC_LIGHT_DIRECTION) {
+    if (kind == XS_VC_LIGHT_DIRECTION || kind == XS_VC_LIGHT_POINT) {
         ivec3 b = floatBitsToInt(lp);
         h = vc_step(vc_step(vc_step(h, b.x), b.y), b.z);
     } else if (kind == XS_VC_LIGHT_SOLID_ANGLE) {
@@ -256,8 +258,9 @@ bool vc_neighbours_agree(uint64_t prefix, ivec4 c, uint st, bool strict)
 /**
  * V(X, Y) of a light sample: from the cache at the first vertex (bounce 0) when enabled, else
  * traced. o, d, tmax: the shadow ray; s: X; below: the ray leaves below X's surface
- * (transmission); kind: XS_VC_LIGHT_*; lp: the direction (DIRECTION, SOLID_ANGLE) or Y (AREA);
- * ln: Y's normal (AREA); density: the light sample's pdf (solid angle, or per m^2 for AREA).
+ * (transmission); kind: XS_VC_LIGHT_*; lp: the direction (DIRECTION, SOLID_ANGLE) or Y (AREA,
+ * POINT: the light's position); ln: Y's normal (AREA); density: the light sample's pdf
+ * (solid angle, or per m^2 for AREA; delta lights pass 1).
  */
 float xs_vc_visible(vec3 o, vec3 d, float tmax, uint bounce, xs_surface s, bool below,
                     uint kind, vec3 lp, vec3 ln, float density, inout uint rays)

@@ -38,6 +38,9 @@
 #define XS_VC_LIGHT_DIRECTION 1u   /* a delta light's direction omega (K(X, omega)) */
 #define XS_VC_LIGHT_SOLID_ANGLE 2u /* a sampled direction with a solid-angle pdf (env, sun disk) */
 #define XS_VC_LIGHT_AREA 3u        /* a point Y on an emissive triangle */
+/* a punctual (point or spot) light's position Y; 8, not 4: bit 2 is the `below` side bit of
+ * the light digest (xs_viscache.glsl) */
+#define XS_VC_LIGHT_POINT 8u
 
 /* Defaults of seed 002: §3.3 (C_N = C_Z = 8), §3.4 (C_R = 1.2), §3.6 (C_MSR = log2 C_E). C_E
  * has no single value there (§5: 4..18 px for directional lights without anti-aliasing, 4..24

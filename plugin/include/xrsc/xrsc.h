@@ -57,7 +57,8 @@ uint32_t xrsc_context_validation_errors(const xrsc_context *ctx);
 /**
  * Scene options. environment: see sc_load_options (constant environment radiance override
  * when env_set; without it and without extras.xrsc_environment a scene with no directional
- * light gets a grey environment of 1, emissive materials notwithstanding).
+ * light gets a grey environment of 1, emissive materials and point/spot lights
+ * notwithstanding).
  * keep_triangle_order: skip the Morton sort of each mesh's triangles done before the BLAS
  * build (for benchmarks of its effect; primitive ids then follow the file).
  * Environment map and sky (these replace the constant environment; env_map_path wins):
@@ -68,7 +69,7 @@ uint32_t xrsc_context_validation_errors(const xrsc_context *ctx);
  * - sky: the Preetham sun and sky (seed 000 §5.1); sky_turbidity (0 means 3, range 1.7..10);
  *   sun_direction (towards the sun, y >= 0) when sun_direction_set, else the file's
  *   directional light's, else (0.5, 0.707, 0.5) normalised. The sky's sun is a disk of
- *   0.53 degrees that replaces the file's directional light.
+ *   0.53 degrees that replaces the file's directional lights (point and spot lights stay).
  * - env_no_importance: for tests and benchmarks, the map is reached by escaping BSDF rays
  *   only (no next-event estimation of it).
  */
@@ -96,6 +97,9 @@ typedef struct xrsc_scene_info {
     XrPosef viewpoint; /**< where a replay's first pose is anchored by default */
     float bounds_min[3], bounds_max[3];
     double blas_build_ms; /**< GPU time of the BLAS builds at load (timestamp queries) */
+    /** KHR_lights_punctual lights drawn: the sun (the first directional light, or --sky's)
+     *  counts as one, plus every point, spot and further directional light. */
+    uint32_t light_count;
 } xrsc_scene_info;
 
 /** Loads a glTF 2.0 file and uploads it (BLAS/TLAS built). */
@@ -229,14 +233,15 @@ typedef enum xrsc_sc_vis_refine {
 
 /**
  * The shadow visibility cache of the sample cache's shading pass (seed 002, AQVC): the shadow
- * rays of the light samples (sky sun disk, environment map, delta sun, emissive triangle) at
- * the first vertex of each shading path (the cached first hit) are answered per cluster of
- * similar queries: quantised X (oriented grid from the normal, Eq. 4, cell edge from Eq. 7 as
- * C_E pixel footprints) x quantised light end (§3.5), one traced ray per cluster and frame,
- * with the adaptive refinement of §3.6. Deeper vertices always trace (their eye-path density,
- * which Eq. 7 needs, is unknown). The table is cleared every frame: nothing persists between
- * frames, so animated scenes never see stale visibility. No random number is drawn: when every
- * query traces, the image equals the uncached one. Zero fields mean seed 002's defaults:
+ * rays of the light samples (sky sun disk, environment map, delta sun, emissive triangle,
+ * KHR_lights_punctual light) at the first vertex of each shading path (the cached first hit)
+ * are answered per cluster of similar queries: quantised X (oriented grid from the normal,
+ * Eq. 4, cell edge from Eq. 7 as C_E pixel footprints) x quantised light end (§3.5), one
+ * traced ray per cluster and frame, with the adaptive refinement of §3.6. Deeper vertices
+ * always trace (their eye-path density, which Eq. 7 needs, is unknown). The table is cleared
+ * every frame: nothing persists between frames, so animated scenes never see stale
+ * visibility. No random number is drawn: when every query traces, the image equals the
+ * uncached one. Zero fields mean seed 002's defaults:
  * - enabled: off (false): every shadow ray is traced, images as without this option;
  * - error_px: C_E, the screen-space size (pixels) of a cluster's error region, > 0 [4; §5
  *   uses 4..18 for directional and 4..24 for area and environment light without AA];

@@ -132,6 +132,8 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
         goto fail;
     for (uint32_t i = 0; i < s->cpu->instance_count; i++)
         s->animated = s->animated || s->cpu->instances[i].animated;
+    for (uint32_t i = 0; i < s->cpu->light_count; i++) /* lights on animated nodes move too */
+        s->animated = s->animated || s->cpu->lights[i].animated;
     s->animated = s->animated && s->cpu->animation_duration_s > 0.0f;
     s->time_ns = 0; /* sc_scene_load evaluates at time 0 */
 
@@ -163,6 +165,7 @@ static void scene_info_fill(const sc_scene *c, xrsc_scene_info *info)
                         c->viewpoint_orientation[2], c->viewpoint_orientation[3]};
     memcpy(info->bounds_min, c->bounds_min, sizeof(info->bounds_min));
     memcpy(info->bounds_max, c->bounds_max, sizeof(info->bounds_max));
+    info->light_count = c->light_count + (c->sun.present ? 1u : 0u);
 }
 
 xrsc_result xrsc_scene_inspect(const char *path, xrsc_scene_info *out_info, xrsc_diag *out_diag)

@@ -219,6 +219,7 @@ static const gpu_binding set0_bindings[] = {
     {XS_BIND_ACCUM, GPU_BINDING_STORAGE_IMAGE, 1},
     {XS_BIND_RAY_COUNTER, GPU_BINDING_STORAGE_BUFFER, 1},
     {XS_BIND_ENV_MAP, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_BIND_LIGHTS, GPU_BINDING_STORAGE_BUFFER, 1},
 };
 
 const gpu_binding *gpu_rt_set0_bindings(uint32_t *out_count)

@@ -41,7 +41,7 @@ typedef struct gpu_binding {
     uint32_t count; /**< array size (0 means 1) */
 } gpu_binding;
 
-#define GPU_MAX_BINDINGS 32
+#define GPU_MAX_BINDINGS 48 /* hybrid's reconstruct program: set 0 + cache + moments + hash table */
 
 /** One descriptor set layout, a pool sized for one set, and that set. */
 typedef struct gpu_descriptors {

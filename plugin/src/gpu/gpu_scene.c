@@ -9,6 +9,7 @@
 #include "u_diag.h"
 #include "xrsc_shared.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -35,6 +36,9 @@ typedef struct gpu_accel {
 
 struct gpu_scene {
     gpu_buffer vertices, indices, instances, materials, emitters;
+    gpu_buffer lights;  /**< xs_light[], host-visible: rewritten when lights move */
+    uint32_t light_count;
+    bool lights_animated;
     gpu_buffer env_map; /**< float[]: XS_ENV_* layout of xrsc_shared.h (4 zeros without a map) */
     gpu_image *textures;
     uint32_t texture_count;
@@ -286,6 +290,96 @@ done:
     free(base);
     free(em);
     return res;
+}
+
+/* Luminance weights (Rec. 709) of the lights' power estimate, as sc_scene's emitters. */
+#define GPU_LUMA_R 0.2126
+#define GPU_LUMA_G 0.7152
+#define GPU_LUMA_B 0.0722
+#define GPU_PI 3.14159265358979323846
+/* glTF's implementation note: the spot's cos range never below this (no division by 0). */
+#define GPU_SPOT_MIN_COS_RANGE 0.001
+
+/** Power estimate of light l for its pick probability (gpu_scene.h): point 4 pi I, spot
+ *  2 pi (1 - cos(mean cone angle)) I, directional E x pi r^2 of the scene's bounding sphere. */
+static double light_power(const sc_scene *scene, const sc_light *l)
+{
+    const float *c = l->intensity;
+    double lum = GPU_LUMA_R * c[0] + GPU_LUMA_G * c[1] + GPU_LUMA_B * c[2];
+    if (l->type == SC_LIGHT_POINT)
+        return 4.0 * GPU_PI * lum;
+    if (l->type == SC_LIGHT_SPOT)
+        return 2.0 * GPU_PI * (1.0 - cos(0.5 * (l->inner_cone_rad + l->outer_cone_rad))) * lum;
+    double r2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double h = 0.5 * ((double)scene->bounds_max[k] - (double)scene->bounds_min[k]);
+        r2 += h * h;
+    }
+    return GPU_PI * r2 * lum;
+}
+
+/** Unit column k (0 x, 1 y, 2 z) of a column-major matrix, times sign; +Z when degenerate. */
+static xs_vec4 unit_axis(const float m[16], int k, float sign)
+{
+    float x = m[4 * k], y = m[4 * k + 1], z = m[4 * k + 2];
+    float n = sqrtf(x * x + y * y + z * z);
+    if (!(n > 1e-20f) || !isfinite(n))
+        return (xs_vec4){0.0f, 0.0f, sign, 0.0f};
+    return (xs_vec4){sign * x / n, sign * y / n, sign * z / n, 0.0f};
+}
+
+/** The scene's lights at their nodes' current world transforms (pmf and cdf in xl[]). */
+static void fill_lights(const sc_scene *scene, xs_light *xl)
+{
+    double total = 0.0;
+    for (uint32_t i = 0; i < scene->light_count; i++) {
+        const sc_light *l = &scene->lights[i];
+        const float *w = scene->nodes[l->node].world;
+        xs_light *o = &xl[i];
+        o->type = l->type == SC_LIGHT_DIRECTIONAL ? XS_LIGHT_DIRECTIONAL
+                  : l->type == SC_LIGHT_POINT     ? XS_LIGHT_POINT
+                                                  : XS_LIGHT_SPOT;
+        o->position = (xs_vec4){w[12], w[13], w[14], l->range_m};
+        /* a light shines along its node's -Z; a directional one is stored towards it (+Z) */
+        o->direction = unit_axis(w, 2, l->type == SC_LIGHT_DIRECTIONAL ? 1.0f : -1.0f);
+        double ci = cos((double)l->inner_cone_rad), co = cos((double)l->outer_cone_rad);
+        double scale = 1.0 / fmax(GPU_SPOT_MIN_COS_RANGE, ci - co);
+        o->spot_scale = (float)scale;
+        o->spot_offset = (float)(-co * scale);
+        double p = light_power(scene, l);
+        o->intensity = (xs_vec4){l->intensity[0], l->intensity[1], l->intensity[2],
+                                 (float)(p > 0.0 ? p : 0.0)};
+        total += p > 0.0 ? p : 0.0;
+    }
+    double cdf = 0.0;
+    for (uint32_t i = 0; i < scene->light_count; i++) {
+        double pmf = total > 0.0 ? xl[i].intensity.w / total : 1.0 / scene->light_count;
+        xl[i].intensity.w = (float)pmf;
+        cdf += pmf;
+        xl[i].cdf = (float)cdf;
+    }
+    if (scene->light_count)
+        xl[scene->light_count - 1].cdf = 1.0f;
+}
+
+/** XS_BIND_LIGHTS: host-visible (persistently mapped), so moving lights are rewritten in place
+ *  by gpu_scene_stage_instances; one unused entry when the scene has none. */
+static xrsc_result upload_lights(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                 xrsc_diag *diag)
+{
+    uint32_t n = scene->light_count;
+    xrsc_result res = gpu_buffer_create(ctx, (VkDeviceSize)(n ? n : 1) * sizeof(xs_light),
+                                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEMORY_UPLOAD,
+                                        &gs->lights, diag);
+    if (res != XRSC_OK)
+        return res;
+    memset(gs->lights.mapped, 0, (size_t)(n ? n : 1) * sizeof(xs_light));
+    fill_lights(scene, gs->lights.mapped);
+    gpu_buffer_flush(ctx, &gs->lights);
+    gs->light_count = n;
+    for (uint32_t i = 0; i < n; i++)
+        gs->lights_animated = gs->lights_animated || scene->lights[i].animated;
+    return XRSC_OK;
 }
 
 /** The environment map and its cdfs packed as XS_ENV_* says (sc_env.h builds them). */
@@ -729,6 +823,7 @@ xrsc_result gpu_scene_create(gpu_context *ctx, const sc_scene *scene, gpu_scene 
     if ((res = upload_geometry(ctx, gs, scene, diag)) != XRSC_OK ||
         (res = upload_materials(ctx, gs, scene, diag)) != XRSC_OK ||
         (res = upload_emitters(ctx, gs, scene, diag)) != XRSC_OK ||
+        (res = upload_lights(ctx, gs, scene, diag)) != XRSC_OK ||
         (res = upload_env_map(ctx, gs, scene, diag)) != XRSC_OK ||
         (res = upload_textures(ctx, gs, scene, diag)) != XRSC_OK)
         goto fail;
@@ -782,6 +877,7 @@ void gpu_scene_destroy(gpu_context *ctx, gpu_scene **pgs)
     gpu_buffer_destroy(ctx, &gs->instances);
     gpu_buffer_destroy(ctx, &gs->materials);
     gpu_buffer_destroy(ctx, &gs->emitters);
+    gpu_buffer_destroy(ctx, &gs->lights);
     gpu_buffer_destroy(ctx, &gs->env_map);
     free(gs->host_instances);
     free(gs);
@@ -795,6 +891,10 @@ xrsc_result gpu_scene_stage_instances(gpu_context *ctx, gpu_scene *gs, const sc_
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, scene->path, 0, "instances",
                           "instance count changed from %u to %u", gs->instance_count,
                           scene->instance_count);
+    if (gs->lights_animated && scene->light_count == gs->light_count) {
+        fill_lights(scene, gs->lights.mapped);
+        gpu_buffer_flush(ctx, &gs->lights);
+    }
     if (gs->instance_count == 0)
         return XRSC_OK;
     fill_host_instances(gs, scene, true);
@@ -888,10 +988,12 @@ void gpu_scene_write_descriptors(gpu_context *ctx, const gpu_scene *gs, gpu_desc
     gpu_descriptors_write_buffer(ctx, d, XS_BIND_MATERIALS, &gs->materials);
     gpu_descriptors_write_buffer(ctx, d, XS_BIND_EMITTERS, &gs->emitters);
     gpu_descriptors_write_buffer(ctx, d, XS_BIND_ENV_MAP, &gs->env_map);
+    gpu_descriptors_write_buffer(ctx, d, XS_BIND_LIGHTS, &gs->lights);
     gpu_descriptors_write_textures(ctx, d, XS_BIND_TEXTURES, gs->textures, gs->tex_samplers,
                                    gs->texture_count, &gs->white, gs->sampler);
 }
 
 uint32_t gpu_scene_emitter_count(const gpu_scene *gs) { return gs->emitter_count; }
+uint32_t gpu_scene_light_count(const gpu_scene *gs) { return gs->light_count; }
 double gpu_scene_blas_build_ms(const gpu_scene *gs) { return gs->blas_ms; }
 double gpu_scene_tlas_build_ms(const gpu_scene *gs) { return gs->tlas_ms; }

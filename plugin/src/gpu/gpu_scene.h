@@ -16,6 +16,11 @@
  * - emitters[]: for every instance with emissive triangles, ALL its triangles in order (those
  *   sc_scene does not list as emitters get power 0), so emitter_base + t is triangle t's
  *   emitter; pmf proportional to power (uniform when all are 0), cdf inclusive (last = 1);
+ * - lights[] (XS_BIND_LIGHTS): sc_scene.lights in order at their nodes' world transforms
+ *   (rewritten by gpu_scene_stage_instances when one is animated); pmf proportional to a
+ *   power estimate (point 4 pi I, spot 2 pi (1 - cos((inner + outer) / 2)) I, directional
+ *   E pi r^2 with r the radius of the scene's bounding sphere at load; uniform when all are
+ *   0), cdf inclusive (last = 1); one zero entry when there are none;
  * - textures[]: sc_scene.textures in order (RGBA8, sRGB or UNORM per texture), the rest of the
  *   XS_MAX_TEXTURES entries hold a 1x1 white texture.
  */
@@ -57,11 +62,13 @@ xrsc_result gpu_scene_update_instances(gpu_context *ctx, gpu_scene *gs, const sc
 xrsc_result gpu_scene_clear_motion(gpu_context *ctx, gpu_scene *gs, xrsc_diag *diag);
 
 /** Writes the scene bindings of set 0 (TLAS, vertices, indices, instances, materials,
- *  emitters, textures) into d. */
+ *  emitters, environment map, lights, textures) into d. */
 void gpu_scene_write_descriptors(gpu_context *ctx, const gpu_scene *gs, gpu_descriptors *d);
 
 /** Number of entries in the GPU emitter array (see the conventions above). */
 uint32_t gpu_scene_emitter_count(const gpu_scene *gs);
+/** Number of punctual lights in lights[] (xs_frame.light_count). */
+uint32_t gpu_scene_light_count(const gpu_scene *gs);
 /** GPU time of the BLAS builds and of the TLAS build at load (updates are timed by the
  *  frame that records them, pass "tlas"). */
 double gpu_scene_blas_build_ms(const gpu_scene *gs);

@@ -141,6 +141,7 @@ void mt_trace_frame_constants(const mt_trace *t, const xrsc_frame *frame, xs_fra
     xf->frame_index = frame->frame_index;
     xf->samples_per_pixel = 1;
     xf->emitter_count = gpu_scene_emitter_count(t->env.scene);
+    xf->light_count = gpu_scene_light_count(t->env.scene);
     xf->jitter = 0;
     xf->seed = t->env.seed;
 }

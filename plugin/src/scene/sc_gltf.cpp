@@ -778,6 +778,9 @@ xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_glt
         for (int c = 0; c < 3; c++)
             o->color[c] = c < (int)l.color.size() ? clamp_float(l.color[(size_t)c]) : 1.0f;
         o->intensity = clamp_float(l.intensity);
+        o->range = clamp_float(l.range);
+        o->inner_cone_rad = clamp_float(l.spot.innerConeAngle);
+        o->outer_cone_rad = clamp_float(l.spot.outerConeAngle);
     }
 
     doc->camera_count = (uint32_t)m.cameras.size();

@@ -129,6 +129,8 @@ typedef struct sc_gltf_light {
     sc_gltf_light_type type;
     float color[3];
     float intensity;
+    float range;                          /**< metres; 0 = infinite (glTF: undefined) */
+    float inner_cone_rad, outer_cone_rad; /**< spot.innerConeAngle / outerConeAngle */
 } sc_gltf_light;
 
 typedef struct sc_gltf_camera {

@@ -38,6 +38,8 @@
 #define SC_LUMA_R 0.2126f
 #define SC_LUMA_G 0.7152f
 #define SC_LUMA_B 0.0722f
+/* KHR_lights_punctual: a spot's outer cone angle is at most pi/2. */
+#define SC_HALF_PI 1.57079632679489662f
 /** Default viewpoint distance factor (sc_scene.h: max_z + 1.2 * max(half_x, half_y)). */
 #define SC_DEFAULT_VIEW_DISTANCE 1.2f
 
@@ -1358,19 +1360,56 @@ static void note_camera(sc_walk *w, int32_t ni, const sc_gltf_node *g)
         w->cameras_extra = true;
 }
 
-/** Keeps the first directional light (node ni's) as the sun; notes the others. */
-static void note_light(sc_walk *w, int32_t ni, const sc_gltf_node *g)
+/** Light l of the file on node ni as an ::sc_light: cone angles clamped to glTF's bounds
+ *  (0 <= inner < outer <= pi/2) with a warning naming the field. */
+static xrsc_result add_light(sc_walk *w, int32_t ni, int32_t li)
+{
+    sc_build *b = w->b;
+    sc_scene *s = b->s;
+    const sc_gltf_light *l = &b->doc->lights[li];
+    sc_light *grown = realloc(s->lights, (s->light_count + 1) * sizeof(*grown));
+    if (!grown)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    s->lights = grown;
+    sc_light *o = &s->lights[s->light_count++];
+    memset(o, 0, sizeof(*o));
+    o->type = l->type == SC_GLTF_LIGHT_DIRECTIONAL ? SC_LIGHT_DIRECTIONAL
+              : l->type == SC_GLTF_LIGHT_POINT     ? SC_LIGHT_POINT
+                                                   : SC_LIGHT_SPOT;
+    o->node = (uint32_t)ni;
+    o->animated = w->anim_below[ni];
+    for (int c = 0; c < 3; c++) o->intensity[c] = fmaxf(l->color[c] * l->intensity, 0.0f);
+    o->range_m = l->range > 0.0f ? l->range : 0.0f;
+    float outer = fminf(fmaxf(l->outer_cone_rad, 0.0f), SC_HALF_PI);
+    float inner = fminf(fmaxf(l->inner_cone_rad, 0.0f), outer);
+    if (o->type == SC_LIGHT_SPOT &&
+        (outer != l->outer_cone_rad || inner != l->inner_cone_rad || inner == outer)) {
+        U_LOG_W("%s: lights[%d].spot: innerConeAngle %g, outerConeAngle %g outside 0 <= inner "
+                "< outer <= pi/2 (KHR_lights_punctual); clamped to %g, %g",
+                b->name, li, (double)l->inner_cone_rad, (double)l->outer_cone_rad,
+                (double)inner, (double)outer);
+        s->warning_count++;
+    }
+    o->inner_cone_rad = inner;
+    o->outer_cone_rad = outer;
+    return XRSC_OK;
+}
+
+/** Keeps the first directional light (node ni's) as the sun; the others go to the scene's
+ *  punctual lights. */
+static xrsc_result note_light(sc_walk *w, int32_t ni, const sc_gltf_node *g)
 {
     sc_gltf_doc *d = w->b->doc;
     sc_gltf_light_type t = d->lights[g->light].type;
     if (t == SC_GLTF_LIGHT_DIRECTIONAL && *w->out_sun_node < 0) {
         *w->out_sun_node = ni;
         *w->out_sun_light = g->light;
-    } else if (t == SC_GLTF_LIGHT_DIRECTIONAL) {
-        sc_gltf_note(d, "directional lights beyond the first");
+    } else if (t == SC_GLTF_LIGHT_OTHER) {
+        sc_gltf_note(d, "unknown light types");
     } else {
-        sc_gltf_note(d, t == SC_GLTF_LIGHT_OTHER ? "unknown light types" : "point and spot lights");
+        return add_light(w, ni, g->light);
     }
+    return XRSC_OK;
 }
 
 /**
@@ -1407,7 +1446,9 @@ static xrsc_result visit_node(sc_walk *w, int32_t ni)
             return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                               "light %d does not exist", g->light);
         }
-        note_light(w, ni, g);
+        xrsc_result rl = note_light(w, ni, g);
+        if (rl != XRSC_OK)
+            return rl;
     }
     /* Push children in reverse so that they are visited in file order. */
     for (uint32_t k = g->child_count; k-- > 0;) {
@@ -1641,20 +1682,33 @@ static void warn_if_no_light(sc_build *b)
     sc_scene *s = b->s;
     bool lit = s->sun.present && luminance(s->sun.radiance) > 0.0f;
     for (uint32_t i = 0; !lit && i < s->emitter_count; i++) lit = s->emitters[i].power > 0.0f;
+    for (uint32_t i = 0; !lit && i < s->light_count; i++)
+        lit = luminance(s->lights[i].intensity) > 0.0f;
     lit = lit || s->environment[0] > 0.0f || s->environment[1] > 0.0f ||
           s->environment[2] > 0.0f;
     for (uint32_t i = 0; !lit && i < s->instance_count; i++)
         lit = s->materials[s->meshes[s->instances[i].mesh].material].unlit;
     if (lit) return;
-    U_LOG_W("%s: the scene has no light (no emissive material with power, no directional "
+    U_LOG_W("%s: the scene has no light (no emissive material with power, no punctual "
             "light, environment 0): frames will be black; give it an environment, e.g. "
             "--env 0.8,0.8,0.8",
             b->name);
     s->warning_count++;
 }
 
-/** The sky of --sky: bakes the Preetham map and replaces the file's sun with the sky's disk
- *  sun (direction: the option, else the file's sun, else SC_DEFAULT_SUN_DIRECTION). */
+/** Drops the directional lights from the scene's punctual lights (the sky's sun stands for
+ *  all of them); point and spot lights stay. */
+static void drop_directional_lights(sc_scene *s)
+{
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < s->light_count; i++)
+        if (s->lights[i].type != SC_LIGHT_DIRECTIONAL) s->lights[k++] = s->lights[i];
+    s->light_count = k;
+}
+
+/** The sky of --sky: bakes the Preetham map and replaces the file's directional lights with
+ *  the sky's disk sun (direction: the option, else the file's first directional light, else
+ *  SC_DEFAULT_SUN_DIRECTION). */
 static xrsc_result set_sky(sc_build *b, float **out_rgb)
 {
     sc_scene *s = b->s;
@@ -1672,6 +1726,7 @@ static xrsc_result set_sky(sc_build *b, float **out_rgb)
     memcpy(s->sun.direction, so.sun_direction, sizeof s->sun.direction);
     memcpy(s->sun.radiance, e_sun, sizeof s->sun.radiance);
     s->sun.angular_radius_rad = SC_SUN_ANGULAR_RADIUS_RAD;
+    drop_directional_lights(s);
     return XRSC_OK;
 }
 
@@ -1943,6 +1998,7 @@ void sc_scene_destroy(sc_scene **pscene)
     free(s->node_order);
     free(s->instances);
     free(s->emitters);
+    free(s->lights);
     free(s->channels);
     sc_env_map_free(&s->env_map);
     free(s);

@@ -143,6 +143,22 @@ typedef struct sc_sun {
     float angular_radius_rad;
 } sc_sun;
 
+typedef enum sc_light_type { SC_LIGHT_DIRECTIONAL, SC_LIGHT_POINT, SC_LIGHT_SPOT } sc_light_type;
+
+/** A KHR_lights_punctual light other than the sun (::sc_sun is the file's first directional
+ *  light): every further directional light, every point and spot light, one per node that
+ *  names it. Its position and direction are its node's world transform (sc_node.world:
+ *  origin, and -Z = where it shines), so animated nodes move it; scale does not change it. */
+typedef struct sc_light {
+    sc_light_type type;
+    uint32_t node;        /**< index in sc_scene.nodes */
+    float intensity[3];   /**< colour x intensity: W/sr (point, spot: candela taken as W/sr)
+                           *   or irradiance normal to the light (directional: lux) */
+    float range_m;        /**< 0 = infinite; else glTF's window clamp(1 - (d/range)^4, 0, 1) */
+    float inner_cone_rad, outer_cone_rad; /**< spot: 0 <= inner <= outer <= pi/2 (clamped) */
+    bool animated;        /**< the node or an ancestor is animated */
+} sc_light;
+
 typedef struct sc_scene {
     char path[512];
     sc_vertex *vertices;   uint32_t vertex_count;
@@ -156,6 +172,7 @@ typedef struct sc_scene {
     sc_anim_channel *channels; uint32_t channel_count;
     float animation_duration_s; /**< max key time over all channels, 0 when static */
     sc_sun sun;
+    sc_light *lights;      uint32_t light_count; /**< punctual lights besides the sun */
     float environment[3]; /**< constant environment radiance (see sc_load_options); with a
                            *   map: the map's mean radiance, for passes that do not read it */
     /** Environment map (--env-map or the baked sky): width 0 when the environment is the
@@ -183,7 +200,8 @@ typedef struct sc_scene {
  * Load options. Zero means the documented default.
  * environment: when env_set is false, the scene's `extras.xrsc_environment` [r,g,b] if present,
  * else SC_DEFAULT_ENVIRONMENT grey when the scene has no directional light (emissive
- * triangles notwithstanding: glTF models without lights expect image-based lighting), else 0.
+ * triangles and point/spot lights notwithstanding: glTF models without a sun expect
+ * image-based lighting, which viewers keep on beside lamps), else 0.
  * env_map_path (a Radiance .hdr, equirectangular) or sky replace the constant environment;
  * env_map_path wins over sky.
  */
@@ -194,7 +212,8 @@ typedef struct sc_load_options {
     float env_intensity;      /**< scales the map (the sky: sun and sky); 0 means 1 */
     float env_rotation_deg;   /**< turns the map (or sky) about +Y, counter-clockwise from above */
     /** The Preetham sun and sky (sc_env.h): the sky becomes the environment map and the sun a
-     *  disk light that replaces the file's directional light. */
+     *  disk light that replaces the file's directional lights (sc_scene.lights keeps only
+     *  its point and spot lights). */
     bool sky;
     float sky_turbidity;      /**< 0 means SC_SKY_DEFAULT_TURBIDITY */
     bool sun_direction_set;   /**< else the file's sun direction, else SC_DEFAULT_SUN_DIRECTION */
@@ -228,7 +247,8 @@ typedef struct sc_load_options {
  * texture (tangent space, TANGENT or generated tangents), KHR_materials_emissive_strength,
  * KHR_materials_transmission, KHR_materials_ior, KHR_materials_unlit, KHR_texture_transform),
  * cameras (first perspective camera's node = viewpoint, its yfov and aspectRatio kept),
- * KHR_lights_punctual directional (first one = sun), node animation (T/R/S; LINEAR, STEP,
+ * KHR_lights_punctual (the first directional light = sun; every other light, point and spot
+ * with range and cone angles, in sc_scene.lights), node animation (T/R/S; LINEAR, STEP,
  * CUBICSPLINE). A scene whose `nodes` also lists non-root nodes draws the roots they reach
  * (each node once), with one warning. occlusionTexture is ignored without a warning: a path
  * tracer computes the occlusion it approximates.
