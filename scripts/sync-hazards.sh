@@ -21,7 +21,8 @@ size=${SYNC_SIZE:-32x32}
 frames=${SYNC_FRAMES:-3}
 only=${SYNC_ONLY:-}
 
-# name | arguments (word-split); names ending in _xr run through OpenXR, the rest --direct
+# name | arguments (word-split; a later --write overrides --write none); names ending in _xr
+# run through OpenXR, the rest --direct
 configs=(
   "spp|--method spp --spp 1"
   "primary|--method primary"
@@ -51,10 +52,17 @@ configs=(
   "spp_taa_on|--method spp --spp 1 --taa on"
   "sc_taa_pfj23|--method samplecache --taa pfj23"
   "taa_blend_moments|--method taa --blend moments"
+  "hybrid_no_post|--method hybrid --hc-table 4096 --taa off --blend none"
+  "isrt_shade_variance|--method isrt --sc-shade adaptive-variance --sc-visibility-cache on"
+  "spp_4_no_bounce|--method spp --spp 4 --bounces 0"
+  "taa_pfj23|--method taa --taa pfj23"
+  "sc_read_back|--method samplecache --write eyes,linear,exr"
+  "hashcache_read_back|--method hashcache --hc-table 4096 --write eyes,exr"
   "default_xr|"
   "spp_xr|--method spp --spp 1"
   "hashcache_xr|--method hashcache --hc-table 4096"
   "isrt_taa_xr|--method isrt --taa on --blend pfj23"
+  "taa_read_back_xr|--method taa --write eyes,linear"
 )
 
 if [[ ! -x $exe ]]; then
