@@ -313,6 +313,8 @@ static xrsc_result measure_floor(bench_run *b, float *px, xrsc_diag *diag)
 static xrsc_result make_references(bench_run *b, xrsc_diag *diag)
 {
     const hs_bench_options *opt = b->opt;
+    if (opt->timing_only)
+        return XRSC_OK; /* nothing is scored */
     xrsc_result res = ref_cache_check(b, diag);
     if (res != XRSC_OK)
         return res;
@@ -403,6 +405,8 @@ static bool metric_ok(bench_run *b, xrsc_result r)
 }
 
 /* The fixed columns of a setting's CSV, before the per-pass columns "gpu_<pass>_ms". */
+/** Columns before relmse: what every frame has, also with --timing-only. */
+#define BENCH_FIRST_METRIC_COLUMN 10u
 const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT] = {
     "setting",    "method",       "frame",          "display_time_ns", "warmup",
     "scored",     "wall_ms",      "gpu_ms",         "rays",            "rays_per_px",
@@ -424,6 +428,8 @@ static xrsc_result render_frame(bench_run *b, const hs_bench_setting *s, xrsc_re
     if (res != XRSC_OK)
         return u_diag_set(diag, res, "", 0, "", "setting %s: frame %u failed", s->name, k);
     *out_wall_ms = (now_s() - w0) * 1e3;
+    if (b->opt->timing_only)
+        return XRSC_OK; /* no image is measured */
     for (int e = 0; e < 2; e++)
         if ((res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, cur->color[e],
                                       n * 4 * sizeof(float))) != XRSC_OK)
@@ -609,16 +615,21 @@ static xrsc_result bench_frame(bench_run *b, const hs_bench_setting *s, xrsc_ren
     double gpu_ms = 0.0;
     for (uint32_t p = 0; p < np; p++)
         gpu_ms += pass[p].gpu_ms;
-    bool scored = hs_bench_is_scored(k, b->warmup, b->score_every);
+    bool scored = !b->opt->timing_only && hs_bench_is_scored(k, b->warmup, b->score_every);
     fprintf(csv, "%s,%s,%u,%lld,%d,%d,%.4f,%.4f,%llu,%.5f", s->name,
             xrsc_method_name(s->renderer.method), k, (long long)b->frame[k].display_time_ns,
             k < b->warmup, scored, wall_ms, gpu_ms, (unsigned long long)rays,
             (double)rays / (2.0 * (double)b->w * b->h));
-    if ((res = put_error_columns(b, csv, cur, k, scored, ref, diag)) != XRSC_OK)
-        return res;
-    put_temporal_columns(b, csv, cur, prev, k);
-    put_stereo_columns(b, csv, cur, k, scored, ref);
-    put_base_column(b, s, csv, cur, k, scored);
+    if (b->opt->timing_only) { /* the image metrics' columns, empty */
+        for (uint32_t c = BENCH_FIRST_METRIC_COLUMN; c < HS_BENCH_COLUMN_COUNT; c++)
+            fputc(',', csv);
+    } else {
+        if ((res = put_error_columns(b, csv, cur, k, scored, ref, diag)) != XRSC_OK)
+            return res;
+        put_temporal_columns(b, csv, cur, prev, k);
+        put_stereo_columns(b, csv, cur, k, scored, ref);
+        put_base_column(b, s, csv, cur, k, scored);
+    }
     for (uint32_t p = 0; p < np; p++)
         fprintf(csv, ",%.4f", pass[p].gpu_ms);
     for (uint32_t c = 0; c < nc; c++)
@@ -778,9 +789,9 @@ static void bench_config(bench_run *b)
              b->headset.ipd_m, b->headset.refresh_hz, fov0, fov1, env);
     /* columns=: CSVs written with other columns are rendered again, not reused. */
     snprintf(b->config, sizeof(b->config),
-             "%s frames=%u warmup=%u score_every=%u device=%s columns=%u", b->ref_config,
+             "%s frames=%u warmup=%u score_every=%u device=%s columns=%u%s", b->ref_config,
              b->frames, b->warmup, b->score_every, xrsc_context_device_name(b->ctx),
-             HS_BENCH_COLUMN_COUNT);
+             HS_BENCH_COLUMN_COUNT, opt->timing_only ? " timing-only" : "");
 }
 
 /** The run's sizes and defaults from the options. */

@@ -107,6 +107,10 @@ typedef struct hs_bench_options {
     bool ref_floor;
     bool fresh;           /**< ignore results and references already in out_dir */
     bool no_plots;        /**< write the gnuplot scripts but do not run gnuplot */
+    /** GPU and wall times, rays and counters only: no references, no read-backs, no image
+     *  metrics (their columns stay empty), so that large sizes measure the GPU, not the CPU's
+     *  metrics (scripts/gpu-check.sh at headset sizes). */
+    bool timing_only;
     bool progress;        /**< progress lines on stderr */
 } hs_bench_options;
 

@@ -67,7 +67,7 @@ static void usage(FILE *f)
 "  --ipd MM            interpupillary distance                  [63]\n"
 "  --refresh HZ        display refresh rate (frame spacing)     [90]\n"
 "  --device D          cpu | gpu | index | name part\n"
-"  --validation        enable the Vulkan validation layer\n"
+"  --validation        enable the Vulkan validation layer, synchronization checks included\n"
 "\n"
 "Suites:\n"
 "  --suite stability   the issue-9 failure cases for every method (xrsc bench --suite\n"
@@ -77,6 +77,8 @@ static void usage(FILE *f)
 "  --out DIR           output folder                            [out/bench]\n"
 "  --fresh             ignore results and references already in DIR\n"
 "  --no-plots          write the gnuplot scripts, do not run gnuplot\n"
+"  --timing-only       times, rays and counters only: no references, read-backs or image\n"
+"                      metrics (their columns stay empty; for large sizes on a GPU)\n"
 "  --quiet             no progress\n"
 "  -h, --help          this help\n"
 "\n"
@@ -154,6 +156,8 @@ static int parse_flag(const char *a, bench_args *ba)
         opt->ref_floor = true;
     else if (!strcmp(a, "--no-plots"))
         opt->no_plots = true;
+    else if (!strcmp(a, "--timing-only"))
+        opt->timing_only = true;
     else if (!strcmp(a, "--quiet"))
         opt->progress = false;
     else if (!strcmp(a, "--validation"))

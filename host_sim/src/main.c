@@ -82,7 +82,7 @@ static void usage(FILE *f)
 "  --env R,G,B         constant environment radiance (default: the scene's)\n"
 HS_LIGHT_USAGE
 "  --device D          cpu | gpu | index | name part  [$XRSC_DEVICE, else a GPU, else lavapipe]\n"
-"  --validation        enable the Vulkan validation layer\n"
+"  --validation        enable the Vulkan validation layer, synchronization checks included\n"
 "\n"
 "Sample cache (--method samplecache; seed 000 section 3, defaults of section 4):\n"
 "  --sc-slots N        slots per pixel, 1..16         [12]\n"

@@ -2,7 +2,8 @@
 # `xrsc bench` from the outside (cmake -P): a CI-sized run (2 settings x 3 frames at 32 x 32,
 # 16-spp references), its CSV rows and columns, the charts, a restart that skips finished work,
 # an added setting that alone is run, an R sweep's chart, bad settings (exit 2), --ref-floor's
-# reference noise floor, the reference's stereo discrepancy and the blend pass's time.
+# reference noise floor, the reference's stereo discrepancy and the blend pass's time, and
+# --timing-only's rows (times and rays, no references, empty metric columns).
 # Inputs: -DXRSC_EXE=<program> -DOUT_DIR=<scratch folder, wiped first> -DHAVE_GNUPLOT=ON|OFF.
 if(NOT XRSC_EXE OR NOT OUT_DIR)
   message(FATAL_ERROR "usage: cmake -DXRSC_EXE=... -DOUT_DIR=... [-DHAVE_GNUPLOT=ON] -P bench_test.cmake")
@@ -292,6 +293,39 @@ run(NAME ref_floor_restart EXIT 0 OUT out ERR err
     ARGS --settings "@${OUT_DIR}/blend.txt" --ref-floor ${small})
 if(NOT err MATCHES "--ref-floor's cached" OR NOT out MATCHES "reference floor relMSE")
   fail("ref_floor restart:\nstdout: ${out}\nstderr: ${err}")
+endif()
+
+# --timing-only (scripts/gpu-check.sh at headset sizes): every frame has its GPU time and rays,
+# no reference is rendered and the image metrics' columns are empty.
+run(NAME timing_only EXIT 0 OUT out ERR err
+    ARGS --settings "spp:spp=1" --resolution 16x16 --frames 3 --warmup 1 --timing-only
+         --no-plots --out "${OUT_DIR}/timing")
+if(EXISTS "${OUT_DIR}/timing/frames/spp-1.csv")
+  file(STRINGS "${OUT_DIR}/timing/frames/spp-1.csv" lines)
+  list(GET lines 1 header)
+  list(LENGTH lines n)
+  if(NOT n EQUAL 5)
+    fail("timing_only: ${n} lines in spp-1.csv, expected a config line, a header and 3 rows")
+  endif()
+  foreach(i 2 3 4)
+    list(GET lines ${i} row)
+    csv_field("${header}" "${row}" gpu_ms g)
+    csv_field("${header}" "${row}" rays_per_px rp)
+    csv_field("${header}" "${row}" scored sc)
+    csv_field("${header}" "${row}" cpbd cp)
+    csv_field("${header}" "${row}" stereo_msd st)
+    is_number("${g}" TRUE ok_g)
+    is_number("${rp}" TRUE ok_rp)
+    if(NOT ok_g OR NOT ok_rp OR NOT sc STREQUAL "0" OR NOT cp STREQUAL "" OR NOT st STREQUAL "")
+      fail("timing_only: row '${row}' (want gpu_ms, rays_per_px > 0, scored 0, no metrics)")
+    endif()
+  endforeach()
+else()
+  fail("timing_only: no frames/spp-1.csv")
+endif()
+file(GLOB refs "${OUT_DIR}/timing/ref/*.pfm")
+if(refs)
+  fail("timing_only: references rendered: ${refs}")
 endif()
 
 if(failures GREATER 0)

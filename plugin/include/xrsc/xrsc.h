@@ -36,8 +36,9 @@ typedef struct xrsc_renderer xrsc_renderer;
  *   needs (plugin/src/util/u_device.h). A selector that matches no device is
  *   XRSC_ERROR_DEVICE_NOT_FOUND, one whose matches all lack ray tracing
  *   XRSC_ERROR_NO_RAY_TRACING_DEVICE.
- * - validation: enable VK_LAYER_KHRONOS_validation and count its errors (also enabled when
- *   the environment variable XRSC_VALIDATION=1).
+ * - validation: enable VK_LAYER_KHRONOS_validation, with its synchronization validation when
+ *   the layer offers VK_EXT_validation_features, and count its errors, synchronization hazards
+ *   included (also enabled when the environment variable XRSC_VALIDATION=1).
  */
 typedef struct xrsc_context_options {
     const char *device;

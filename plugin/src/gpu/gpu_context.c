@@ -108,19 +108,25 @@ static bool has_layer(const char *name)
     return found;
 }
 
-static bool has_instance_extension(const char *name)
+/** Whether the loader (layer NULL) or the named layer offers the instance extension. */
+static bool has_instance_extension_of(const char *layer, const char *name)
 {
     uint32_t n = 0;
-    vkEnumerateInstanceExtensionProperties(NULL, &n, NULL);
+    vkEnumerateInstanceExtensionProperties(layer, &n, NULL);
     VkExtensionProperties *props = calloc(n ? n : 1, sizeof(*props));
     if (!props)
         return false;
-    vkEnumerateInstanceExtensionProperties(NULL, &n, props);
+    vkEnumerateInstanceExtensionProperties(layer, &n, props);
     bool found = false;
     for (uint32_t i = 0; i < n && !found; i++)
         found = strcmp(props[i].extensionName, name) == 0;
     free(props);
     return found;
+}
+
+static bool has_instance_extension(const char *name)
+{
+    return has_instance_extension_of(NULL, name);
 }
 
 /* ---- device capabilities ---- */
@@ -327,22 +333,35 @@ static gpu_context_options resolve_options(const gpu_context_options *options)
 typedef struct gpu_instance_layers {
     const char *layers[1];
     uint32_t layer_count;
-    const char *ext[1];
+    const char *ext[2];
     uint32_t ext_count;
+    bool sync_validation; /**< VK_EXT_validation_features enabled: chain sync validation */
 } gpu_instance_layers;
 
+#define GPU_VALIDATION_LAYER "VK_LAYER_KHRONOS_validation"
+
 /** Validation needs both the layer and VK_EXT_debug_utils (the messenger counts its errors);
- *  sets ctx->validation when both are installed. */
+ *  sets ctx->validation when both are installed. Synchronization validation comes with it
+ *  when the layer offers VK_EXT_validation_features: lavapipe runs commands one after another
+ *  and hides a missing barrier that a GPU running passes concurrently would not (issue 20). */
 static void choose_instance_layers(gpu_context *ctx, bool validation, gpu_instance_layers *il)
 {
     memset(il, 0, sizeof(*il));
     if (!validation)
         return;
-    if (has_layer("VK_LAYER_KHRONOS_validation") &&
+    if (has_layer(GPU_VALIDATION_LAYER) &&
         has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME)) {
-        il->layers[il->layer_count++] = "VK_LAYER_KHRONOS_validation";
+        il->layers[il->layer_count++] = GPU_VALIDATION_LAYER;
         il->ext[il->ext_count++] = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
         ctx->validation = true;
+        if (has_instance_extension_of(GPU_VALIDATION_LAYER,
+                                      VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME)) {
+            il->ext[il->ext_count++] = VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME;
+            il->sync_validation = true;
+        } else {
+            U_LOG_W("validation: the layer offers no %s: synchronization validation off",
+                    VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+        }
     } else {
         U_LOG_W("validation requested but VK_LAYER_KHRONOS_validation or "
                 "VK_EXT_debug_utils is not installed");
@@ -381,10 +400,21 @@ static xrsc_result instance_create(gpu_context *ctx, bool validation,
         .apiVersion = VK_API_VERSION_1_3,
     };
     VkDebugUtilsMessengerCreateInfoEXT msg_info = messenger_info(ctx);
+    static const VkValidationFeatureEnableEXT sync_enable =
+        VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    VkValidationFeaturesEXT features = {
+        .sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT,
+        .pNext = &msg_info,
+        .enabledValidationFeatureCount = 1,
+        .pEnabledValidationFeatures = &sync_enable,
+    };
+    const void *chain = NULL; /* msg_info (pNext NULL) also creates the messenger below */
+    if (ctx->validation)
+        chain = il.sync_validation ? (const void *)&features : (const void *)&msg_info;
     VkInstanceCreateInfo ici = {
         .sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
         /* also catches messages from vkCreateInstance / vkDestroyInstance */
-        .pNext = ctx->validation ? &msg_info : NULL,
+        .pNext = chain,
         .pApplicationInfo = &app,
         .enabledLayerCount = il.layer_count,
         .ppEnabledLayerNames = il.layers,

@@ -61,7 +61,8 @@ typedef struct gpu_context {
 /**
  * Context options. device: NULL/"" uses XRSC_DEVICE, else the first non-CPU device with ray
  * tracing, else lavapipe. "cpu", "gpu", a physical-device index or a name substring
- * (case-insensitive) select explicitly. validation: VK_LAYER_KHRONOS_validation on (also when
+ * (case-insensitive) select explicitly. validation: VK_LAYER_KHRONOS_validation on, with
+ * synchronization validation (VkValidationFeaturesEXT) when the layer offers it (also when
  * XRSC_VALIDATION=1).
  */
 typedef struct gpu_context_options {

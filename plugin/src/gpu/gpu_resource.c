@@ -147,6 +147,10 @@ xrsc_result gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, VkDeviceSize of
     if (res == XRSC_OK) {
         VkBufferCopy region = {.srcOffset = 0, .dstOffset = offset, .size = size};
         vkCmdCopyBuffer(cmd, staging.buffer, buf->buffer, 1, &region);
+        /* A fence only makes the copy available; this makes it visible to every later
+         * command on the queue (the BLAS builds read vertices and indices in a submission of
+         * their own, which starts with no barrier). */
+        gpu_cmd_barrier_all(cmd);
         res = gpu_cmd_submit_wait(ctx, cmd, diag);
     }
     gpu_buffer_destroy(ctx, &staging);
@@ -309,6 +313,7 @@ xrsc_result gpu_image_create_storage(gpu_context *ctx, VkFormat format, uint32_t
     if (res == XRSC_OK) {
         cmd_layout(cmd, out->image, layers, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
         gpu_image_cmd_clear(cmd, out);
+        gpu_cmd_barrier_all(cmd); /* the clear visible to later submissions, as above */
         res = gpu_cmd_submit_wait(ctx, cmd, diag);
     }
     if (res != XRSC_OK)

@@ -220,15 +220,19 @@ static void cmd_trace_list(gpu_context *ctx, VkCommandBuffer cmd, const gpu_rt_p
 static void record_reproject(mt_samplecache *s, VkCommandBuffer cmd)
 {
     VkDeviceSize plane = s->plane, cur = s->p.cur;
-    if (s->frames == 0) { /* empty history: clear the previous copy's masks and statistics */
+    VkDeviceSize cur_plane = cur * plane * sizeof(uint32_t), plane_bytes = plane * sizeof(uint32_t);
+    /* Empty history: both copies cleared at once (a second fill of the same bytes would be a
+     * write-after-write needing a barrier); later frames clear this copy only. */
+    if (s->frames == 0) {
         cmd_fill(cmd, &s->mask, 0, VK_WHOLE_SIZE, 0);
         cmd_fill(cmd, &s->stats, 0, VK_WHOLE_SIZE, 0);
         cmd_fill(cmd, &s->foreign, 0, VK_WHOLE_SIZE, 0);
+    } else {
+        cmd_fill(cmd, &s->mask, cur_plane, plane_bytes, 0);
+        if (s->p.cross_eye)
+            cmd_fill(cmd, &s->foreign, cur_plane, plane_bytes, 0);
+        cmd_fill(cmd, &s->stats, cur * 2 * sizeof(xs_sc_stats), 2 * sizeof(xs_sc_stats), 0);
     }
-    cmd_fill(cmd, &s->mask, cur * plane * sizeof(uint32_t), plane * sizeof(uint32_t), 0);
-    if (s->p.cross_eye)
-        cmd_fill(cmd, &s->foreign, cur * plane * sizeof(uint32_t), plane * sizeof(uint32_t), 0);
-    cmd_fill(cmd, &s->stats, cur * 2 * sizeof(xs_sc_stats), 2 * sizeof(xs_sc_stats), 0);
     cmd_fill(cmd, &s->depth_min, 0, VK_WHOLE_SIZE, MT_SC_DEPTH_MIN_NONE);
     cmd_fill(cmd, &s->depth_max, 0, VK_WHOLE_SIZE, 0);
     if (s->p.two_pass)
