@@ -200,6 +200,7 @@ void hs_warn_first_frame(const hs_replay_options *opt, xrsc_renderer *r, uint32_
                         .background_fraction = eye_fraction(r, XRSC_OUTPUT_DEPTH, w, h, 1.0),
                         .scene_width_m = hs_scene_width_m(info),
                         .camera_count = info->camera_count,
+                        .viewpoint_inside = opt->viewpoint.kind == HS_VIEWPOINT_INSIDE,
                         .head_inside_bounds = true};
     double head[3] = {0.5 * ((double)views[0].pose.position.x + views[1].pose.position.x),
                       0.5 * ((double)views[0].pose.position.y + views[1].pose.position.y),

@@ -198,8 +198,9 @@ void hs_hint_message(hs_hint hint, const hs_first_frame *f, char *buf, size_t ca
     case HS_HINT_INSIDE_GEOMETRY:
         snprintf(buf, cap,
                  "frame 0 is black and filled with geometry: the view starts inside something "
-                 "closed that no light reaches; try --viewpoint inside (the centre of the "
-                 "scene)%s or --viewpoint x,y,z[:yaw], or --frame to see it from outside",
+                 "closed that no light reaches; try %s--viewpoint x,y,z[:yaw]%s, light inside "
+                 "it (an emissive material or a light), or --frame to see it from outside",
+                 f->viewpoint_inside ? "" : "--viewpoint inside (the centre of the scene), ",
                  cams);
         break;
     case HS_HINT_ENCLOSED_SCENE:

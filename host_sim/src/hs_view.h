@@ -102,6 +102,7 @@ typedef struct hs_first_frame {
     double scene_width_m;       /**< hs_scene_width_m */
     double distance_m;          /**< from the head to the bounds' centre */
     uint32_t camera_count;      /**< the scene's perspective cameras */
+    bool viewpoint_inside;      /**< --viewpoint inside placed it (not suggested again) */
 } hs_first_frame;
 
 /** At least this fraction of background pixels is "almost all background". */

@@ -83,8 +83,7 @@ static void usage(FILE *f)
 "  --bounces N         bounces after the first hit    [3]\n"
 "  --resolution WxH    render size per eye            [%dx%d]\n"
 "  --seed N            random seed                    [0]\n"
-"  --env R,G,B         constant environment radiance (default: the scene's; a scene with\n"
-"                      no light gets the built-in studio environment; 1,1,1 = old grey)\n"
+"  --env R,G,B         constant environment radiance (default: the scene's)\n"
 HS_LIGHT_USAGE
 "  --device D          cpu | gpu | index | name part  [$XRSC_DEVICE, else a GPU, else lavapipe]\n"
 "  --validation        enable the Vulkan validation layer\n"
