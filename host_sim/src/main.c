@@ -408,11 +408,13 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
     printf("\n");
     printf("frames: %u  load %.2f s  total %.2f s\n", st->frames, st->load_s, st->total_s);
     const xrsc_scene_info *si = &st->scene;
+    /* materials: the file's (the scene adds glTF's default material to them) */
     printf("load: scene %.2f s (parse %.2f, geometry %.2f, tangents %.2f, Morton %.2f, GPU "
            "%.2f), %llu triangles, %u materials, %u textures, %u lights%s, peak memory %.0f MiB\n",
            si->load_ms * 1e-3, si->load_parse_ms * 1e-3, si->load_geometry_ms * 1e-3,
            si->load_tangents_ms * 1e-3, si->load_morton_ms * 1e-3, si->load_gpu_ms * 1e-3,
-           (unsigned long long)si->triangle_count, si->material_count, si->texture_count,
+           (unsigned long long)si->triangle_count,
+           si->material_count > 0 ? si->material_count - 1 : 0, si->texture_count,
            si->light_count, si->studio_environment ? " (studio environment)" : "",
            st->load_peak_rss_kib / 1024.0);
     printf("render wall time per stereo frame: mean %.2f ms, max %.2f ms\n",
