@@ -129,8 +129,6 @@ static bool headset_is_zero(const xrsc_headset *hs)
 /* A pixel counts as black when its linear value x exposure rounds to 0 in the 8-bit sRGB
  * PNG: 12.92 x 255 x v < 0.5 (sRGB's linear segment). */
 #define BLACK_LINEAR_MAX (0.5 / (12.92 * 255.0))
-/* A frame with at least this fraction of black pixels gets the warning. */
-#define BLACK_FRACTION_WARN 0.99
 #define HS_PI 3.14159265358979323846
 
 XrPosef hs_frame_viewpoint(const xrsc_scene_info *info, const XrFovf fov[2])

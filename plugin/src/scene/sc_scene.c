@@ -1406,7 +1406,7 @@ static xrsc_result set_env_map(sc_build *b)
     }
     if (r == XRSC_OK) {
         float k = o->env_intensity > 0.0f ? o->env_intensity : 1.0f;
-        if (o->sky) /* the sky's sun with its sky */
+        if (!o->env_map_path && o->sky) /* the sky's sun with its sky */
             for (int c = 0; c < 3; c++) s->sun.radiance[c] *= k;
         r = sc_env_map_build(baked ? baked : img.rgb, w, h, k, &s->env_map, b->diag);
     }
