@@ -20,8 +20,9 @@ extern const size_t hs_light_value_option_count;
 
 /** The --help lines of the lighting options (right after the --env line). */
 #define HS_LIGHT_USAGE                                                                             \
-    "                      (a scene without one and without a directional light: grey 1,\n"   \
-    "                      emissive materials notwithstanding)\n"                              \
+    "                      (a scene without one and without a directional light: the built-in\n" \
+    "                      studio environment, emissive materials notwithstanding; 1,1,1 is\n" \
+    "                      the grey of earlier versions)\n"                                  \
     "  --env-map FILE      equirectangular Radiance .hdr environment (centre = -Z, top = +Y),\n" \
     "                      importance-sampled; replaces --env and the scene's environment\n"     \
     "  --env-intensity X   scales --env-map, or --sky's sun and sky [1]\n"                     \

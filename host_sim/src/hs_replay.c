@@ -17,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -129,34 +130,11 @@ static bool headset_is_zero(const xrsc_headset *hs)
 /* A pixel counts as black when its linear value x exposure rounds to 0 in the 8-bit sRGB
  * PNG: 12.92 x 255 x v < 0.5 (sRGB's linear segment). */
 #define BLACK_LINEAR_MAX (0.5 / (12.92 * 255.0))
-/* A frame with at least this fraction of black pixels gets the warning. */
-#define BLACK_FRACTION_WARN 0.99
 #define HS_PI 3.14159265358979323846
 
 XrPosef hs_frame_viewpoint(const xrsc_scene_info *info, const XrFovf fov[2])
 {
-    double c[3], r2 = 0.0;
-    for (int a = 0; a < 3; a++) {
-        c[a] = 0.5 * ((double)info->bounds_min[a] + info->bounds_max[a]);
-        double h = 0.5 * ((double)info->bounds_max[a] - info->bounds_min[a]);
-        r2 += h * h;
-    }
-    /* The narrowest half-angle over both eyes and all four sides (asymmetric FOVs). */
-    double half = 0.5 * HS_PI;
-    for (int e = 0; e < 2; e++) {
-        const float ang[4] = {-fov[e].angleLeft, fov[e].angleRight, fov[e].angleUp,
-                              -fov[e].angleDown};
-        for (int k = 0; k < 4; k++)
-            if (ang[k] > 0.0f && ang[k] < half)
-                half = ang[k];
-    }
-    double radius = sqrt(r2);
-    double dist = radius > 0.0 ? radius / sin(half) : 1.0;
-    XrPosef p = xrsc_pose_identity();
-    p.position.x = (float)c[0];
-    p.position.y = (float)c[1];
-    p.position.z = (float)(c[2] + dist);
-    return p;
+    return hs_view_frame(info, fov, 0.0);
 }
 
 bool hs_scene_fov(const xrsc_scene_info *info, uint32_t width, uint32_t height, XrFovf *out)
@@ -184,30 +162,118 @@ xrsc_result hs_check_start(const char *poses_path, double start_s, int64_t durat
                       (double)duration_ns / NS_PER_S);
 }
 
-void hs_warn_if_black(const hs_replay_options *opt, xrsc_renderer *r, uint32_t w, uint32_t h)
+/** Fraction of pixels of both eyes that are black (colour) or background (depth 0); -1 when
+ *  the output cannot be read. */
+static double eye_fraction(xrsc_renderer *r, xrsc_output out, uint32_t w, uint32_t h,
+                           double exposure)
 {
-    size_t n = (size_t)w * h, black = 0;
-    float *color = malloc(n * 4 * sizeof(float));
-    if (!color)
-        return;
-    double exposure = opt->exposure > 0.0f ? opt->exposure : 1.0;
+    size_t n = (size_t)w * h, count = 0;
+    bool color = out == XRSC_OUTPUT_COLOR;
+    float *px = malloc(n * (color ? 4 : 1) * sizeof(float));
+    if (!px)
+        return -1.0;
     for (uint32_t e = 0; e < 2; e++) {
-        if (xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, color, n * 4 * sizeof(float)) != XRSC_OK) {
-            free(color);
-            return;
+        if (xrsc_renderer_read(r, e, out, px, n * (color ? 4 : 1) * sizeof(float)) != XRSC_OK) {
+            free(px);
+            return -1.0;
         }
         for (size_t i = 0; i < n; i++) {
-            float m = fmaxf(color[4 * i], fmaxf(color[4 * i + 1], color[4 * i + 2]));
-            black += !(m * exposure >= BLACK_LINEAR_MAX);
+            if (!color) {
+                count += !(px[i] > 0.0f);
+                continue;
+            }
+            float m = fmaxf(px[4 * i], fmaxf(px[4 * i + 1], px[4 * i + 2]));
+            count += !(m * exposure >= BLACK_LINEAR_MAX);
         }
     }
-    free(color);
-    double frac = (double)black / (double)(2 * n);
-    if (frac >= BLACK_FRACTION_WARN)
-        U_LOG_W("frame 0 is %.1f %% black: the scene may have no light reaching the view "
-                "(try --env 0.8,0.8,0.8), the view may miss the scene (try --frame), or the "
-                "exposure is too low (--exposure)",
-                100.0 * frac);
+    free(px);
+    return (double)count / (double)(2 * n);
+}
+
+void hs_warn_first_frame(const hs_replay_options *opt, xrsc_renderer *r, uint32_t w, uint32_t h,
+                         const xrsc_scene_info *info, const xrsc_view views[2],
+                         hs_replay_stats *st)
+{
+    double exposure = opt->exposure > 0.0f ? opt->exposure : 1.0;
+    hs_first_frame f = {.black_fraction = eye_fraction(r, XRSC_OUTPUT_COLOR, w, h, exposure),
+                        .background_fraction = eye_fraction(r, XRSC_OUTPUT_DEPTH, w, h, 1.0),
+                        .scene_width_m = hs_scene_width_m(info),
+                        .camera_count = info->camera_count,
+                        .viewpoint_inside = opt->viewpoint.kind == HS_VIEWPOINT_INSIDE,
+                        .head_inside_bounds = true};
+    double head[3] = {0.5 * ((double)views[0].pose.position.x + views[1].pose.position.x),
+                      0.5 * ((double)views[0].pose.position.y + views[1].pose.position.y),
+                      0.5 * ((double)views[0].pose.position.z + views[1].pose.position.z)};
+    double d2 = 0.0;
+    for (int a = 0; a < 3; a++) {
+        double c = 0.5 * ((double)info->bounds_min[a] + info->bounds_max[a]);
+        d2 += (head[a] - c) * (head[a] - c);
+        f.head_inside_bounds &= head[a] >= info->bounds_min[a] && head[a] <= info->bounds_max[a];
+    }
+    f.distance_m = sqrt(d2);
+    if (f.background_fraction < 0.0) /* no depth output: the black frame alone */
+        f.background_fraction = 0.5;
+    hs_hint hint = f.black_fraction < 0.0 ? HS_HINT_NONE : hs_first_frame_hint(&f);
+    if (st) {
+        st->first_frame_hint = hint;
+        st->first_frame_background = f.background_fraction;
+    }
+    if (hint == HS_HINT_NONE)
+        return;
+    char msg[512];
+    hs_hint_message(hint, &f, msg, sizeof msg);
+    U_LOG_W("[%s] %s", hs_hint_name(hint), msg);
+}
+
+xrsc_result hs_replay_viewpoint(const hs_replay_options *opt, const xrsc_scene *scene,
+                                const xrsc_scene_info *info, const XrFovf fov[2], double ipd_m,
+                                XrPosef *out, xrsc_diag *diag)
+{
+    const hs_viewpoint *v = &opt->viewpoint;
+    *out = info->viewpoint;
+    switch (v->kind) {
+    case HS_VIEWPOINT_CAMERA: {
+        xrsc_result r = xrsc_scene_camera(scene, v->camera, out, NULL, diag);
+        if (r != XRSC_OK && diag)
+            snprintf(diag->field, sizeof diag->field, "%s", "--viewpoint");
+        return r;
+    }
+    case HS_VIEWPOINT_POSITION:
+        *out = hs_view_at(v->position, v->yaw_deg);
+        return XRSC_OK;
+    case HS_VIEWPOINT_INSIDE:
+        *out = hs_view_inside(info);
+        return XRSC_OK;
+    default:
+        if (opt->frame_bounds)
+            *out = hs_view_frame(info, fov, ipd_m);
+        return XRSC_OK;
+    }
+}
+
+void hs_warn_narrow_scene(const xrsc_scene_info *info, double ipd_m, double used_ipd_m)
+{
+    double width = hs_scene_width_m(info);
+    if (!(width < ipd_m))
+        return;
+    if (used_ipd_m < ipd_m)
+        U_LOG_W("[%s] the scene is %.3g mm across, narrower than the IPD (%.3g mm): --frame "
+                "uses an IPD of %.3g mm (a tenth of its viewing distance); --ipd sets another",
+                hs_hint_name(HS_HINT_NARROWER_THAN_IPD), width * 1e3, ipd_m * 1e3,
+                used_ipd_m * 1e3);
+    else
+        U_LOG_W("[%s] the scene is %.3g mm across, narrower than the IPD (%.3g mm): each eye "
+                "sees it from far to its side; try --frame --direct (scales the IPD with the "
+                "distance) or --ipd %.2g",
+                hs_hint_name(HS_HINT_NARROWER_THAN_IPD), width * 1e3, ipd_m * 1e3,
+                fmax(width * 1e3 / 4.0, 0.01));
+}
+
+void hs_replay_stats_scene(hs_replay_stats *st, const xrsc_scene *scene)
+{
+    xrsc_scene_get_info(scene, &st->scene);
+    struct rusage ru;
+    st->load_peak_rss_kib = getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss : 0;
 }
 
 void hs_replay_stats_average(hs_replay_stats *st)
@@ -303,7 +369,7 @@ static xrsc_result replay_frame(replay_loop *L, uint32_t k, hs_replay_stats *st,
     hs_replay_stats_add(st, L->r, ms, passes, &np);
     csv_row(L, k, t_ns, lookup, ms, passes, np);
     if (k == 0)
-        hs_warn_if_black(opt, L->r, L->w, L->h);
+        hs_warn_first_frame(opt, L->r, L->w, L->h, &st->scene, frame.views, st);
     if (opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear) &&
         (res = write_frame(opt, L->r, k, L->w, L->h, &L->buf, diag)) != XRSC_OK)
         return res;
@@ -312,7 +378,8 @@ static xrsc_result replay_frame(replay_loop *L, uint32_t k, hs_replay_stats *st,
     return hs_outputs_frame(L->outs, L->r, k, diag);
 }
 
-/* The scene's view: --fov scene's FOV, --frame's viewpoint, the stream anchored to it. */
+/* The scene's view: --fov scene's FOV, --viewpoint's or --frame's viewpoint (a scene narrower
+ * than the IPD gets --frame's IPD), the stream anchored to it. */
 static xrsc_result scene_view(const hs_replay_options *opt, xrsc_scene *scene,
                               replay_loop *L, hs_pose_stream *stream, xrsc_diag *diag)
 {
@@ -321,15 +388,18 @@ static xrsc_result scene_view(const hs_replay_options *opt, xrsc_scene *scene,
     if (opt->fov_scene && !hs_scene_fov(&info, L->w, L->h, &L->scene_fov))
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->scene_path, 0, "--fov",
                           "--fov scene: the scene has no perspective camera with a yfov");
-    if (opt->frame_bounds) {
-        XrFovf f[2] = {L->headset.fov[0], L->headset.fov[1]};
-        if (opt->fov_scene)
-            f[0] = f[1] = L->scene_fov;
-        info.viewpoint = hs_frame_viewpoint(&info, f);
-    }
-    if (!opt->no_anchor)
+    XrFovf f[2] = {L->headset.fov[0], L->headset.fov[1]};
+    if (opt->fov_scene)
+        f[0] = f[1] = L->scene_fov;
+    double ipd = L->headset.ipd_m;
+    if (opt->frame_bounds && !opt->frame_keep_ipd && opt->viewpoint.kind == HS_VIEWPOINT_DEFAULT)
+        L->headset.ipd_m = (float)hs_frame_ipd_m(&info, f, ipd);
+    hs_warn_narrow_scene(&info, ipd, L->headset.ipd_m);
+    xrsc_result res = hs_replay_viewpoint(opt, scene, &info, f, L->headset.ipd_m,
+                                          &info.viewpoint, diag);
+    if (res == XRSC_OK && !opt->no_anchor)
         hs_pose_stream_anchor(stream, info.viewpoint);
-    return XRSC_OK;
+    return res;
 }
 
 xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_stats,
@@ -372,8 +442,10 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
         (res = xrsc_context_create(&opt->context, &ctx, diag)) != XRSC_OK)
         goto done;
     snprintf(st->device, sizeof(st->device), "%s", xrsc_context_device_name(ctx));
-    if ((res = xrsc_scene_load(ctx, opt->scene_path, &opt->scene, &scene, diag)) != XRSC_OK ||
-        (res = scene_view(opt, scene, &L, stream, diag)) != XRSC_OK ||
+    if ((res = xrsc_scene_load(ctx, opt->scene_path, &opt->scene, &scene, diag)) != XRSC_OK)
+        goto done;
+    hs_replay_stats_scene(st, scene);
+    if ((res = scene_view(opt, scene, &L, stream, diag)) != XRSC_OK ||
         (res = xrsc_renderer_create(ctx, scene, &ropt, &L.r, diag)) != XRSC_OK)
         goto done;
     L.stream = stream;

@@ -12,6 +12,7 @@
 #pragma once
 
 #include "hs_pose_stream.h"
+#include "hs_view.h"
 #include "xrsc/xrsc.h"
 
 #include <signal.h>
@@ -41,8 +42,12 @@ typedef struct hs_replay_options {
      *  eye's width/height) instead of the headset's or the stream's; a scene without a
      *  perspective camera is an error. Direct path only (the OpenXR path refuses it). */
     bool fov_scene;
-    /** --frame: anchor at ::hs_frame_viewpoint instead of the scene's viewpoint. */
+    /** --frame: anchor at ::hs_view_frame instead of the scene's viewpoint; a scene narrower
+     *  than the IPD gets ::hs_frame_ipd_m on the direct path unless frame_keep_ipd. */
     bool frame_bounds;
+    bool frame_keep_ipd; /**< --ipd was given: --frame keeps it */
+    /** --viewpoint: anchor there instead (zero: the scene's viewpoint; not with --frame). */
+    hs_viewpoint viewpoint;
     bool write_eyes;              /**< frame_NNNNN_left.png / _right.png */
     bool write_sbs;               /**< frame_NNNNN_sbs.png */
     bool write_linear;            /**< frame_NNNNN_left.pfm / _right.pfm (linear HDR) */
@@ -75,6 +80,13 @@ typedef struct hs_replay_stats {
     double render_ms_mean, render_ms_max; /**< wall time of xrsc_renderer_render per frame */
     double total_s;                       /**< whole run including loading and writing */
     double load_s;                        /**< context + scene + stream */
+    /** The scene's info right after its load (counts, load_ms and its stages), and the
+     *  process's peak resident memory then (getrusage ru_maxrss, KiB): the `load` line. */
+    xrsc_scene_info scene;
+    long load_peak_rss_kib;
+    /** The first frame: the hint it got (HS_HINT_NONE: none) and its background fraction. */
+    hs_hint first_frame_hint;
+    double first_frame_background;
     uint32_t pass_count;
     xrsc_pass_timing pass_mean[XRSC_MAX_PASSES]; /**< GPU ms per pass, mean over frames */
     double rays_per_frame;
@@ -113,12 +125,31 @@ xrsc_result hs_check_start(const char *poses_path, double start_s, int64_t durat
                            xrsc_diag *diag);
 
 /**
- * Warns once on stderr when the renderer's last frame is >= 99 % black in both eyes (linear
- * value x exposure that the 8-bit PNG rounds to 0), saying what to try (--env, --frame,
- * --exposure). Both replay paths call it after their first rendered frame.
+ * The first frame's check, both replay paths call it after their first rendered frame: reads
+ * both eyes' colour (black: linear value x exposure that the 8-bit PNG rounds to 0) and depth
+ * (background: 0), and warns once on stderr with ::hs_first_frame_hint's ID and what to try
+ * for this scene (views: the frame's eye poses; info: the scene's). Sets
+ * st->first_frame_hint and st->first_frame_background.
  */
-void hs_warn_if_black(const hs_replay_options *opt, xrsc_renderer *r, uint32_t width,
-                      uint32_t height);
+void hs_warn_first_frame(const hs_replay_options *opt, xrsc_renderer *r, uint32_t width,
+                         uint32_t height, const xrsc_scene_info *info, const xrsc_view views[2],
+                         hs_replay_stats *st);
+
+/**
+ * Where the stream is anchored: --viewpoint (camera:N from the scene: an error naming
+ * --viewpoint when it has no such camera; x,y,z[:yaw]; inside), else --frame's
+ * (::hs_view_frame with the eyes ipd_m apart), else the scene's viewpoint.
+ */
+xrsc_result hs_replay_viewpoint(const hs_replay_options *opt, const xrsc_scene *scene,
+                                const xrsc_scene_info *info, const XrFovf fov[2], double ipd_m,
+                                XrPosef *out, xrsc_diag *diag);
+
+/** Warns ([narrower-than-ipd]) when the scene is narrower than the headset's IPD, saying
+ *  which IPD is used (used_ipd_m: --frame's, hs_frame_ipd_m) or what to give. */
+void hs_warn_narrow_scene(const xrsc_scene_info *info, double ipd_m, double used_ipd_m);
+
+/** Fills st->scene and st->load_peak_rss_kib after the scene's load (both replay paths). */
+void hs_replay_stats_scene(hs_replay_stats *st, const xrsc_scene *scene);
 
 /**
  * Turns the per-frame sums a run gathered in st (render_ms_mean, rays_per_frame, pass_mean)

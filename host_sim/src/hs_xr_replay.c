@@ -260,7 +260,7 @@ static xrsc_result run_session(const hs_replay_options *opt, xrsc_xr_session *se
         } else if (fi.status == XRSC_XR_RENDERED) {
             last_progress = now_s();
             if (st->frames == 0)
-                hs_warn_if_black(opt, r, w, h);
+                hs_warn_first_frame(opt, r, w, h, &st->scene, fi.views, st);
             if ((res = count_frame(opt, &fi, r, outs, views, plink, st, diag)) != XRSC_OK)
                 return res;
             st->frames++;
@@ -349,14 +349,19 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     snprintf(st->device, sizeof(st->device), "%s", xrsc_context_device_name(ctx));
     if ((res = xrsc_scene_load(ctx, opt->scene_path, &opt->scene, &scene, diag)) != XRSC_OK)
         goto done;
+    hs_replay_stats_scene(st, scene);
     xrsc_scene_info info;
     xrsc_scene_get_info(scene, &info);
-    if (opt->frame_bounds) {
+    {
+        /* the runtime already has the headset's IPD (XRSC_RT_IPD_MM): --frame keeps it */
         xrsc_headset hs = opt->headset;
         static const xrsc_headset zero_hs;
         if (memcmp(&hs, &zero_hs, sizeof(hs)) == 0)
             xrsc_headset_default(&hs);
-        info.viewpoint = hs_frame_viewpoint(&info, hs.fov);
+        hs_warn_narrow_scene(&info, hs.ipd_m, hs.ipd_m);
+        if ((res = hs_replay_viewpoint(opt, scene, &info, hs.fov, hs.ipd_m, &info.viewpoint,
+                                       diag)) != XRSC_OK)
+            goto done;
     }
     xrsc_renderer_options ropt = opt->renderer;
     ropt.width = w;

@@ -69,7 +69,12 @@ static void usage(FILE *f)
 "  --fov F             headset | scene: scene = both eyes use the glTF camera's yfov and\n"
 "                      aspect ratio (both paths) [headset]\n"
 "  --frame             place the viewpoint so the scene's bounds fill the view (default:\n"
-"                      the glTF camera, else in front of the bounds looking down -Z)\n"
+"                      the glTF camera, else in front of the bounds looking down -Z); a\n"
+"                      scene narrower than the IPD gets an IPD of a tenth of the viewing\n"
+"                      distance (--direct, unless --ipd is given)\n"
+"  --viewpoint V       camera:N (the scene's N-th camera, from 0) | x,y,z[:yaw] (metres;\n"
+"                      degrees about +Y, 0 looks down -Z) | inside (the bounds' centre):\n"
+"                      where the stream's first pose is placed (not with --frame)\n"
 "  --frames N          render N frames (0 = until the stream ends) [0]\n"
 "\n"
 "Rendering:\n"
@@ -214,7 +219,7 @@ static const char *const value_options[] = {
     "--sc-visibility-tolerance", "--sc-visibility-refine", "--blend", "--blend-r",
     "--blend-estimate", "--taa", "--taa-alpha",
     "--isrt-m", "--hc-table", "--hc-lod", "--hc-voxel-scale", "--hc-max-age",
-    "--hc-voxel-jitter",
+    "--hc-voxel-jitter", "--viewpoint",
 };
 
 /* Positive float option; returns 0 or the exit code of bad_arg. */
@@ -404,6 +409,16 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
         printf(", estimate %s", xrsc_blend_estimate_name(opt->renderer.blend_estimate));
     printf("\n");
     printf("frames: %u  load %.2f s  total %.2f s\n", st->frames, st->load_s, st->total_s);
+    const xrsc_scene_info *si = &st->scene;
+    /* materials: the file's (the scene adds glTF's default material to them) */
+    printf("load: scene %.2f s (parse %.2f, geometry %.2f, tangents %.2f, Morton %.2f, GPU "
+           "%.2f), %llu triangles, %u materials, %u textures, %u lights%s, peak memory %.0f MiB\n",
+           si->load_ms * 1e-3, si->load_parse_ms * 1e-3, si->load_geometry_ms * 1e-3,
+           si->load_tangents_ms * 1e-3, si->load_morton_ms * 1e-3, si->load_gpu_ms * 1e-3,
+           (unsigned long long)si->triangle_count,
+           si->material_count > 0 ? si->material_count - 1 : 0, si->texture_count,
+           si->light_count, si->studio_environment ? " (studio environment)" : "",
+           st->load_peak_rss_kib / 1024.0);
     printf("render wall time per stereo frame: mean %.2f ms, max %.2f ms\n",
            st->render_ms_mean, st->render_ms_max);
     for (uint32_t p = 0; p < st->pass_count; p++)
@@ -534,6 +549,10 @@ static int parse_input_option(const char *a, const char *v, main_args *m)
     } else if (!strcmp(a, "--frames")) {
         if (!hs_parse_u32(v, &opt->frames))
             return bad_arg(a, v, "expected a count");
+    } else if (!strcmp(a, "--viewpoint")) {
+        xrsc_diag d = {0};
+        if (hs_viewpoint_parse(v, &opt->viewpoint, &d) != XRSC_OK)
+            return bad_arg(a, v, d.message);
     } else {
         return HS_ARG_NOT_MINE;
     }
@@ -735,6 +754,9 @@ static int finish_args(main_args *m)
     }
     if (!m->blend_given)
         opt->renderer.blend = default_blend(opt->renderer.method);
+    if (opt->frame_bounds && opt->viewpoint.kind != HS_VIEWPOINT_DEFAULT)
+        return bad_arg("--viewpoint", NULL, "--frame and --viewpoint both place the view: give one");
+    opt->frame_keep_ipd = m->ipd_given;
     if (opt->preview && m->direct)
         return bad_arg("--preview", NULL,
                        "the preview window is the OpenXR runtime's: drop --direct");

@@ -3,14 +3,16 @@
  * @file test_lighting.c
  * @brief Issue 11 (lighting) on the GPU, under the validation layer:
  *  - a project-made scene with only an emissive material and no lights (the DamagedHelmet
- *    case) renders its non-emissive surface visibly lit by default (the default environment);
+ *    case) renders its non-emissive surface visibly lit under --env 1,1,1;
  *  - a constant-valued .hdr environment map gives what --env with that constant gives: the
  *    white furnace (scenes/furnace.gltf, a convex Lambertian sphere of albedo 0.5) returns
  *    exactly 0.5 L per pixel under a constant L, so with the map's importance sampling and MIS
  *    the mean over the sphere's pixels must be 0.5 L within T_SIGMAS standard errors;
  *  - importance sampling of a map with a small bright spot has a much lower per-pixel
  *    variance at equal spp than BSDF sampling alone (and the same mean within noise);
- *  - the Preetham sky (--sky) renders finite, with the side facing the sun brighter.
+ *  - the Preetham sky (--sky) renders finite, with the side facing the sun brighter;
+ *  - issue 18: a scene with no light gets the studio environment by default, under which a
+ *    white Lambertian plane facing up reads 0.9 (its normalisation) within the noise.
  * Method spp, 2 x 32 x 32 (the furnace cases) and 2 x 24 x 24 (the helmet-like case).
  */
 #include "hs_image.h"
@@ -133,7 +135,10 @@ static const char *helmet_like_scene(void)
 
 static void test_emissive_only_scene_is_lit(void)
 {
-    xrsc_scene *scene = load(helmet_like_scene(), NULL);
+    /* --env 1,1,1: the grey this test was written for (the default is now the studio
+     * environment, tested in test_hdr_env and test_studio_default_lights_white_plane) */
+    xrsc_scene_options grey = {.env_set = true, .environment = {1.0f, 1.0f, 1.0f}};
+    xrsc_scene *scene = load(helmet_like_scene(), &grey);
     if (!scene) return;
     const uint32_t n = 24;
     xrsc_frame f = make_frame(0.0f, 0.5f, 0); /* the wall fills the view */
@@ -144,10 +149,10 @@ static void test_emissive_only_scene_is_lit(void)
     for (uint32_t i = 0; i < 2 * n * n; i++)
         sum += 0.2126 * px[i * 4] + 0.7152 * px[i * 4 + 1] + 0.0722 * px[i * 4 + 2];
     double mean = sum / (2.0 * n * n);
-    /* Lambertian 0.6 under the default grey environment of 1 (half of it seen past the tile):
+    /* Lambertian 0.6 under the grey environment of 1 (half of it seen past the tile):
      * about 0.6; with the old rule (environment 0 when a material emits) only the tile's
      * light, below 0.01. */
-    printf("  helmet-like: mean wall radiance %.4f (default environment %.1f)\n", mean, 1.0);
+    printf("  helmet-like: mean wall radiance %.4f (environment %.1f)\n", mean, 1.0);
     CHECK_MSG(mean > 0.45 && mean < 0.7, "mean radiance %.4f", mean);
     /* visible in the tone-mapped output: exposure 1 and the automatic exposure */
     uint8_t *rgb = malloc((size_t)n * n * 3);
@@ -359,6 +364,74 @@ static void test_sky(void)
     free(px);
 }
 
+/* ---- the studio environment of a scene without light (issue 18) ---- */
+
+/** A 40 x 40 m white Lambertian plane (IOR 1: no specular layer) at y = 0 facing +Y, with
+ *  normals, no light and no environment in the file. */
+static const char *white_plane_scene(void)
+{
+    static const float geo[24] = {-20, 0, -20, 20, 0, -20, 20, 0, 20, -20, 0, 20,
+                                  0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0};
+    static const uint16_t idx[6] = {0, 2, 1, 0, 3, 2};
+    uint8_t bytes[96 + 12];
+    memcpy(bytes, geo, 96);
+    memcpy(bytes + 96, idx, 12);
+    char *uri = t_data_uri(bytes, sizeof bytes);
+    size_t cap = strlen(uri) + 4096;
+    char *json = malloc(cap);
+    snprintf(json, cap,
+             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+             "\"nodes\":[{\"mesh\":0}],\"meshes\":[{\"primitives\":[{\"attributes\":"
+             "{\"POSITION\":0,\"NORMAL\":1},\"indices\":2,\"material\":0}]}],"
+             "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[1,1,1,1],"
+             "\"metallicFactor\":0,\"roughnessFactor\":1},\"extensions\":"
+             "{\"KHR_materials_ior\":{\"ior\":1}}}],\"extensionsUsed\":[\"KHR_materials_ior\"],"
+             "\"buffers\":[{\"byteLength\":108,\"uri\":\"%s\"}],"
+             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":48},"
+             "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":48},"
+             "{\"buffer\":0,\"byteOffset\":96,\"byteLength\":12}],"
+             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":"
+             "\"VEC3\",\"min\":[-20,0,-20],\"max\":[20,0,20]},"
+             "{\"bufferView\":1,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\"},"
+             "{\"bufferView\":2,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]}",
+             uri);
+    free(uri);
+    const char *path = t_temp_file("white_plane.gltf", json);
+    free(json);
+    return path;
+}
+
+/** The default lighting of a scene with no light is the studio environment: a white
+ *  Lambertian plane facing up, seen from above, reads SC_STUDIO_UP_RADIANCE (0.9) in
+ *  luminance, through the GPU's map lookup and its importance sampling with MIS. */
+static void test_studio_default_lights_white_plane(void)
+{
+    xrsc_scene *scene = load(white_plane_scene(), NULL);
+    if (!scene) return;
+    xrsc_scene_info info;
+    xrsc_scene_get_info(scene, &info);
+    CHECK(info.studio_environment);
+    const uint32_t n = 24;
+    xrsc_frame f = make_frame(0.0f, 0.3f, 0);
+    for (int e = 0; e < 2; e++) { /* 1 m above the plane, looking straight down */
+        f.views[e].pose.position.y = 1.0f;
+        f.views[e].pose.orientation = (XrQuaternionf){-0.70710678f, 0.0f, 0.0f, 0.70710678f};
+    }
+    float *px = render_spp(scene, n, 16, 5, &f);
+    xrsc_scene_destroy(&scene);
+    if (!px) return;
+    double sum = 0.0, sum2 = 0.0;
+    const uint32_t count = 2 * n * n;
+    for (uint32_t i = 0; i < count; i++) {
+        double l = 0.2126 * px[i * 4] + 0.7152 * px[i * 4 + 1] + 0.0722 * px[i * 4 + 2];
+        sum += l, sum2 += l * l;
+    }
+    double mean = sum / count, se = sqrt(fmax(sum2 / count - mean * mean, 0.0) / count);
+    printf("  studio: white plane facing up reads %.4f +- %.4f (expected 0.9)\n", mean, se);
+    CHECK_MSG(fabs(mean - 0.9) <= T_SIGMAS * se + 0.005, "mean %.4f +- %.4f", mean, se);
+    free(px);
+}
+
 int main(void)
 {
     if (!(g_ctx = t_context_open()))
@@ -367,6 +440,7 @@ int main(void)
     RUN(test_constant_map_equals_env);
     RUN(test_importance_sampling_variance);
     RUN(test_sky);
+    RUN(test_studio_default_lights_white_plane);
     t_context_close(&g_ctx);
     return t_finish();
 }

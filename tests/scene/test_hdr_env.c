@@ -404,13 +404,34 @@ static sc_scene *load_emissive(const char *scene_extras, const sc_load_options *
 
 static void test_default_environment(void)
 {
-    /* no lights, no environment, an emissive material: the default grey (issue 11) */
+    /* no lights, no environment, an emissive material: the studio environment (issue 18;
+     * emissive materials notwithstanding, issue 11) */
     sc_scene *s = load_emissive("", NULL);
     if (s) {
         CHECK(s->emitter_count > 0);
-        for (int c = 0; c < 3; c++) CHECK_NEAR(s->environment[c], SC_DEFAULT_ENVIRONMENT, 0.0);
-        CHECK_EQ_INT(s->env_map.width, 0);
+        CHECK(s->env_studio);
+        CHECK_EQ_INT(s->env_map.width, SC_STUDIO_WIDTH);
+        CHECK(s->env_map.sampling);
+        for (int c = 0; c < 3; c++)
+            CHECK_NEAR(s->environment[c], s->env_map.mean_radiance[c], 0.0);
     }
+    sc_scene_destroy(&s);
+    /* --env 1,1,1: the grey of earlier versions, no map */
+    sc_load_options grey = {.env_set = true, .environment = {1.0f, 1.0f, 1.0f}};
+    s = load_emissive("", &grey);
+    if (s) {
+        CHECK(!s->env_studio);
+        CHECK_EQ_INT(s->env_map.width, 0);
+        for (int c = 0; c < 3; c++) CHECK_NEAR(s->environment[c], 1.0, 0.0);
+    }
+    sc_scene_destroy(&s);
+    /* --env-intensity scales the studio too */
+    sc_load_options half = {.env_intensity = 0.5f};
+    s = load_emissive("", &half);
+    if (s) CHECK(s->env_studio && s->environment[1] > 0.0f);
+    sc_scene *full = load_emissive("", NULL);
+    if (s && full) CHECK_NEAR(s->environment[1], 0.5 * full->environment[1], 1e-6);
+    sc_scene_destroy(&full);
     sc_scene_destroy(&s);
     /* an explicit black environment in the file stays black */
     s = load_emissive(",\"extras\":{\"xrsc_environment\":[0,0,0]}", NULL);
@@ -452,8 +473,63 @@ static void test_default_environment(void)
     }
 }
 
+/** Radiance of the studio map towards unit d (nearest texel, rotation 0; sc_env.h). */
+static const float *studio_texel(const sc_env_map *m, const double d[3])
+{
+    double u = 0.5 + atan2(d[0], -d[2]) / (2.0 * T_PI), v = acos(d[1]) / T_PI;
+    u -= floor(u);
+    uint32_t x = (uint32_t)(u * m->width), y = (uint32_t)(v * m->height);
+    if (x >= m->width) x = m->width - 1;
+    if (y >= m->height) y = m->height - 1;
+    return &m->texels[((size_t)y * m->width + x) * 4];
+}
+
+static double luma(const float *c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+
+/** The studio environment (issue 18): a white Lambertian plane facing up reads about
+ *  SC_STUDIO_UP_RADIANCE (irradiance / pi, integrated here on a finer grid than the map's);
+ *  the key light is much brighter than the ground, warm, and lights a plane facing it more
+ *  than one facing away; the fill side is brighter than the opposite side. */
+static void test_studio(void)
+{
+    float *rgb = NULL;
+    CHECK_EQ_INT(sc_studio_bake(&rgb, NULL), XRSC_OK);
+    if (!rgb) return;
+    sc_env_map m;
+    CHECK_EQ_INT(sc_env_map_build(rgb, SC_STUDIO_WIDTH, SC_STUDIO_HEIGHT, 1.0f, &m, NULL), XRSC_OK);
+    free(rgb);
+    const uint32_t nu = 4 * SC_STUDIO_WIDTH, nv = 4 * SC_STUDIO_HEIGHT;
+    static const float key_f[3] = SC_STUDIO_KEY_DIRECTION, fill_f[3] = SC_STUDIO_FILL_DIRECTION;
+    double key[3], fill[3], lk = 0, lf = 0;
+    for (int a = 0; a < 3; a++) lk += key_f[a] * key_f[a], lf += fill_f[a] * fill_f[a];
+    for (int a = 0; a < 3; a++) key[a] = key_f[a] / sqrt(lk), fill[a] = fill_f[a] / sqrt(lf);
+    double e_up = 0, e_key = 0, e_away = 0, dw = (2 * T_PI / nu) * (T_PI / nv);
+    for (uint32_t y = 0; y < nv; y++)
+        for (uint32_t x = 0; x < nu; x++) {
+            double th = T_PI * (y + 0.5) / nv, ph = 2 * T_PI * ((x + 0.5) / nu - 0.5);
+            double d[3] = {sin(th) * sin(ph), cos(th), -sin(th) * cos(ph)};
+            double l = luma(studio_texel(&m, d)) * sin(th) * dw;
+            double ck = d[0] * key[0] + d[1] * key[1] + d[2] * key[2];
+            if (d[1] > 0) e_up += l * d[1];
+            if (ck > 0) e_key += l * ck;
+            else e_away -= l * ck;
+        }
+    printf("  studio: white plane facing up %.3f, facing the key %.3f, away %.3f\n",
+           e_up / T_PI, e_key / T_PI, e_away / T_PI);
+    CHECK_NEAR(e_up / T_PI, SC_STUDIO_UP_RADIANCE, 0.02);
+    CHECK(e_key > 2.0 * e_away);
+    const double down[3] = {0, -1, 0}, anti_fill[3] = {-fill[0], fill[1], -fill[2]};
+    const float *k = studio_texel(&m, key);
+    CHECK(luma(k) > 10.0 * luma(studio_texel(&m, down)));
+    CHECK(k[0] > k[2]); /* warm */
+    CHECK(luma(studio_texel(&m, fill)) > luma(studio_texel(&m, anti_fill)));
+    CHECK(m.sampling);
+    sc_env_map_free(&m);
+}
+
 int main(void)
 {
+    RUN(test_studio);
     RUN(test_flat);
     RUN(test_rle);
     RUN(test_exposure_and_old_rle);

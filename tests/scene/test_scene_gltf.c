@@ -132,9 +132,10 @@ static void test_real_cornell(void)
     CHECK_NEAR(s->viewpoint_orientation[3], 1.0, 1e-6);
     CHECK(s->viewpoint_position[2] > s->bounds_max[2]);
     CHECK(!s->sun.present);
-    /* no directional light, no extras: the default grey, emissive lamp notwithstanding
-     * (issue 11: a glTF model without lights expects image-based lighting) */
-    CHECK_NEAR(s->environment[0], SC_DEFAULT_ENVIRONMENT, 0.0);
+    /* no directional light, no extras: the built-in studio environment, emissive lamp
+     * notwithstanding (issue 11: a glTF model without lights expects image-based lighting) */
+    CHECK(s->env_studio);
+    CHECK_EQ_INT(s->env_map.width, SC_STUDIO_WIDTH);
     sc_scene_destroy(&s);
     CHECK(s == NULL);
 }
@@ -159,7 +160,9 @@ static void test_real_candle_holder(void)
             CHECK(!s->textures[opaque->metal_rough_tex].srgb);
     }
     CHECK_EQ_INT(s->emitter_count, 0);
-    CHECK_NEAR(s->environment[1], 1.0, 0.0); /* no sun, nothing emissive: grey 1 */
+    /* no sun, nothing emissive: the studio environment, its mean as the constant */
+    CHECK(s->env_studio && s->env_map.sampling);
+    CHECK_NEAR(s->environment[1], s->env_map.mean_radiance[1], 0.0);
     sc_scene_destroy(&s);
 }
 
@@ -267,7 +270,7 @@ static void test_triangles(void)
         CHECK_NEAR(sy, 1.2, 1e-5);
         CHECK(fabsf(t->world[8]) > 0.1f); /* rotated: local +Z has an x component */
     }
-    CHECK_NEAR(s->environment[0], 1.0, 0.0);
+    CHECK(s->env_studio); /* no light: the studio environment */
     sc_scene_destroy(&s);
 }
 

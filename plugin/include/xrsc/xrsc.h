@@ -58,8 +58,10 @@ uint32_t xrsc_context_validation_errors(const xrsc_context *ctx);
 /**
  * Scene options. environment: see sc_load_options (constant environment radiance override
  * when env_set; without it and without extras.xrsc_environment a scene with no directional
- * light gets a grey environment of 1, emissive materials and point/spot lights
- * notwithstanding).
+ * light gets the built-in studio environment map, emissive materials and point/spot lights notwithstanding: a sky
+ * gradient with a soft warm key light and a dimmer fill, normalised so that a white
+ * Lambertian plane facing up reflects a radiance of 0.9; env_intensity, env_rotation_deg and
+ * env_no_importance apply to it. env_set with (1, 1, 1) gives the grey of earlier versions).
  * keep_triangle_order: skip the Morton sort of each mesh's triangles done before the BLAS
  * build (for benchmarks of its effect; primitive ids then follow the file).
  * Environment map and sky (these replace the constant environment; env_map_path wins):
@@ -98,9 +100,18 @@ typedef struct xrsc_scene_info {
     XrPosef viewpoint; /**< where a replay's first pose is anchored by default */
     float bounds_min[3], bounds_max[3];
     double blas_build_ms; /**< GPU time of the BLAS builds at load (timestamp queries) */
+    uint32_t texture_count;  /**< textures the materials use */
     /** KHR_lights_punctual lights drawn: the sun (the first directional light, or --sky's)
      *  counts as one, plus every point, spot and further directional light. */
     uint32_t light_count;
+    uint32_t camera_count;   /**< perspective cameras (::xrsc_scene_camera) */
+    bool studio_environment; /**< lit by the built-in studio environment (no light given) */
+    /** Wall time of the load in ms: load_ms the whole xrsc_scene_load (or
+     *  xrsc_scene_inspect); its parts: reading and parsing the file (tinygltf, images
+     *  decoded), reading the geometry, tangents, the Morton sort, the GPU upload and
+     *  acceleration-structure builds (0 for xrsc_scene_inspect). */
+    double load_ms, load_parse_ms, load_geometry_ms, load_tangents_ms, load_morton_ms;
+    double load_gpu_ms;
 } xrsc_scene_info;
 
 /** Loads a glTF 2.0 file and uploads it (BLAS/TLAS built). */
@@ -109,6 +120,13 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
                             xrsc_diag *out_diag);
 void xrsc_scene_destroy(xrsc_scene **scene);
 void xrsc_scene_get_info(const xrsc_scene *scene, xrsc_scene_info *out_info);
+/**
+ * Perspective camera `index` (< xrsc_scene_info.camera_count; the order the scene's nodes are
+ * walked, depth-first from its roots, 0 being the default viewpoint's): its world pose at
+ * time 0 and yfov. XRSC_ERROR_INVALID_ARGUMENT (field "camera") when there is no such camera.
+ */
+xrsc_result xrsc_scene_camera(const xrsc_scene *scene, uint32_t index, XrPosef *out_pose,
+                              float *out_yfov_rad, xrsc_diag *out_diag);
 /** The info of a glTF 2.0 file read on the CPU alone (no context, nothing uploaded;
  *  blas_build_ms 0): e.g. its camera, before a headset's views are configured. */
 xrsc_result xrsc_scene_inspect(const char *path, xrsc_scene_info *out_info, xrsc_diag *out_diag);

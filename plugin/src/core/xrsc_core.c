@@ -19,6 +19,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 /** Default per-eye size of a renderer (xrsc.h). */
 #define XRSC_DEFAULT_SIZE_PX 256u
@@ -94,6 +95,13 @@ uint32_t xrsc_context_validation_errors(const xrsc_context *ctx)
 
 /* ---- scenes ---- */
 
+static double core_now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
 static void scene_info_fill(const sc_scene *c, xrsc_scene_info *info);
 
 xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
@@ -124,12 +132,15 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
         memcpy(lo.sun_direction, options->sun_direction, sizeof(lo.sun_direction));
         lo.env_no_importance = options->env_no_importance;
     }
+    double t0 = core_now_ms();
     xrsc_result res = sc_scene_load(path, &lo, &s->cpu, out_diag);
     if (res != XRSC_OK)
         goto fail;
+    double t1 = core_now_ms();
     res = gpu_scene_create(ctx->gpu, s->cpu, &s->gpu, out_diag);
     if (res != XRSC_OK)
         goto fail;
+    double t2 = core_now_ms();
     for (uint32_t i = 0; i < s->cpu->instance_count; i++)
         s->animated = s->animated || s->cpu->instances[i].animated;
     for (uint32_t i = 0; i < s->cpu->light_count; i++) /* lights on animated nodes move too */
@@ -139,6 +150,8 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
 
     scene_info_fill(s->cpu, &s->info);
     s->info.blas_build_ms = gpu_scene_blas_build_ms(s->gpu);
+    s->info.load_gpu_ms = t2 - t1;
+    s->info.load_ms = t2 - t0;
     *out_scene = s;
     return XRSC_OK;
 fail:
@@ -165,7 +178,36 @@ static void scene_info_fill(const sc_scene *c, xrsc_scene_info *info)
                         c->viewpoint_orientation[2], c->viewpoint_orientation[3]};
     memcpy(info->bounds_min, c->bounds_min, sizeof(info->bounds_min));
     memcpy(info->bounds_max, c->bounds_max, sizeof(info->bounds_max));
+    info->texture_count = c->texture_count;
     info->light_count = c->light_count + (c->sun.present ? 1u : 0u);
+    info->camera_count = c->camera_count;
+    info->studio_environment = c->env_studio;
+    const sc_load_timing *t = &c->load_timing;
+    info->load_ms = t->read_ms + t->parse_ms + t->build_ms;
+    info->load_parse_ms = t->read_ms + t->parse_ms;
+    info->load_geometry_ms = t->geometry_ms;
+    info->load_tangents_ms = t->tangents_ms;
+    info->load_morton_ms = t->morton_ms;
+}
+
+xrsc_result xrsc_scene_camera(const xrsc_scene *scene, uint32_t index, XrPosef *out_pose,
+                              float *out_yfov_rad, xrsc_diag *out_diag)
+{
+    if (!scene || !out_pose)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0,
+                          scene ? "out_pose" : "scene", "NULL");
+    const sc_scene *c = scene->cpu;
+    if (index >= c->camera_count)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, c->path, 0, "camera",
+                          "camera %u does not exist (the scene has %u perspective camera%s)",
+                          index, c->camera_count, c->camera_count == 1 ? "" : "s");
+    const sc_camera *k = &c->cameras[index];
+    out_pose->position = (XrVector3f){k->position[0], k->position[1], k->position[2]};
+    out_pose->orientation = (XrQuaternionf){k->orientation[0], k->orientation[1],
+                                            k->orientation[2], k->orientation[3]};
+    if (out_yfov_rad)
+        *out_yfov_rad = k->yfov_rad;
+    return XRSC_OK;
 }
 
 xrsc_result xrsc_scene_inspect(const char *path, xrsc_scene_info *out_info, xrsc_diag *out_diag)

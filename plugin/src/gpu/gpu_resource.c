@@ -135,23 +135,29 @@ xrsc_result gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, VkDeviceSize of
         gpu_buffer_flush(ctx, buf);
         return XRSC_OK;
     }
+    /* A staging buffer of at most GPU_UPLOAD_CHUNK_BYTES, reused: a big scene's vertices
+     * are not held twice more in host memory (lavapipe's device memory is host memory). */
+    VkDeviceSize chunk = size < GPU_UPLOAD_CHUNK_BYTES ? size : GPU_UPLOAD_CHUNK_BYTES;
     gpu_buffer staging;
-    xrsc_result res = gpu_buffer_create(ctx, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+    xrsc_result res = gpu_buffer_create(ctx, chunk, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                         GPU_MEMORY_UPLOAD, &staging, diag);
     if (res != XRSC_OK)
         return res;
-    memcpy(staging.mapped, data, size);
-    gpu_buffer_flush(ctx, &staging);
-    VkCommandBuffer cmd;
-    res = gpu_cmd_begin(ctx, &cmd, diag);
-    if (res == XRSC_OK) {
-        VkBufferCopy region = {.srcOffset = 0, .dstOffset = offset, .size = size};
-        vkCmdCopyBuffer(cmd, staging.buffer, buf->buffer, 1, &region);
-        /* A fence only makes the copy available; this makes it visible to every later
-         * command on the queue (the BLAS builds read vertices and indices in a submission of
-         * their own, which starts with no barrier). */
-        gpu_cmd_barrier_all(cmd);
-        res = gpu_cmd_submit_wait(ctx, cmd, diag);
+    for (VkDeviceSize done = 0; res == XRSC_OK && done < size; done += chunk) {
+        VkDeviceSize n = size - done < chunk ? size - done : chunk;
+        memcpy(staging.mapped, (const char *)data + done, n);
+        gpu_buffer_flush(ctx, &staging);
+        VkCommandBuffer cmd;
+        res = gpu_cmd_begin(ctx, &cmd, diag);
+        if (res == XRSC_OK) {
+            VkBufferCopy region = {.srcOffset = 0, .dstOffset = offset + done, .size = n};
+            vkCmdCopyBuffer(cmd, staging.buffer, buf->buffer, 1, &region);
+            /* A fence only makes the copy available; this makes it visible to every later
+             * command on the queue (the BLAS builds read vertices and indices in a submission
+             * of their own, which starts with no barrier). */
+            gpu_cmd_barrier_all(cmd);
+            res = gpu_cmd_submit_wait(ctx, cmd, diag);
+        }
     }
     gpu_buffer_destroy(ctx, &staging);
     return res;

@@ -38,7 +38,10 @@ void gpu_buffer_destroy(gpu_context *ctx, gpu_buffer *buf);
  *  read-back copies). */
 xrsc_result gpu_buffer_create_storage(gpu_context *ctx, VkDeviceSize size, gpu_buffer *out,
                                       xrsc_diag *diag);
-/** Copies size bytes into buf at offset through a temporary staging buffer (waits). */
+/** Largest staging buffer of ::gpu_buffer_upload: bigger uploads go in chunks of this size. */
+#define GPU_UPLOAD_CHUNK_BYTES ((VkDeviceSize)16 << 20)
+/** Copies size bytes into buf at offset through a temporary staging buffer of at most
+ *  GPU_UPLOAD_CHUNK_BYTES, one submission per chunk (waits). */
 xrsc_result gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, VkDeviceSize offset,
                               const void *data, VkDeviceSize size, xrsc_diag *diag);
 /** Copies size bytes at offset of buf (created with TRANSFER_SRC usage) into dst: one

@@ -119,45 +119,54 @@ static void write_tlas_instances(gpu_scene *gs, const sc_scene *scene)
 
 /* ---- upload of the shared buffers ---- */
 
+/** Vertices converted to xs_vertex per chunk of GPU_UPLOAD_CHUNK_BYTES and uploaded,
+ *  so that no whole converted copy is held next to the scene's. */
+static xrsc_result upload_vertices(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                   xrsc_diag *diag)
+{
+    VkDeviceSize bytes = (VkDeviceSize)scene->vertex_count * sizeof(xs_vertex);
+    xrsc_result res = gpu_buffer_create_with_data(ctx, NULL, bytes,
+                                                  GPU_SCENE_INPUT_USAGE, &gs->vertices, diag);
+    const uint32_t per_chunk = (uint32_t)(GPU_UPLOAD_CHUNK_BYTES / sizeof(xs_vertex));
+    xs_vertex *v = res == XRSC_OK ? malloc((size_t)per_chunk * sizeof(*v)) : NULL;
+    if (res == XRSC_OK && !v)
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+    for (uint32_t first = 0; res == XRSC_OK && first < scene->vertex_count; first += per_chunk) {
+        uint32_t n = scene->vertex_count - first < per_chunk ? scene->vertex_count - first
+                                                             : per_chunk;
+        for (uint32_t i = 0; i < n; i++) {
+            const sc_vertex *s = &scene->vertices[first + i];
+            v[i].position_u = (xs_vec4){s->position[0], s->position[1], s->position[2], s->uv[0]};
+            v[i].normal_v = (xs_vec4){s->normal[0], s->normal[1], s->normal[2], s->uv[1]};
+            v[i].tangent = (xs_vec4){s->tangent[0], s->tangent[1], s->tangent[2], s->tangent[3]};
+        }
+        res = gpu_buffer_upload(ctx, &gs->vertices, (VkDeviceSize)first * sizeof(*v), v,
+                                (VkDeviceSize)n * sizeof(*v), diag);
+    }
+    free(v);
+    return res;
+}
+
 static xrsc_result upload_geometry(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
                                    xrsc_diag *diag)
 {
-    xrsc_result res = XRSC_OK;
-    xs_vertex *v = calloc(scene->vertex_count ? scene->vertex_count : 1, sizeof(*v));
-    uint32_t *idx = calloc(scene->index_count ? scene->index_count : 1, sizeof(*idx));
-    if (!v || !idx) {
-        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
-        goto done;
-    }
-    for (uint32_t i = 0; i < scene->vertex_count; i++) {
-        const sc_vertex *s = &scene->vertices[i];
-        v[i].position_u = (xs_vec4){s->position[0], s->position[1], s->position[2], s->uv[0]};
-        v[i].normal_v = (xs_vec4){s->normal[0], s->normal[1], s->normal[2], s->uv[1]};
-        v[i].tangent = (xs_vec4){s->tangent[0], s->tangent[1], s->tangent[2], s->tangent[3]};
-    }
-    /* sc_scene indices are already absolute (sc_scene.h); check they stay in their mesh. */
+    /* sc_scene indices are already absolute (sc_scene.h); check they stay in their mesh,
+     * then upload them as they are. */
     for (uint32_t m = 0; m < scene->mesh_count; m++) {
         const sc_mesh *mesh = &scene->meshes[m];
         for (uint32_t k = 0; k < mesh->index_count; k++) {
             uint32_t vi = scene->indices[mesh->first_index + k];
-            if (vi < mesh->first_vertex || vi - mesh->first_vertex >= mesh->vertex_count) {
-                res = u_diag_set(diag, XRSC_ERROR_GLTF_INVALID, scene->path, 0, "indices",
-                                 "mesh %u index %u outside its vertices [%u, %u)", m, vi,
-                                 mesh->first_vertex, mesh->first_vertex + mesh->vertex_count);
-                goto done;
-            }
-            idx[mesh->first_index + k] = vi;
+            if (vi < mesh->first_vertex || vi - mesh->first_vertex >= mesh->vertex_count)
+                return u_diag_set(diag, XRSC_ERROR_GLTF_INVALID, scene->path, 0, "indices",
+                                  "mesh %u index %u outside its vertices [%u, %u)", m, vi,
+                                  mesh->first_vertex, mesh->first_vertex + mesh->vertex_count);
         }
     }
-    res = gpu_buffer_create_with_data(ctx, v, (VkDeviceSize)scene->vertex_count * sizeof(*v),
-                                      GPU_SCENE_INPUT_USAGE, &gs->vertices, diag);
-    if (res != XRSC_OK)
-        goto done;
-    res = gpu_buffer_create_with_data(ctx, idx, (VkDeviceSize)scene->index_count * sizeof(*idx),
-                                      GPU_SCENE_INPUT_USAGE, &gs->indices, diag);
-done:
-    free(v);
-    free(idx);
+    xrsc_result res = gpu_buffer_create_with_data(
+        ctx, scene->indices, (VkDeviceSize)scene->index_count * sizeof(uint32_t),
+        GPU_SCENE_INPUT_USAGE, &gs->indices, diag);
+    if (res == XRSC_OK)
+        res = upload_vertices(ctx, gs, scene, diag);
     return res;
 }
 

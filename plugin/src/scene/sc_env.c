@@ -243,3 +243,81 @@ xrsc_result sc_sky_bake(const sc_sky_options *opt, float **out_rgb, float out_su
     *out_rgb = rgb;
     return XRSC_OK;
 }
+
+/* ---- the built-in studio environment (sc_env.h) ---- */
+
+/** Sky gradient colours (relative; the whole map is normalised afterwards). */
+static const double studio_zenith[3] = {0.62, 0.68, 0.80};
+static const double studio_horizon[3] = {0.90, 0.90, 0.88};
+static const double studio_ground[3] = {0.34, 0.32, 0.30};
+/** Half-width (as sin of elevation) of the blend between sky and ground at the horizon. */
+#define STUDIO_HORIZON_BLEND 0.05
+/** Lobes exp(kappa (cos gamma - 1)): solid angle about 2 pi / kappa. Key: about 10 degrees
+ *  wide, carrying about 1.5 times the sky's irradiance on an upward plane; fill: wider and
+ *  dimmer, lifting the shadow side. Peak radiances relative to the sky's. */
+#define STUDIO_KEY_KAPPA 40.0
+#define STUDIO_KEY_PEAK 28.0
+#define STUDIO_FILL_KAPPA 8.0
+#define STUDIO_FILL_PEAK 1.2
+static const double studio_key_color[3] = {1.00, 0.92, 0.80};
+static const double studio_fill_color[3] = {0.80, 0.88, 1.00};
+
+static void unit3d(const float in[3], double out[3])
+{
+    double l = sqrt((double)in[0] * in[0] + (double)in[1] * in[1] + (double)in[2] * in[2]);
+    for (int k = 0; k < 3; k++) out[k] = in[k] / l;
+}
+
+static double studio_smoothstep(double e0, double e1, double x)
+{
+    double t = (x - e0) / (e1 - e0);
+    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+    return t * t * (3.0 - 2.0 * t);
+}
+
+/** Relative studio radiance towards unit direction d. */
+static void studio_radiance(const float d[3], const double key[3], const double fill[3],
+                            float out[3])
+{
+    double y = d[1], up = y > 0.0 ? sqrt(y) : 0.0, down = y < 0.0 ? sqrt(-y) : 0.0;
+    double g = studio_smoothstep(-STUDIO_HORIZON_BLEND, STUDIO_HORIZON_BLEND, y);
+    double ck = d[0] * key[0] + d[1] * key[1] + d[2] * key[2];
+    double cf = d[0] * fill[0] + d[1] * fill[1] + d[2] * fill[2];
+    double lk = STUDIO_KEY_PEAK * exp(STUDIO_KEY_KAPPA * (ck - 1.0));
+    double lf = STUDIO_FILL_PEAK * exp(STUDIO_FILL_KAPPA * (cf - 1.0));
+    for (int c = 0; c < 3; c++) {
+        double sky = studio_horizon[c] + (studio_zenith[c] - studio_horizon[c]) * up;
+        double ground = studio_ground[c] * (1.0 - 0.3 * down);
+        out[c] = (float)(ground + (sky - ground) * g + lk * studio_key_color[c] +
+                         lf * studio_fill_color[c]);
+    }
+}
+
+xrsc_result sc_studio_bake(float **out_rgb, xrsc_diag *diag)
+{
+    const uint32_t w = SC_STUDIO_WIDTH, h = SC_STUDIO_HEIGHT;
+    static const float key_dir[3] = SC_STUDIO_KEY_DIRECTION, fill_dir[3] = SC_STUDIO_FILL_DIRECTION;
+    double key[3], fill[3];
+    unit3d(key_dir, key);
+    unit3d(fill_dir, fill);
+    float *rgb = malloc((size_t)w * h * 3 * sizeof(float));
+    *out_rgb = NULL;
+    if (!rgb)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "environment", "out of memory");
+    /* irradiance on a plane facing +Y over the texels (the renderer's piecewise constant map) */
+    double e_up = 0.0, d_omega = (2.0 * SC_PI / w) * (SC_PI / h);
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++) {
+            float d[3];
+            sc_env_direction((x + 0.5f) / w, (y + 0.5f) / h, 0.0f, d);
+            float *o = &rgb[((size_t)y * w + x) * 3];
+            studio_radiance(d, key, fill, o);
+            if (d[1] > 0.0f)
+                e_up += (LUMA_R * o[0] + LUMA_G * o[1] + LUMA_B * o[2]) * d[1] * d_omega *
+                        row_sin(y, h);
+        }
+    double k = SC_STUDIO_UP_RADIANCE * SC_PI / e_up;
+    for (size_t i = 0; i < (size_t)w * h * 3; i++) rgb[i] = (float)(rgb[i] * k);
+    *out_rgb = rgb;
+    return XRSC_OK;
+}

@@ -76,6 +76,26 @@ xrsc_result sc_sky_bake(const sc_sky_options *opt, float **out_rgb, float out_su
                         xrsc_diag *diag);
 #define SC_SKY_GROUND_ALBEDO 0.2f
 
+/**
+ * The built-in studio environment of a scene with no light (sc_scene.h): a sky gradient
+ * (cool zenith, light horizon, darker warm ground, blended over a few degrees at the
+ * horizon), a soft warm key light lobe above the default viewpoint's right shoulder
+ * (SC_STUDIO_KEY_DIRECTION) and a dimmer, wider cool fill from the left, like the default
+ * image-based lighting of glTF viewers. Normalised so that a white Lambertian plane facing
+ * +Y reflects a radiance of SC_STUDIO_UP_RADIANCE (irradiance / pi over the texels).
+ */
+#define SC_STUDIO_WIDTH 256u
+#define SC_STUDIO_HEIGHT 128u
+#define SC_STUDIO_UP_RADIANCE 0.9f
+/** Towards the key light (before normalisation): up 45 degrees, right and behind the default
+ *  viewpoint (which looks down -Z), as SC_DEFAULT_SUN_DIRECTION. */
+#define SC_STUDIO_KEY_DIRECTION {0.5f, 0.70710678f, 0.5f}
+/** Towards the fill light (before normalisation): low on the left, in front of the model. */
+#define SC_STUDIO_FILL_DIRECTION {-0.7f, 0.3f, 0.5f}
+/** Bakes it into SC_STUDIO_WIDTH x SC_STUDIO_HEIGHT linear RGB floats (malloc'ed into
+ *  *out_rgb, rotation 0 convention above). XRSC_ERROR_OUT_OF_MEMORY only. */
+xrsc_result sc_studio_bake(float **out_rgb, xrsc_diag *diag);
+
 #ifdef __cplusplus
 }
 #endif

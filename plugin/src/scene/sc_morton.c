@@ -36,11 +36,32 @@ static uint64_t spread_bits(uint64_t v)
     return v;
 }
 
-static int compare_keys(const void *pa, const void *pb)
+/** Bits per pass of the radix sort: 8 passes of 8 bits cover the 63-bit codes. */
+#define RADIX_BITS 8u
+#define RADIX_SIZE (1u << RADIX_BITS)
+
+/**
+ * Sorts keys by code, ties in triangle order, with a stable LSD radix sort (tmp: n keys of
+ * scratch): the same order as comparing (code, triangle), in O(n) instead of qsort's
+ * O(n log n) with a comparison call per step (the sort was the largest CPU stage of a
+ * 1M-triangle load). Passes whose byte is the same for every key are skipped.
+ */
+static void radix_sort_keys(sc_morton_key *keys, sc_morton_key *tmp, uint32_t n)
 {
-    const sc_morton_key *a = pa, *b = pb;
-    if (a->code != b->code) return a->code < b->code ? -1 : 1;
-    return a->triangle < b->triangle ? -1 : a->triangle > b->triangle;
+    for (uint32_t shift = 0; shift < 64; shift += RADIX_BITS) {
+        uint32_t count[RADIX_SIZE] = {0};
+        for (uint32_t i = 0; i < n; i++) count[(keys[i].code >> shift) & (RADIX_SIZE - 1)]++;
+        if (count[(keys[0].code >> shift) & (RADIX_SIZE - 1)] == n) continue;
+        uint32_t sum = 0;
+        for (uint32_t b = 0; b < RADIX_SIZE; b++) {
+            uint32_t c = count[b];
+            count[b] = sum;
+            sum += c;
+        }
+        for (uint32_t i = 0; i < n; i++)
+            tmp[count[(keys[i].code >> shift) & (RADIX_SIZE - 1)]++] = keys[i];
+        memcpy(keys, tmp, (size_t)n * sizeof(*keys));
+    }
 }
 
 static uint32_t quantise(float v, float lo, float scale)
@@ -68,9 +89,11 @@ bool sc_morton_sort_triangles(const sc_vertex *vertices, uint32_t *indices, uint
     float scale = extent > 0.0f ? (float)SC_MORTON_MAX / extent : 0.0f;
 
     sc_morton_key *keys = malloc(sizeof(*keys) * tri_count);
+    sc_morton_key *tmp = malloc(sizeof(*tmp) * tri_count);
     uint32_t *sorted = malloc(sizeof(*sorted) * tri_count * 3);
-    if (!keys || !sorted) {
+    if (!keys || !tmp || !sorted) {
         free(keys);
+        free(tmp);
         free(sorted);
         return false;
     }
@@ -86,7 +109,8 @@ bool sc_morton_sort_triangles(const sc_vertex *vertices, uint32_t *indices, uint
         keys[t].code = code;
         keys[t].triangle = t;
     }
-    qsort(keys, tri_count, sizeof(*keys), compare_keys);
+    radix_sort_keys(keys, tmp, tri_count); /* keys start in triangle order: ties stay so */
+    free(tmp);
     for (uint32_t t = 0; t < tri_count; t++)
         memcpy(&sorted[3 * t], &indices[3 * keys[t].triangle], 3 * sizeof(uint32_t));
     memcpy(indices, sorted, tri_count * 3 * sizeof(uint32_t));

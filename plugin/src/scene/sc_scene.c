@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 
 /** Files larger than this are refused (tinygltf takes 32-bit lengths). */
 #define SC_MAX_FILE_BYTES (2ull << 30)
@@ -66,6 +67,18 @@ static void *vec_push(sc_vec *v, size_t n)
     return at;
 }
 
+/** Makes room for n items in all (exactly, when more than now): sizes known up front spare
+ *  the doubling's slack and its copies (a 1M-triangle mesh's vertices are ~150 MB). */
+static bool vec_reserve(sc_vec *v, size_t n)
+{
+    if (n <= v->cap) return true;
+    void *p = realloc(v->data, n * v->item);
+    if (!p) return false;
+    v->data = p;
+    v->cap = n;
+    return true;
+}
+
 /** State of one load. */
 typedef struct sc_build {
     const char *name;
@@ -74,6 +87,7 @@ typedef struct sc_build {
     const sc_load_options *opt;
     sc_scene *s;
     sc_vec vertices, indices, meshes, textures, instances, emitters;
+    sc_vec camera_nodes;      /**< int32_t: perspective camera nodes in walk order */
     uint32_t *prim_mesh;      /**< doc primitive → sc mesh, SC_SKIPPED when skipped */
     int32_t *tex_map;         /**< doc texture * 2 + srgb → sc texture, -1 unused */
     bool *image_warned;       /**< per doc image: its stand-in was warned about */
@@ -117,6 +131,14 @@ bool sc_scene_warned(const sc_scene *scene, xrsc_result id)
     for (uint32_t i = 0; scene && i < scene->warning_id_count; i++)
         if (scene->warning_ids[i] == id) return true;
     return false;
+}
+
+/** Monotonic wall clock in ms, for sc_scene.load_timing. */
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
 /* ---------------------------------------------------------------- accessors ------------ */
@@ -692,6 +714,8 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
         return r;
     sc_prim_data pd = {0};
     sc_prim_out o = {0};
+    sc_load_timing *t = &b->s->load_timing;
+    double t0 = now_ms();
     r = read_attributes(b, m, p, pr, &pd);
     if (r == XRSC_OK)
         r = read_indices(b, m, p, pr, &pd);
@@ -702,11 +726,16 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
             fill_smooth_vertices(&pd, &o);
         else
             fill_flat_vertices(&pd, &o);
+        double t1 = now_ms();
+        t->geometry_ms += t1 - t0;
         r = finish_tangents(b, &pd, &o);
+        t0 = now_ms();
+        t->tangents_ms += t0 - t1;
     }
     if (r == XRSC_OK && !b->opt->keep_triangle_order &&
         !sc_morton_sort_triangles((const sc_vertex *)b->vertices.data, o.inds, (uint32_t)o.icount))
         r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    t->morton_ms += now_ms() - t0;
     if (r == XRSC_OK)
         r = add_mesh(b, pr, gp, &o);
     prim_data_free(&pd);
@@ -1229,7 +1258,6 @@ typedef struct sc_walk {
     uint32_t top;       /**< entries on stack */
     bool *seen;         /**< node visited */
     bool *anim_below;   /**< node or an ancestor animated */
-    bool cameras_extra; /**< a perspective camera after the first one */
     int32_t *out_camera_node, *out_sun_node, *out_sun_light;
     char nonroot_field[96]; /**< the first scene list entry that is not a root, or "" */
     int32_t nonroot_node;   /**< the node it names */
@@ -1348,16 +1376,20 @@ static xrsc_result add_node_instances(sc_walk *w, int32_t ni, const sc_gltf_mesh
     return XRSC_OK;
 }
 
-/** Keeps the first perspective camera (node ni's); notes the others. */
-static void note_camera(sc_walk *w, int32_t ni, const sc_gltf_node *g)
+/** Keeps the first perspective camera (node ni's) as the viewpoint and lists every one (in
+ *  walk order: sc_scene.cameras). */
+static xrsc_result note_camera(sc_walk *w, int32_t ni, const sc_gltf_node *g)
 {
     sc_gltf_doc *d = w->b->doc;
-    if (!d->cameras[g->camera].perspective)
+    if (!d->cameras[g->camera].perspective) {
         sc_gltf_note(d, "orthographic cameras");
-    else if (*w->out_camera_node < 0)
-        *w->out_camera_node = ni;
-    else
-        w->cameras_extra = true;
+        return XRSC_OK;
+    }
+    if (*w->out_camera_node < 0) *w->out_camera_node = ni;
+    int32_t *c = vec_push(&w->b->camera_nodes, 1);
+    if (!c) return u_diag_set(w->b->diag, XRSC_ERROR_OUT_OF_MEMORY, w->b->name, 0, "", "out of memory");
+    *c = ni;
+    return XRSC_OK;
 }
 
 /** Light l of the file on node ni as an ::sc_light: cone angles clamped to glTF's bounds
@@ -1438,7 +1470,8 @@ static xrsc_result visit_node(sc_walk *w, int32_t ni)
             return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                               "camera %d does not exist", g->camera);
         }
-        note_camera(w, ni, g);
+        xrsc_result rc = note_camera(w, ni, g);
+        if (rc != XRSC_OK) return rc;
     }
     if (g->light >= 0) {
         if ((uint32_t)g->light >= d->light_count) {
@@ -1544,8 +1577,6 @@ static xrsc_result build_instances(sc_build *b, int32_t scene_index, const bool 
         mark_animated(s, node_animated, w.anim_below);
         r = walk_scene(&w, scene_index, roots, nroots);
     }
-    if (w.cameras_extra)
-        sc_gltf_note(d, "cameras beyond the first");
     if (r == XRSC_OK && w.nonroot_field[0]) {
         U_LOG_W("%s: %s: node %d is not a root or is listed twice (glTF 2.0 §3.5.2); drawing "
                 "the root nodes the scene's list reaches, each once",
@@ -1639,6 +1670,27 @@ static void world_rotation(const float m[16], float q[4])
     sc_quat_from_columns(c[0], c[1], c[2], q);
 }
 
+/** sc_scene.cameras from the perspective camera nodes of the walk, at time 0. */
+static xrsc_result set_cameras(sc_build *b)
+{
+    sc_scene *s = b->s;
+    size_t n = b->camera_nodes.count;
+    s->cameras = calloc(n ? n : 1, sizeof(sc_camera));
+    if (!s->cameras)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    for (size_t i = 0; i < n; i++) {
+        int32_t node = ((const int32_t *)b->camera_nodes.data)[i];
+        const float *w = s->nodes[node].world;
+        sc_camera *c = &s->cameras[i];
+        c->node = (uint32_t)node;
+        c->yfov_rad = b->doc->cameras[b->doc->nodes[node].camera].yfov_rad;
+        memcpy(c->position, &w[12], sizeof c->position);
+        world_rotation(w, c->orientation);
+    }
+    s->camera_count = (uint32_t)n;
+    return XRSC_OK;
+}
+
 static void set_viewpoint(sc_scene *s, int32_t camera_node)
 {
     if (camera_node >= 0) {
@@ -1730,42 +1782,90 @@ static xrsc_result set_sky(sc_build *b, float **out_rgb)
     return XRSC_OK;
 }
 
-/** Environment: a map (--env-map, else --sky) or the constant of sc_load_options. */
+/** True when the scene has no light of its own and no environment from the options or the
+ *  file: it gets the built-in studio environment. Emissive materials do not count (a glTF
+ *  model's emissive details expect image-based lighting around them: issue 11). */
+static bool wants_studio(const sc_build *b, int32_t scene_index)
+{
+    const sc_load_options *o = b->opt;
+    if (o->env_map_path || o->sky || o->env_set || b->s->sun.present) return false;
+    return !(scene_index >= 0 && b->doc->scenes[scene_index].has_environment);
+}
+
+/** A map (--env-map, else --sky, else the studio) into s->env_map, scaled, rotated. */
+static xrsc_result set_env_map(sc_build *b)
+{
+    sc_scene *s = b->s;
+    const sc_load_options *o = b->opt;
+    sc_hdr_image img = {0};
+    float *baked = NULL;
+    uint32_t w = SC_SKY_WIDTH, h = SC_SKY_HEIGHT;
+    xrsc_result r;
+    if (o->env_map_path) {
+        r = sc_hdr_load(o->env_map_path, &img, b->diag);
+        w = img.width, h = img.height;
+    } else if (o->sky) {
+        r = set_sky(b, &baked);
+    } else {
+        r = sc_studio_bake(&baked, b->diag);
+        w = SC_STUDIO_WIDTH, h = SC_STUDIO_HEIGHT;
+        s->env_studio = true;
+    }
+    if (r == XRSC_OK) {
+        float k = o->env_intensity > 0.0f ? o->env_intensity : 1.0f;
+        if (!o->env_map_path && o->sky) /* the sky's sun with its sky */
+            for (int c = 0; c < 3; c++) s->sun.radiance[c] *= k;
+        r = sc_env_map_build(baked ? baked : img.rgb, w, h, k, &s->env_map, b->diag);
+    }
+    free(baked);
+    sc_hdr_image_free(&img);
+    if (r != XRSC_OK) return r;
+    if (o->env_no_importance) s->env_map.sampling = false;
+    s->env_rotation_rad = o->env_rotation_deg * (float)(3.14159265358979323846 / 180.0);
+    memcpy(s->environment, s->env_map.mean_radiance, sizeof s->environment);
+    return XRSC_OK;
+}
+
+/** Environment: a map (--env-map, else --sky, else the studio of a lightless scene) or the
+ *  constant of sc_load_options, else the file's extras.xrsc_environment, else 0 (a sun). */
 static xrsc_result set_environment(sc_build *b, int32_t scene_index)
 {
     sc_scene *s = b->s;
     const sc_gltf_doc *d = b->doc;
     const sc_load_options *o = b->opt;
-    if (o->env_map_path || o->sky) {
-        sc_hdr_image img = {0};
-        float *sky = NULL;
-        xrsc_result r = o->env_map_path ? sc_hdr_load(o->env_map_path, &img, b->diag)
-                                        : set_sky(b, &sky);
-        if (r == XRSC_OK) {
-            float k = o->env_intensity > 0.0f ? o->env_intensity : 1.0f;
-            if (sky) /* the sky's sun with its sky */
-                for (int c = 0; c < 3; c++) s->sun.radiance[c] *= k;
-            r = sky ? sc_env_map_build(sky, SC_SKY_WIDTH, SC_SKY_HEIGHT, k, &s->env_map, b->diag)
-                    : sc_env_map_build(img.rgb, img.width, img.height, k, &s->env_map, b->diag);
-        }
-        free(sky);
-        sc_hdr_image_free(&img);
-        if (r != XRSC_OK) return r;
-        if (o->env_no_importance) s->env_map.sampling = false;
-        s->env_rotation_rad = o->env_rotation_deg * (float)(3.14159265358979323846 / 180.0);
-        memcpy(s->environment, s->env_map.mean_radiance, sizeof s->environment);
-    } else if (o->env_set) {
+    if (o->env_map_path || o->sky || wants_studio(b, scene_index)) return set_env_map(b);
+    if (o->env_set)
         memcpy(s->environment, o->environment, sizeof s->environment);
-    } else if (scene_index >= 0 && d->scenes[scene_index].has_environment) {
+    else if (scene_index >= 0 && d->scenes[scene_index].has_environment)
         memcpy(s->environment, d->scenes[scene_index].environment, sizeof s->environment);
-    } else {
-        /* No environment given: a neutral grey unless a directional light is the scene's
-         * lighting. Emissive materials do not count (a glTF model's emissive details expect
-         * image-based lighting around them: issue 11). */
-        float grey = s->sun.present ? 0.0f : SC_DEFAULT_ENVIRONMENT;
-        s->environment[0] = s->environment[1] = s->environment[2] = grey;
-    }
+    else /* the scene's directional light is its lighting */
+        s->environment[0] = s->environment[1] = s->environment[2] = 0.0f;
     return XRSC_OK;
+}
+
+/** Element count of accessor idx when it exists, else 0 (errors come later, in place). */
+static size_t accessor_count(const sc_gltf_doc *d, int32_t idx)
+{
+    return idx >= 0 && (uint32_t)idx < d->accessor_count ? d->accessors[idx].count : 0;
+}
+
+/** Reserves the scene-wide vertex and index arrays for all primitives at once (the counts
+ *  build_primitive will push; a wrong guess only costs the usual growth). */
+static bool reserve_all_geometry(sc_build *b)
+{
+    const sc_gltf_doc *d = b->doc;
+    size_t nv = 0, ni = 0;
+    for (uint32_t p = 0; p < d->primitive_count; p++) {
+        const sc_gltf_primitive *pr = &d->primitives[p];
+        size_t vc = accessor_count(d, pr->position);
+        size_t ic = pr->indices >= 0 ? accessor_count(d, pr->indices) : vc;
+        if (pr->mode == SC_GLTF_MODE_TRIANGLE_STRIP || pr->mode == SC_GLTF_MODE_TRIANGLE_FAN)
+            ic = ic >= 3 ? (ic - 2) * 3 : 0;
+        nv += pr->normal >= 0 ? vc : ic;
+        ni += ic;
+    }
+    if (nv > SC_MAX_ELEMENTS || ni > SC_MAX_ELEMENTS) return true; /* refused later, in place */
+    return vec_reserve(&b->vertices, nv) && vec_reserve(&b->indices, ni);
 }
 
 static xrsc_result build_scene(sc_build *b)
@@ -1788,6 +1888,8 @@ static xrsc_result build_scene(sc_build *b)
 
     b->prim_mesh = calloc(d->primitive_count ? d->primitive_count : 1, sizeof(uint32_t));
     if (!b->prim_mesh)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    if (!reserve_all_geometry(b))
         return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
     for (uint32_t m = 0; m < d->mesh_count; m++) {
         const sc_gltf_mesh *gm = &d->meshes[m];
@@ -1839,6 +1941,7 @@ static xrsc_result build_scene(sc_build *b)
     if ((r = build_emitters(b)) != XRSC_OK) return r;
     set_sun(s, d, sun_node, sun_light);
     set_viewpoint(s, camera_node);
+    if ((r = set_cameras(b)) != XRSC_OK) return r;
     if (camera_node >= 0) {
         const sc_gltf_camera *cam = &d->cameras[d->nodes[camera_node].camera];
         s->camera_yfov_rad = cam->yfov_rad;
@@ -1879,9 +1982,11 @@ static void dir_of(const char *path, char *buf, size_t cap)
     buf[n] = '\0';
 }
 
-xrsc_result sc_scene_load_memory(const char *name, const void *data, size_t size,
-                                 const char *base_dir, const sc_load_options *opt,
-                                 sc_scene **out, xrsc_diag *diag)
+/** sc_scene_load_memory; *free_after_parse (when not NULL) is freed and set to NULL as soon
+ *  as the file is parsed (tinygltf holds its own copies of the buffers by then). */
+static xrsc_result load_memory(const char *name, const void *data, size_t size,
+                               const char *base_dir, const sc_load_options *opt, sc_scene **out,
+                               xrsc_diag *diag, uint8_t **free_after_parse)
 {
     if (out) *out = NULL;
     if (!out || (!data && size))
@@ -1896,14 +2001,23 @@ xrsc_result sc_scene_load_memory(const char *name, const void *data, size_t size
     b.textures.item = sizeof(sc_texture);
     b.instances.item = sizeof(sc_instance);
     b.emitters.item = sizeof(sc_emitter);
+    b.camera_nodes.item = sizeof(int32_t);
 
+    double t0 = now_ms();
     xrsc_result r = sc_gltf_parse(name, data, size, base_dir, &b.doc, diag);
+    if (free_after_parse) {
+        free(*free_after_parse);
+        *free_after_parse = NULL;
+    }
     if (r != XRSC_OK) return r;
+    double t1 = now_ms();
     b.s = calloc(1, sizeof(sc_scene));
     if (!b.s) r = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, name, 0, "", "out of memory");
     if (r == XRSC_OK) {
         snprintf(b.s->path, sizeof b.s->path, "%s", name);
+        b.s->load_timing.parse_ms = t1 - t0;
         r = build_scene(&b);
+        b.s->load_timing.build_ms = now_ms() - t1;
     }
     if (r == XRSC_OK && b.doc->unsupported[0]) {
         U_LOG_W("%s: ignored (not supported by xrsc): %s", name, b.doc->unsupported);
@@ -1919,6 +2033,7 @@ xrsc_result sc_scene_load_memory(const char *name, const void *data, size_t size
     free(b.textures.data);
     free(b.instances.data);
     free(b.emitters.data);
+    free(b.camera_nodes.data);
     free(b.prim_mesh);
     free(b.tex_map);
     free(b.image_warned);
@@ -1931,6 +2046,13 @@ xrsc_result sc_scene_load_memory(const char *name, const void *data, size_t size
     return XRSC_OK;
 }
 
+xrsc_result sc_scene_load_memory(const char *name, const void *data, size_t size,
+                                 const char *base_dir, const sc_load_options *opt,
+                                 sc_scene **out, xrsc_diag *diag)
+{
+    return load_memory(name, data, size, base_dir, opt, out, diag, NULL);
+}
+
 xrsc_result sc_scene_load(const char *path, const sc_load_options *opt, sc_scene **out,
                           xrsc_diag *diag)
 {
@@ -1938,6 +2060,7 @@ xrsc_result sc_scene_load(const char *path, const sc_load_options *opt, sc_scene
     if (!path || !out)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0, "",
                           "path and out must not be NULL");
+    double t0 = now_ms();
     FILE *f = fopen(path, "rb");
     if (!f)
         return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot open: %s", strerror(errno));
@@ -1975,8 +2098,10 @@ xrsc_result sc_scene_load(const char *path, const sc_load_options *opt, sc_scene
     }
     char dir[512];
     dir_of(path, dir, sizeof dir);
-    xrsc_result r = sc_scene_load_memory(path, data, (size_t)size, dir, opt, out, diag);
+    double t1 = now_ms();
+    xrsc_result r = load_memory(path, data, (size_t)size, dir, opt, out, diag, &data);
     free(data);
+    if (r == XRSC_OK) (*out)->load_timing.read_ms = t1 - t0;
     return r;
 }
 
@@ -1999,6 +2124,7 @@ void sc_scene_destroy(sc_scene **pscene)
     free(s->instances);
     free(s->emitters);
     free(s->lights);
+    free(s->cameras);
     free(s->channels);
     sc_env_map_free(&s->env_map);
     free(s);

@@ -25,9 +25,6 @@ extern "C" {
 #define SC_NO_TEXTURE UINT32_MAX
 /** Distinct warning IDs a scene records (sc_scene.warning_ids). */
 #define SC_MAX_WARNING_IDS 16
-/** Default environment radiance of a scene without a directional light and without
- *  extras.xrsc_environment (grey). */
-#define SC_DEFAULT_ENVIRONMENT 1.0f
 /** Sun of --sky when neither the option nor the file gives one: 45 degrees up, behind the
  *  default viewpoint's right shoulder (x, y, z before normalisation). */
 #define SC_DEFAULT_SUN_DIRECTION {0.5f, 0.70710678f, 0.5f}
@@ -158,6 +155,24 @@ typedef struct sc_light {
     float inner_cone_rad, outer_cone_rad; /**< spot: 0 <= inner <= outer <= pi/2 (clamped) */
     bool animated;        /**< the node or an ancestor is animated */
 } sc_light;
+/** A perspective glTF camera: its node's world pose at time 0 (scale removed). */
+typedef struct sc_camera {
+    uint32_t node;
+    float yfov_rad;
+    float position[3];
+    float orientation[4]; /**< x, y, z, w */
+} sc_camera;
+
+/** Wall time of the load's stages (ms), for the run's `load` line and measurements. The
+ *  geometry, tangent and Morton times are sums over the primitives; build_ms includes them. */
+typedef struct sc_load_timing {
+    double read_ms;     /**< reading the file (sc_scene_load only) */
+    double parse_ms;    /**< tinygltf: JSON, buffers, images decoded */
+    double geometry_ms; /**< accessors read, vertices and indices filled */
+    double tangents_ms; /**< tangents checked or generated */
+    double morton_ms;   /**< triangles sorted along the Morton curve */
+    double build_ms;    /**< the whole scene from the parsed document */
+} sc_load_timing;
 
 typedef struct sc_scene {
     char path[512];
@@ -179,11 +194,18 @@ typedef struct sc_scene {
      *  constant above. Rotation about +Y in radians (sc_env.h). */
     sc_env_map env_map;
     float env_rotation_rad;
+    /** The map is the built-in studio environment (sc_studio_bake): the scene has no light
+     *  and no environment was given (sc_load_options). */
+    bool env_studio;
     /** Viewpoint: the first perspective camera's node when has_camera; otherwise, looking
      *  down -Z from (cx, cy, max_z + 1.2 * max(half_x, half_y)) of the world bounds. */
     bool has_camera;
     float camera_yfov_rad;     /**< the camera's perspective.yfov when has_camera */
     float camera_aspect_ratio; /**< its aspectRatio, 0 when the file gives none */
+    /** Every perspective camera of the drawn scene in the order the nodes are walked
+     *  (depth-first from the scene's roots; cameras[0] is the viewpoint's). */
+    sc_camera *cameras;
+    uint32_t camera_count;
     float viewpoint_position[3];
     float viewpoint_orientation[4]; /**< x, y, z, w */
     float bounds_min[3], bounds_max[3]; /**< world AABB at time 0 */
@@ -193,15 +215,18 @@ typedef struct sc_scene {
      *  first occurrence (see ::sc_scene_warned). */
     xrsc_result warning_ids[SC_MAX_WARNING_IDS];
     uint32_t warning_id_count;
+    sc_load_timing load_timing;
     uint32_t *node_order; /**< internal: node indices, parents before children */
 } sc_scene;
 
 /**
  * Load options. Zero means the documented default.
  * environment: when env_set is false, the scene's `extras.xrsc_environment` [r,g,b] if present,
- * else SC_DEFAULT_ENVIRONMENT grey when the scene has no directional light (emissive
+ * else the built-in studio environment map (sc_studio_bake; env_intensity, env_rotation_deg
+ * and env_no_importance apply to it) when the scene has no directional light (emissive
  * triangles and point/spot lights notwithstanding: glTF models without a sun expect
  * image-based lighting, which viewers keep on beside lamps), else 0.
+ * env_set with (1, 1, 1) gives the grey of earlier versions.
  * env_map_path (a Radiance .hdr, equirectangular) or sky replace the constant environment;
  * env_map_path wins over sky.
  */
