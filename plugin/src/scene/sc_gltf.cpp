@@ -45,7 +45,8 @@ const uint64_t kMaxFileBytes = 2ull << 30;
 const char *const kSupportedExtensions[] = {
     "KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior",
     "KHR_lights_punctual", "KHR_mesh_quantization", "KHR_materials_unlit",
-    "KHR_texture_transform",
+    "KHR_texture_transform", "KHR_materials_specular", "KHR_materials_clearcoat",
+    "KHR_materials_sheen", "KHR_materials_volume",
 #ifdef XRSC_HAVE_DRACO
     "KHR_draco_mesh_compression", // decoded by tinygltf with libdraco (CMake: XRSC_DRACO)
 #endif
@@ -239,6 +240,38 @@ template <typename Info> sc_gltf_texref texref(sc_gltf_doc *doc, const Info &ti)
     }
     if (ti.index >= 0 && r.tex_coord != 0) sc_gltf_note(doc, "texCoord sets other than 0");
     return r;
+}
+
+/** A texture reference inside an extension's JSON (`key`: {"index", "texCoord"}); none when
+ *  absent. KHR_texture_transform on these is noted and not applied. */
+sc_gltf_texref texref_value(sc_gltf_doc *doc, const tinygltf::Value &v, const char *key)
+{
+    sc_gltf_texref r;
+    r.texture = -1;
+    r.tex_coord = 0;
+    r.offset[0] = r.offset[1] = 0.0f;
+    r.rotation_rad = 0.0f;
+    r.scale[0] = r.scale[1] = 1.0f;
+    if (!v.IsObject() || !v.Has(key) || !v.Get(key).IsObject()) return r;
+    const tinygltf::Value &t = v.Get(key);
+    if (t.Has("index") && t.Get("index").IsNumber()) r.texture = value_index(t.Get("index"));
+    if (t.Has("texCoord") && t.Get("texCoord").IsNumber())
+        r.tex_coord = value_index(t.Get("texCoord"));
+    if (r.texture >= 0 && r.tex_coord != 0) sc_gltf_note(doc, "texCoord sets other than 0");
+    if (t.Has("extensions") && t.Get("extensions").IsObject() &&
+        t.Get("extensions").Has("KHR_texture_transform"))
+        sc_gltf_note(doc, "KHR_texture_transform on material extension textures");
+    return r;
+}
+
+/** Reads up to n numbers of the array `key` into dst (left as they are when absent). */
+void value_numbers(const tinygltf::Value &v, const char *key, float *dst, int n)
+{
+    if (!v.IsObject() || !v.Has(key)) return;
+    const tinygltf::Value &a = v.Get(key);
+    if (!a.IsArray() || (int)a.ArrayLen() != n) return;
+    for (int c = 0; c < n; c++)
+        if (a.Get(c).IsNumber()) dst[c] = clamp_float(a.Get(c).GetNumberAsDouble());
 }
 
 /** What the JSON pre-check learns and keeps for messages. */
@@ -444,6 +477,11 @@ xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, 
         o->emissive_strength = 1.0f;
         o->ior = 1.5f;
         o->double_sided = mt.doubleSided;
+        sc_gltf_texref none = texref_value(doc, tinygltf::Value(), "");
+        o->transmission_tex = o->specular_tex = o->specular_color_tex = none;
+        o->clearcoat_tex = o->clearcoat_rough_tex = o->sheen_color_tex = o->sheen_rough_tex = none;
+        o->specular = 1.0f;
+        for (int c = 0; c < 3; c++) o->specular_color[c] = o->attenuation_color[c] = 1.0f;
         o->normal_tex = texref(doc, mt.normalTexture);
         o->normal_scale = clamp_float(mt.normalTexture.scale);
         // occlusionTexture is deliberately not used: it approximates the ambient occlusion
@@ -455,8 +493,32 @@ xrsc_result fill_doc(const char *name, tinygltf::Model &m, const load_ctx &ctx, 
                 o->emissive_strength = clamp_float(value_number(v, "emissiveStrength", 1.0));
             } else if (ext.first == "KHR_materials_transmission") {
                 o->transmission = clamp_float(value_number(v, "transmissionFactor", 0.0));
-                if (v.IsObject() && v.Has("transmissionTexture"))
-                    sc_gltf_note(doc, "transmissionTexture");
+                o->transmission_tex = texref_value(doc, v, "transmissionTexture");
+            } else if (ext.first == "KHR_materials_specular") {
+                o->specular = clamp_float(value_number(v, "specularFactor", 1.0));
+                o->specular_tex = texref_value(doc, v, "specularTexture");
+                value_numbers(v, "specularColorFactor", o->specular_color, 3);
+                o->specular_color_tex = texref_value(doc, v, "specularColorTexture");
+            } else if (ext.first == "KHR_materials_clearcoat") {
+                o->clearcoat = clamp_float(value_number(v, "clearcoatFactor", 0.0));
+                o->clearcoat_tex = texref_value(doc, v, "clearcoatTexture");
+                o->clearcoat_roughness =
+                    clamp_float(value_number(v, "clearcoatRoughnessFactor", 0.0));
+                o->clearcoat_rough_tex = texref_value(doc, v, "clearcoatRoughnessTexture");
+                if (v.IsObject() && v.Has("clearcoatNormalTexture"))
+                    sc_gltf_note(doc, "clearcoatNormalTexture");
+            } else if (ext.first == "KHR_materials_sheen") {
+                value_numbers(v, "sheenColorFactor", o->sheen_color, 3);
+                o->sheen_color_tex = texref_value(doc, v, "sheenColorTexture");
+                o->sheen_roughness = clamp_float(value_number(v, "sheenRoughnessFactor", 0.0));
+                o->sheen_rough_tex = texref_value(doc, v, "sheenRoughnessTexture");
+            } else if (ext.first == "KHR_materials_volume") {
+                o->thickness = clamp_float(value_number(v, "thicknessFactor", 0.0));
+                value_numbers(v, "attenuationColor", o->attenuation_color, 3);
+                o->attenuation_distance =
+                    clamp_float(value_number(v, "attenuationDistance", 0.0));
+                if (v.IsObject() && v.Has("thicknessTexture"))
+                    sc_gltf_note(doc, "thicknessTexture");
             } else if (ext.first == "KHR_materials_unlit") {
                 o->unlit = true;
             } else if (ext.first == "KHR_materials_ior") {

@@ -17,6 +17,7 @@
 #include <errno.h>
 #include <float.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -715,6 +716,58 @@ static void uv_identity(sc_material *mt)
     for (int k = 0; k < SC_TEX_SLOTS; k++) memcpy(mt->uv_transform[k], id, sizeof id);
 }
 
+/** The KHR_materials_specular / _clearcoat / _sheen / _volume values and the transmission
+ *  texture of material i. */
+static xrsc_result build_material_extensions(sc_build *b, uint32_t i, sc_material *mt)
+{
+    const sc_gltf_material *g = &b->doc->materials[i];
+    mt->specular = g->specular;
+    mt->clearcoat = g->clearcoat;
+    mt->clearcoat_roughness = g->clearcoat_roughness;
+    mt->sheen_roughness = g->sheen_roughness;
+    mt->thickness = g->thickness;
+    for (int c = 0; c < 3; c++) {
+        mt->specular_color[c] = g->specular_color[c];
+        mt->sheen_color[c] = g->sheen_color[c];
+        /* Beer-Lambert: transmittance attenuationColor after attenuationDistance metres */
+        float ac = g->attenuation_color[c];
+        float ad = g->attenuation_distance;
+        mt->sigma_a[c] = ad > 0.0f && ac < 1.0f ? -logf(fmaxf(ac, 1e-6f)) / ad : 0.0f;
+    }
+    static const struct {
+        size_t ref, out;
+        bool srgb;
+        const char *name;
+    } tex[] = {
+        {offsetof(sc_gltf_material, transmission_tex), offsetof(sc_material, transmission_tex),
+         false, "KHR_materials_transmission.transmissionTexture"},
+        {offsetof(sc_gltf_material, specular_tex), offsetof(sc_material, specular_tex), false,
+         "KHR_materials_specular.specularTexture"},
+        {offsetof(sc_gltf_material, specular_color_tex),
+         offsetof(sc_material, specular_color_tex), true,
+         "KHR_materials_specular.specularColorTexture"},
+        {offsetof(sc_gltf_material, clearcoat_tex), offsetof(sc_material, clearcoat_tex), false,
+         "KHR_materials_clearcoat.clearcoatTexture"},
+        {offsetof(sc_gltf_material, clearcoat_rough_tex),
+         offsetof(sc_material, clearcoat_rough_tex), false,
+         "KHR_materials_clearcoat.clearcoatRoughnessTexture"},
+        {offsetof(sc_gltf_material, sheen_color_tex), offsetof(sc_material, sheen_color_tex),
+         true, "KHR_materials_sheen.sheenColorTexture"},
+        {offsetof(sc_gltf_material, sheen_rough_tex), offsetof(sc_material, sheen_rough_tex),
+         false, "KHR_materials_sheen.sheenRoughnessTexture"},
+    };
+    for (size_t k = 0; k < sizeof tex / sizeof tex[0]; k++) {
+        char field[128];
+        FIELD(field, "materials[%u].extensions.%s.index", i, tex[k].name);
+        const sc_gltf_texref *ref = (const sc_gltf_texref *)((const char *)g + tex[k].ref);
+        uint32_t *out = (uint32_t *)((char *)mt + tex[k].out);
+        xrsc_result r = map_texture(b, *ref, tex[k].srgb, field, out);
+        if (r != XRSC_OK)
+            return r;
+    }
+    return XRSC_OK;
+}
+
 static xrsc_result build_materials(sc_build *b)
 {
     sc_gltf_doc *d = b->doc;
@@ -757,6 +810,8 @@ static xrsc_result build_materials(sc_build *b)
         FIELD(field, "materials[%u].normalTexture.index", i);
         if ((r = map_texture(b, g->normal_tex, false, field, &mt->normal_tex)) != XRSC_OK)
             return r;
+        if ((r = build_material_extensions(b, i, mt)) != XRSC_OK)
+            return r;
     }
     /* The glTF default material (§3.9.6): white, metallic 1, roughness 1. */
     sc_material *def = &s->materials[d->material_count];
@@ -768,6 +823,11 @@ static xrsc_result build_materials(sc_build *b)
     def->normal_scale = 1.0f;
     uv_identity(def);
     def->ior = 1.5f;
+    def->specular = 1.0f;
+    for (int c = 0; c < 3; c++) def->specular_color[c] = 1.0f;
+    def->transmission_tex = def->specular_tex = def->specular_color_tex = SC_NO_TEXTURE;
+    def->clearcoat_tex = def->clearcoat_rough_tex = SC_NO_TEXTURE;
+    def->sheen_color_tex = def->sheen_rough_tex = SC_NO_TEXTURE;
     snprintf(def->name, sizeof def->name, "xrsc-default");
     return XRSC_OK;
 }
