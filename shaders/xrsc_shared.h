@@ -126,6 +126,23 @@ XS_STRUCT(xs_material)
     xs_uint pad0, pad1;
     /* slot k's uv' = (dot(uv_rows[2k].xyz, (u, v, 1)), dot(uv_rows[2k+1].xyz, (u, v, 1))) */
     xs_vec4 uv_rows[2 * XS_TEX_SLOTS];
+    /* ---- KHR_materials_specular / _clearcoat / _sheen / _volume (xs_bsdf.glsl). Their
+     * textures use TEXCOORD_0 without KHR_texture_transform. All zero = none of them, except
+     * specular (1) and specular_color (1): sc_scene.c fills the defaults. */
+    xs_vec4 specular;    /* rgb specularColorFactor, w = specularFactor (1, 1, 1, 1 = plain glTF) */
+    xs_vec4 sheen;       /* rgb sheenColorFactor (0 = no sheen), w = sheenRoughnessFactor */
+    xs_vec4 attenuation; /* rgb sigma_a = -ln(attenuationColor) / attenuationDistance, 1/m; w = thicknessFactor
+                          * (KHR_materials_volume: > 0 = a refracting volume, 0 = thin-walled) */
+    xs_float clearcoat;           /* clearcoatFactor, 0 = no coat */
+    xs_float clearcoat_roughness; /* clearcoatRoughnessFactor (perceptual) */
+    xs_uint transmission_tex;     /* R x transmission, or XS_NO_TEXTURE */
+    xs_uint specular_tex;         /* A x specularFactor */
+    xs_uint specular_color_tex;   /* sRGB rgb x specularColorFactor */
+    xs_uint clearcoat_tex;        /* R x clearcoatFactor */
+    xs_uint clearcoat_rough_tex;  /* G x clearcoatRoughnessFactor */
+    xs_uint sheen_color_tex;      /* sRGB rgb x sheenColorFactor */
+    xs_uint sheen_rough_tex;      /* A x sheenRoughnessFactor */
+    xs_uint ext_pad0, ext_pad1, ext_pad2;
 } XS_END(xs_material);
 
 XS_STRUCT(xs_emitter)
@@ -206,7 +223,9 @@ XS_STRUCT(xs_hit)
 #include <stddef.h>
 _Static_assert(sizeof(xs_vertex) == 48, "xs_vertex layout");
 _Static_assert(sizeof(xs_instance) == 208, "xs_instance layout");
-_Static_assert(sizeof(xs_material) == 208, "xs_material layout");
+_Static_assert(sizeof(xs_material) == 304, "xs_material layout");
+_Static_assert(offsetof(xs_material, specular) == 208, "xs_material layout");
+_Static_assert(offsetof(xs_material, clearcoat) == 256, "xs_material layout");
 _Static_assert(offsetof(xs_material, uv_rows) == 80, "xs_material layout");
 _Static_assert(sizeof(xs_emitter) == 16, "xs_emitter layout");
 _Static_assert(sizeof(xs_eye) == 208, "xs_eye layout");

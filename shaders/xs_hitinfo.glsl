@@ -36,7 +36,41 @@ struct xs_mat {
     vec3 emission;   /* linear emitted radiance */
     bool double_sided;
     bool unlit;      /* KHR_materials_unlit: emission = base colour, nothing scattered */
+    /* KHR_materials_specular / _clearcoat / _sheen / _volume (see xs_bsdf.glsl) */
+    vec3 spec_color; /* specularColorFactor x texture (scales the dielectric F0) */
+    float specular;  /* specularFactor x texture A: 1 = plain glTF, 0 = no dielectric specular */
+    float clearcoat;
+    float clearcoat_roughness;
+    vec3 sheen_color;
+    float sheen_roughness;
+    bool thin;       /* transmission without KHR_materials_volume: thin-walled, no refraction */
+    vec3 sigma_a;    /* Beer-Lambert absorption inside the volume, 1/m */
 };
+
+/** Texture t at uv (LOD 0), or `none` without one: the extension textures (TEXCOORD_0, no
+ *  KHR_texture_transform). */
+vec4 xs_tex_or(uint t, vec2 uv, vec4 none)
+{
+    return t == XS_NO_TEXTURE ? none : textureLod(textures[nonuniformEXT(t)], uv, 0.0);
+}
+
+/** The extension values of xs_mat (xs_material_at). */
+void xs_material_extensions(xs_material m, vec2 uv, inout xs_mat r)
+{
+    r.transmission *= xs_tex_or(m.transmission_tex, uv, vec4(1.0)).r;
+    r.specular = clamp(m.specular.w * xs_tex_or(m.specular_tex, uv, vec4(1.0)).a, 0.0, 1.0);
+    r.spec_color = max(m.specular.rgb * xs_tex_or(m.specular_color_tex, uv, vec4(1.0)).rgb,
+                       vec3(0.0));
+    r.clearcoat = clamp(m.clearcoat * xs_tex_or(m.clearcoat_tex, uv, vec4(1.0)).r, 0.0, 1.0);
+    r.clearcoat_roughness = clamp(
+        m.clearcoat_roughness * xs_tex_or(m.clearcoat_rough_tex, uv, vec4(1.0)).g, 0.0, 1.0);
+    r.sheen_color = clamp(m.sheen.rgb * xs_tex_or(m.sheen_color_tex, uv, vec4(1.0)).rgb,
+                          vec3(0.0), vec3(1.0));
+    r.sheen_roughness = clamp(m.sheen.w * xs_tex_or(m.sheen_rough_tex, uv, vec4(1.0)).a, 0.0,
+                              1.0);
+    r.thin = !(m.attenuation.w > 0.0);
+    r.sigma_a = max(m.attenuation.rgb, vec3(0.0));
+}
 
 /** KHR_texture_transform: the uv of texture slot XS_TEX_* of material m. */
 vec2 xs_uv_slot(xs_material m, uint slot, vec2 uv)
@@ -150,6 +184,7 @@ xs_mat xs_material_at(uint material, vec2 uv)
                                  xs_uv_slot(m, XS_TEX_EMISSION, uv), 0.0).rgb;
     r.double_sided = (m.flags & XS_MAT_DOUBLE_SIDED) != 0u;
     r.unlit = (m.flags & XS_MAT_UNLIT) != 0u;
+    xs_material_extensions(m, uv, r);
     if (r.unlit) {
         /* KHR_materials_unlit: the base colour is the radiance seen, on both sides; a black,
          * index-matched (IOR 1) opaque dielectric scatters nothing (xs_bsdf.glsl). */
@@ -159,6 +194,8 @@ xs_mat xs_material_at(uint material, vec2 uv)
         r.transmission = 0.0;
         r.ior = 1.0;
         r.double_sided = true;
+        r.clearcoat = 0.0;
+        r.sheen_color = vec3(0.0);
     }
     return r;
 }

@@ -126,6 +126,25 @@ bool xs_side_ok(vec3 wi_world, vec3 ng, float wi_local_z)
     return dot(wi_world, ng) * wi_local_z > 0.0;
 }
 
+/** The BSDF's view of a material (xs_bsdf.glsl). */
+xs_bsdf_in xs_bsdf_input(xs_mat m)
+{
+    xs_bsdf_in b;
+    b.base = m.base;
+    b.metallic = m.metallic;
+    b.roughness = m.roughness;
+    b.transmission = m.transmission;
+    b.ior = m.ior;
+    b.spec_color = m.spec_color;
+    b.specular = m.specular;
+    b.clearcoat = m.clearcoat;
+    b.clearcoat_roughness = m.clearcoat_roughness;
+    b.sheen_color = m.sheen_color;
+    b.sheen_roughness = m.sheen_roughness;
+    b.thin = m.thin;
+    return b;
+}
+
 struct xs_path_out {
     vec3 radiance;
     vec3 albedo; /* xs_demod_albedo of the first hit (1 for a miss) */
@@ -221,6 +240,10 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
     vec3 throughput = vec3(1.0);
     float prev_pdf = 0.0;  /* BSDF pdf of the ray just traced (solid angle) */
     bool prev_delta = true; /* camera rays and delta lobes: emission counts fully */
+    /* product of (eta_i / eta_o)^2 over the refractions so far: undoes the radiance scaling
+     * of xs_bsdf_sample in Russian roulette's survival test, which would otherwise kill paths
+     * inside glass more often (pbrt-v3 §14.5.4, etaScale) */
+    float eta_scale = 1.0;
     uint max_bounces = frame.max_bounces;
 
     for (uint bounce = 0u;; bounce++) {
@@ -248,6 +271,10 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
         xs_mat m = xs_material_at(s.material, s.uv);
         if (bounce == 0u)
             r.albedo = xs_demod_albedo(m);
+        /* KHR_materials_volume: Beer-Lambert absorption along the segment inside the volume
+         * this ray leaves (its own surface bounds it; nested volumes are not tracked) */
+        if (!s.outside && !m.thin && m.transmission > 0.0 && any(greaterThan(m.sigma_a, vec3(0.0))))
+            throughput *= exp(-m.sigma_a * t_hit);
 
         /* emission reached by this ray */
         vec3 le = bounce > 0u || first_emission ? xs_emitted(m, s.outside) : vec3(0.0);
@@ -267,8 +294,7 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
         vec3 tb, bb;
         xs_onb(s.ns, tb, bb);
         vec3 wo_l = xs_to_local(wo, tb, bb, s.ns);
-        xs_bsdf bsdf = xs_bsdf_make(m.base, m.metallic, m.roughness, m.transmission, m.ior,
-                                    s.outside, xs_rng_next(rng));
+        xs_bsdf bsdf = xs_bsdf_make(xs_bsdf_input(m), wo_l.z, s.outside, xs_rng_next(rng));
         bool delta = xs_bsdf_is_delta(bsdf);
         vec3 o_up = xs_offset_ray(s.p, s.ng);
 
@@ -353,10 +379,13 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
         if (!xs_side_ok(wi, s.ng, wi_l.z))
             break;
         throughput *= weight;
+        if (bsdf.kind == XS_BSDF_GLASS && !bsdf.thin && wi_l.z < 0.0)
+            eta_scale *= (bsdf.eta_i * bsdf.eta_i) / (bsdf.eta_o * bsdf.eta_o);
 
         /* Russian roulette before bounce ray number bounce + 1 */
         if (bounce + 1u >= XS_RR_START_BOUNCE) {
-            float q = clamp(xs_max3(throughput), XS_RR_MIN_SURVIVAL, XS_RR_MAX_SURVIVAL);
+            float q = clamp(xs_max3(throughput) * eta_scale, XS_RR_MIN_SURVIVAL,
+                            XS_RR_MAX_SURVIVAL);
             if (xs_rng_next(rng) >= q)
                 break;
             throughput /= q;

@@ -16,6 +16,9 @@
 #include <string.h>
 
 #define PI_F 3.14159265358979f
+/* The solid glass spheres (radius 0.35 m) of cornell and specular: KHR_materials_volume makes
+ * them refracting volumes (without it glTF transmission is a thin wall), clear (no attenuation). */
+#define GLASS_VOLUME "\"KHR_materials_volume\": {\"thicknessFactor\": 0.7}"
 
 /** A growable string. */
 typedef struct str {
@@ -396,7 +399,7 @@ static int make_cornell(const char *dir)
                                  "{\"baseColorFactor\": [1, 1, 1, 1], \"metallicFactor\": 0, "
                                  "\"roughnessFactor\": 0}, \"extensions\": "
                                  "{\"KHR_materials_transmission\": {\"transmissionFactor\": 1}, "
-                                 "\"KHR_materials_ior\": {\"ior\": 1.5}}");
+                                 "\"KHR_materials_ior\": {\"ior\": 1.5}, " GLASS_VOLUME "}");
 
     /* Box: x in [-1, 1], y in [0, 2], z in [-1, 1]; normals point into the box. */
     geom w = {0}, r = {0}, gr = {0}, l = {0};
@@ -440,7 +443,7 @@ static int make_cornell(const char *dir)
     snprintf(path, sizeof path, "%s/cornell.gltf", dir);
     return write_gltf(&g, path,
                       "\"KHR_materials_emissive_strength\", \"KHR_materials_transmission\", "
-                      "\"KHR_materials_ior\"",
+                      "\"KHR_materials_ior\", \"KHR_materials_volume\"",
                       "\"name\": \"cornell\", \"nodes\": [0, 1, 2, 3, 4, 5, 6], "
                       "\"extras\": {\"xrsc_environment\": [0, 0, 0]}");
 }
@@ -952,7 +955,7 @@ static int make_specular(const char *dir)
                                  "{\"baseColorFactor\": [1, 1, 1, 1], \"metallicFactor\": 0, "
                                  "\"roughnessFactor\": 0}, \"extensions\": "
                                  "{\"KHR_materials_transmission\": {\"transmissionFactor\": 1}, "
-                                 "\"KHR_materials_ior\": {\"ior\": 1.5}}");
+                                 "\"KHR_materials_ior\": {\"ior\": 1.5}, " GLASS_VOLUME "}");
     geom fl = {0}, rb = {0}, bb = {0};
     quad(&fl, (float[]){-3, 0, 1}, (float[]){6, 0, 0}, (float[]){0, 0, -6});
     box(&rb, (float[]){-0.9f, 0, -2.6f}, (float[]){0.6f, 0.7f, 0.3f});
@@ -980,7 +983,9 @@ static int make_specular(const char *dir)
     /* looks at (0, 0.35, -1.5), the point between the spheres: 0.45 m down over 1.5 m */
     add_camera_node(&g, (float[]){0, 0.8f, 0}, 0, -16.7f);
     return write_scene(&g, dir, "specular",
-                       SUN_EXT ", \"KHR_materials_transmission\", \"KHR_materials_ior\"", 0.25f);
+                       SUN_EXT ", \"KHR_materials_transmission\", \"KHR_materials_ior\", "
+                               "\"KHR_materials_volume\"",
+                       0.25f);
 }
 
 /* ---- moving (seed 000 App. D, Fig. 19): a rotating cone under a sun ---- */

@@ -170,6 +170,32 @@ static xrsc_result upload_geometry(gpu_context *ctx, gpu_scene *gs, const sc_sce
     return res;
 }
 
+/** A texture index for the GPU: XS_NO_TEXTURE unless it names one of the scene's textures. */
+static uint32_t gpu_texture_index(const sc_scene *scene, uint32_t t)
+{
+    return t < scene->texture_count ? t : XS_NO_TEXTURE;
+}
+
+/** xs_material's KHR_materials_specular / _clearcoat / _sheen / _volume fields. */
+static void upload_material_extensions(const sc_scene *scene, const sc_material *s,
+                                       xs_material *d)
+{
+    d->specular = (xs_vec4){s->specular_color[0], s->specular_color[1], s->specular_color[2],
+                            s->specular};
+    d->sheen = (xs_vec4){s->sheen_color[0], s->sheen_color[1], s->sheen_color[2],
+                         s->sheen_roughness};
+    d->attenuation = (xs_vec4){s->sigma_a[0], s->sigma_a[1], s->sigma_a[2], s->thickness};
+    d->clearcoat = s->clearcoat;
+    d->clearcoat_roughness = s->clearcoat_roughness;
+    d->transmission_tex = gpu_texture_index(scene, s->transmission_tex);
+    d->specular_tex = gpu_texture_index(scene, s->specular_tex);
+    d->specular_color_tex = gpu_texture_index(scene, s->specular_color_tex);
+    d->clearcoat_tex = gpu_texture_index(scene, s->clearcoat_tex);
+    d->clearcoat_rough_tex = gpu_texture_index(scene, s->clearcoat_rough_tex);
+    d->sheen_color_tex = gpu_texture_index(scene, s->sheen_color_tex);
+    d->sheen_rough_tex = gpu_texture_index(scene, s->sheen_rough_tex);
+}
+
 static xrsc_result upload_materials(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
                                     xrsc_diag *diag)
 {
@@ -201,6 +227,7 @@ static xrsc_result upload_materials(gpu_context *ctx, gpu_scene *gs, const sc_sc
             d->uv_rows[2 * k] = (xs_vec4){m[0], m[1], m[2], 0.0f};
             d->uv_rows[2 * k + 1] = (xs_vec4){m[3], m[4], m[5], 0.0f};
         }
+        upload_material_extensions(scene, s, d);
     }
     xrsc_result res = gpu_buffer_create_with_data(
         ctx, mats, (VkDeviceSize)n * sizeof(*mats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,

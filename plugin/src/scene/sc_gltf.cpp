@@ -55,7 +55,9 @@ const uint64_t kMaxFileBytes = 2ull << 30;
 const char *const kSupportedExtensions[] = {
     "KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior",
     "KHR_lights_punctual", "KHR_mesh_quantization", "KHR_materials_unlit",
-    "KHR_texture_transform", "EXT_mesh_gpu_instancing", "KHR_materials_pbrSpecularGlossiness",
+    "KHR_texture_transform", "KHR_materials_specular", "KHR_materials_clearcoat",
+    "KHR_materials_sheen", "KHR_materials_volume", "EXT_mesh_gpu_instancing",
+    "KHR_materials_pbrSpecularGlossiness",
 #ifdef XRSC_HAVE_MESHOPT
     "EXT_meshopt_compression", // decoded after parsing with libmeshoptimizer (CMake: XRSC_MESHOPT)
 #endif
@@ -252,6 +254,38 @@ template <typename Info> sc_gltf_texref texref(sc_gltf_doc *doc, const Info &ti)
     }
     if (ti.index >= 0 && r.tex_coord != 0) sc_gltf_note(doc, "texCoord sets other than 0");
     return r;
+}
+
+/** A texture reference inside an extension's JSON (`key`: {"index", "texCoord"}); none when
+ *  absent. KHR_texture_transform on these is noted and not applied. */
+sc_gltf_texref texref_value(sc_gltf_doc *doc, const tinygltf::Value &v, const char *key)
+{
+    sc_gltf_texref r;
+    r.texture = -1;
+    r.tex_coord = 0;
+    r.offset[0] = r.offset[1] = 0.0f;
+    r.rotation_rad = 0.0f;
+    r.scale[0] = r.scale[1] = 1.0f;
+    if (!v.IsObject() || !v.Has(key) || !v.Get(key).IsObject()) return r;
+    const tinygltf::Value &t = v.Get(key);
+    if (t.Has("index") && t.Get("index").IsNumber()) r.texture = value_index(t.Get("index"));
+    if (t.Has("texCoord") && t.Get("texCoord").IsNumber())
+        r.tex_coord = value_index(t.Get("texCoord"));
+    if (r.texture >= 0 && r.tex_coord != 0) sc_gltf_note(doc, "texCoord sets other than 0");
+    if (t.Has("extensions") && t.Get("extensions").IsObject() &&
+        t.Get("extensions").Has("KHR_texture_transform"))
+        sc_gltf_note(doc, "KHR_texture_transform on material extension textures");
+    return r;
+}
+
+/** Reads up to n numbers of the array `key` into dst (left as they are when absent). */
+void value_numbers(const tinygltf::Value &v, const char *key, float *dst, int n)
+{
+    if (!v.IsObject() || !v.Has(key)) return;
+    const tinygltf::Value &a = v.Get(key);
+    if (!a.IsArray() || (int)a.ArrayLen() != n) return;
+    for (int c = 0; c < n; c++)
+        if (a.Get(c).IsNumber()) dst[c] = clamp_float(a.Get(c).GetNumberAsDouble());
 }
 
 /** What the JSON pre-check learns and keeps for messages. */
@@ -544,8 +578,11 @@ void texture_transform(const tinygltf::Value &info, sc_gltf_texref *r)
         r->tex_coord = value_index(v.Get("texCoord"));
 }
 
-/** A texture-info given as a JSON value (extensions' textures: tinygltf keeps them raw). */
-sc_gltf_texref texref_value(sc_gltf_doc *doc, const tinygltf::Value &parent, const char *key)
+/** A texture-info given as a JSON value (extensions' textures: tinygltf keeps them raw), with
+ *  its KHR_texture_transform: for spec-gloss textures, which become a base-colour or
+ *  metal/rough slot and keep their transform on the GPU. */
+sc_gltf_texref texref_value_transformed(sc_gltf_doc *doc, const tinygltf::Value &parent,
+                                        const char *key)
 {
     sc_gltf_texref r = {-1, 0, {0.0f, 0.0f}, 0.0f, {1.0f, 1.0f}};
     if (!parent.IsObject() || !parent.Has(key)) return r;
@@ -564,10 +601,10 @@ void fill_spec_gloss(sc_gltf_doc *doc, const tinygltf::Value &v, sc_gltf_materia
 {
     o->spec_gloss = true;
     for (int c = 0; c < 4; c++) o->diffuse[c] = 1.0f;
-    for (int c = 0; c < 3; c++) o->specular[c] = 1.0f;
+    for (int c = 0; c < 3; c++) o->sg_specular[c] = 1.0f;
     o->glossiness = clamp_float(value_number(v, "glossinessFactor", 1.0));
     const char *keys[2] = {"diffuseFactor", "specularFactor"};
-    float *dst[2] = {o->diffuse, o->specular};
+    float *dst[2] = {o->diffuse, o->sg_specular};
     for (int k = 0; k < 2; k++) {
         if (!v.IsObject() || !v.Has(keys[k])) continue;
         const tinygltf::Value &a = v.Get(keys[k]);
@@ -576,8 +613,8 @@ void fill_spec_gloss(sc_gltf_doc *doc, const tinygltf::Value &v, sc_gltf_materia
         for (int c = 0; c < n; c++)
             if (a.Get(c).IsNumber()) dst[k][c] = clamp_float(a.Get(c).GetNumberAsDouble());
     }
-    o->diffuse_tex = texref_value(doc, v, "diffuseTexture");
-    o->spec_gloss_tex = texref_value(doc, v, "specularGlossinessTexture");
+    o->diffuse_tex = texref_value_transformed(doc, v, "diffuseTexture");
+    o->spec_gloss_tex = texref_value_transformed(doc, v, "specularGlossinessTexture");
 }
 
 /** EXT_mesh_gpu_instancing's attribute accessors of node n. */
@@ -702,6 +739,11 @@ xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_glt
         o->emissive_strength = 1.0f;
         o->ior = 1.5f;
         o->double_sided = mt.doubleSided;
+        sc_gltf_texref none = texref_value(doc, tinygltf::Value(), "");
+        o->transmission_tex = o->specular_tex = o->specular_color_tex = none;
+        o->clearcoat_tex = o->clearcoat_rough_tex = o->sheen_color_tex = o->sheen_rough_tex = none;
+        o->specular = 1.0f;
+        for (int c = 0; c < 3; c++) o->specular_color[c] = o->attenuation_color[c] = 1.0f;
         o->normal_tex = texref(doc, mt.normalTexture);
         o->normal_scale = clamp_float(mt.normalTexture.scale);
         // occlusionTexture is deliberately not used: it approximates the ambient occlusion
@@ -713,8 +755,32 @@ xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_glt
                 o->emissive_strength = clamp_float(value_number(v, "emissiveStrength", 1.0));
             } else if (ext.first == "KHR_materials_transmission") {
                 o->transmission = clamp_float(value_number(v, "transmissionFactor", 0.0));
-                if (v.IsObject() && v.Has("transmissionTexture"))
-                    sc_gltf_note(doc, "transmissionTexture");
+                o->transmission_tex = texref_value(doc, v, "transmissionTexture");
+            } else if (ext.first == "KHR_materials_specular") {
+                o->specular = clamp_float(value_number(v, "specularFactor", 1.0));
+                o->specular_tex = texref_value(doc, v, "specularTexture");
+                value_numbers(v, "specularColorFactor", o->specular_color, 3);
+                o->specular_color_tex = texref_value(doc, v, "specularColorTexture");
+            } else if (ext.first == "KHR_materials_clearcoat") {
+                o->clearcoat = clamp_float(value_number(v, "clearcoatFactor", 0.0));
+                o->clearcoat_tex = texref_value(doc, v, "clearcoatTexture");
+                o->clearcoat_roughness =
+                    clamp_float(value_number(v, "clearcoatRoughnessFactor", 0.0));
+                o->clearcoat_rough_tex = texref_value(doc, v, "clearcoatRoughnessTexture");
+                if (v.IsObject() && v.Has("clearcoatNormalTexture"))
+                    sc_gltf_note(doc, "clearcoatNormalTexture");
+            } else if (ext.first == "KHR_materials_sheen") {
+                value_numbers(v, "sheenColorFactor", o->sheen_color, 3);
+                o->sheen_color_tex = texref_value(doc, v, "sheenColorTexture");
+                o->sheen_roughness = clamp_float(value_number(v, "sheenRoughnessFactor", 0.0));
+                o->sheen_rough_tex = texref_value(doc, v, "sheenRoughnessTexture");
+            } else if (ext.first == "KHR_materials_volume") {
+                o->thickness = clamp_float(value_number(v, "thicknessFactor", 0.0));
+                value_numbers(v, "attenuationColor", o->attenuation_color, 3);
+                o->attenuation_distance =
+                    clamp_float(value_number(v, "attenuationDistance", 0.0));
+                if (v.IsObject() && v.Has("thicknessTexture"))
+                    sc_gltf_note(doc, "thicknessTexture");
             } else if (ext.first == "KHR_materials_unlit") {
                 o->unlit = true;
             } else if (ext.first == "KHR_materials_ior") {

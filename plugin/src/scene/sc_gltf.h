@@ -99,8 +99,24 @@ typedef struct sc_gltf_material {
     bool double_sided;
     /** KHR_materials_pbrSpecularGlossiness (converted to metal/rough by sc_scene.c). */
     bool spec_gloss;
-    float diffuse[4], specular[3], glossiness;
+    float diffuse[4], sg_specular[3], glossiness; /**< sg_: specularFactor of spec-gloss */
     sc_gltf_texref diffuse_tex, spec_gloss_tex;
+    sc_gltf_texref transmission_tex; /**< KHR_materials_transmission transmissionTexture (R) */
+    /** KHR_materials_specular: specularFactor (1 when absent), its texture (A),
+     *  specularColorFactor (1, 1, 1 when absent) and its texture (sRGB rgb). */
+    float specular;
+    sc_gltf_texref specular_tex;
+    float specular_color[3];
+    sc_gltf_texref specular_color_tex;
+    /** KHR_materials_clearcoat: factor (0 when absent, texture R), roughness (texture G). */
+    float clearcoat, clearcoat_roughness;
+    sc_gltf_texref clearcoat_tex, clearcoat_rough_tex;
+    /** KHR_materials_sheen: colour (0 when absent, texture sRGB rgb), roughness (texture A). */
+    float sheen_color[3], sheen_roughness;
+    sc_gltf_texref sheen_color_tex, sheen_rough_tex;
+    /** KHR_materials_volume: thicknessFactor (0 when absent: thin-walled), attenuation colour
+     *  (1, 1, 1) and distance (0 when absent, meaning infinite). */
+    float thickness, attenuation_color[3], attenuation_distance;
 } sc_gltf_material;
 
 typedef struct sc_gltf_texture {

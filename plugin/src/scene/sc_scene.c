@@ -18,6 +18,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -920,7 +921,7 @@ static xrsc_result spec_gloss_texture(sc_build *b, const sc_gltf_material *g, co
     for (size_t i = 0; i < n; i++) {
         const uint8_t *t = im->rgba8 + 4 * i;
         float spec[3];
-        for (int c = 0; c < 3; c++) spec[c] = lut[t[c]] * g->specular[c];
+        for (int c = 0; c < 3; c++) spec[c] = lut[t[c]] * g->sg_specular[c];
         float m = solve_metallic(diffuse_b, perceived_brightness(spec), 1.0f - max3(spec));
         float rough = clamp01(1.0f - t[3] / 255.0f * g->glossiness);
         px[4 * i] = 255;
@@ -977,7 +978,7 @@ static xrsc_result spec_gloss_per_texel(sc_build *b, const sc_gltf_material *g,
         const uint8_t *dt = di->rgba8 + 4 * i, *st = si->rgba8 + 4 * i;
         float dif[3], spec[3], out[3], m, r;
         for (int c = 0; c < 3; c++)
-            dif[c] = lut[dt[c]] * g->diffuse[c], spec[c] = lut[st[c]] * g->specular[c];
+            dif[c] = lut[dt[c]] * g->diffuse[c], spec[c] = lut[st[c]] * g->sg_specular[c];
         spec_gloss_factors(dif, spec, st[3] / 255.0f * g->glossiness, out, &m, &r);
         for (int c = 0; c < 3; c++) base[4 * i + c] = enc[lrintf(out[c] * (SC_SRGB_LUT - 1))];
         base[4 * i + 3] = (uint8_t)lrintf(clamp01(dt[3] / 255.0f * g->diffuse[3]) * 255.0f);
@@ -1013,7 +1014,7 @@ static xrsc_result convert_spec_gloss(sc_build *b, uint32_t i, const sc_gltf_mat
     bool done;
     xrsc_result pr = spec_gloss_per_texel(b, g, field, mt, &done);
     if (pr != XRSC_OK || done) return pr;
-    spec_gloss_factors(g->diffuse, g->specular, g->glossiness, mt->base_color, &mt->metallic,
+    spec_gloss_factors(g->diffuse, g->sg_specular, g->glossiness, mt->base_color, &mt->metallic,
                        &mt->roughness);
     mt->base_color[3] = g->diffuse[3];
     FIELD(field, "materials[%u].extensions.KHR_materials_pbrSpecularGlossiness.diffuseTexture", i);
@@ -1026,6 +1027,58 @@ static xrsc_result convert_spec_gloss(sc_build *b, uint32_t i, const sc_gltf_mat
     if (r == XRSC_OK && mt->metal_rough_tex != SC_NO_TEXTURE)
         mt->metallic = mt->roughness = 1.0f; /* the texture carries the converted values */
     return r;
+}
+
+/** The KHR_materials_specular / _clearcoat / _sheen / _volume values and the transmission
+ *  texture of material i. */
+static xrsc_result build_material_extensions(sc_build *b, uint32_t i, sc_material *mt)
+{
+    const sc_gltf_material *g = &b->doc->materials[i];
+    mt->specular = g->specular;
+    mt->clearcoat = g->clearcoat;
+    mt->clearcoat_roughness = g->clearcoat_roughness;
+    mt->sheen_roughness = g->sheen_roughness;
+    mt->thickness = g->thickness;
+    for (int c = 0; c < 3; c++) {
+        mt->specular_color[c] = g->specular_color[c];
+        mt->sheen_color[c] = g->sheen_color[c];
+        /* Beer-Lambert: transmittance attenuationColor after attenuationDistance metres */
+        float ac = g->attenuation_color[c];
+        float ad = g->attenuation_distance;
+        mt->sigma_a[c] = ad > 0.0f && ac < 1.0f ? -logf(fmaxf(ac, 1e-6f)) / ad : 0.0f;
+    }
+    static const struct {
+        size_t ref, out;
+        bool srgb;
+        const char *name;
+    } tex[] = {
+        {offsetof(sc_gltf_material, transmission_tex), offsetof(sc_material, transmission_tex),
+         false, "KHR_materials_transmission.transmissionTexture"},
+        {offsetof(sc_gltf_material, specular_tex), offsetof(sc_material, specular_tex), false,
+         "KHR_materials_specular.specularTexture"},
+        {offsetof(sc_gltf_material, specular_color_tex),
+         offsetof(sc_material, specular_color_tex), true,
+         "KHR_materials_specular.specularColorTexture"},
+        {offsetof(sc_gltf_material, clearcoat_tex), offsetof(sc_material, clearcoat_tex), false,
+         "KHR_materials_clearcoat.clearcoatTexture"},
+        {offsetof(sc_gltf_material, clearcoat_rough_tex),
+         offsetof(sc_material, clearcoat_rough_tex), false,
+         "KHR_materials_clearcoat.clearcoatRoughnessTexture"},
+        {offsetof(sc_gltf_material, sheen_color_tex), offsetof(sc_material, sheen_color_tex),
+         true, "KHR_materials_sheen.sheenColorTexture"},
+        {offsetof(sc_gltf_material, sheen_rough_tex), offsetof(sc_material, sheen_rough_tex),
+         false, "KHR_materials_sheen.sheenRoughnessTexture"},
+    };
+    for (size_t k = 0; k < sizeof tex / sizeof tex[0]; k++) {
+        char field[128];
+        FIELD(field, "materials[%u].extensions.%s.index", i, tex[k].name);
+        const sc_gltf_texref *ref = (const sc_gltf_texref *)((const char *)g + tex[k].ref);
+        uint32_t *out = (uint32_t *)((char *)mt + tex[k].out);
+        xrsc_result r = map_texture(b, *ref, tex[k].srgb, field, out);
+        if (r != XRSC_OK)
+            return r;
+    }
+    return XRSC_OK;
 }
 
 static xrsc_result build_materials(sc_build *b)
@@ -1072,6 +1125,8 @@ static xrsc_result build_materials(sc_build *b)
         if ((r = map_texture(b, g->normal_tex, false, field, &mt->normal_tex)) != XRSC_OK)
             return r;
         if (g->spec_gloss && (r = convert_spec_gloss(b, i, g, mt)) != XRSC_OK) return r;
+        if ((r = build_material_extensions(b, i, mt)) != XRSC_OK)
+            return r;
     }
     /* The glTF default material (§3.9.6): white, metallic 1, roughness 1. */
     sc_material *def = &s->materials[d->material_count];
@@ -1083,6 +1138,11 @@ static xrsc_result build_materials(sc_build *b)
     def->normal_scale = 1.0f;
     uv_identity(def);
     def->ior = 1.5f;
+    def->specular = 1.0f;
+    for (int c = 0; c < 3; c++) def->specular_color[c] = 1.0f;
+    def->transmission_tex = def->specular_tex = def->specular_color_tex = SC_NO_TEXTURE;
+    def->clearcoat_tex = def->clearcoat_rough_tex = SC_NO_TEXTURE;
+    def->sheen_color_tex = def->sheen_rough_tex = SC_NO_TEXTURE;
     snprintf(def->name, sizeof def->name, "xrsc-default");
     return XRSC_OK;
 }

@@ -69,6 +69,26 @@ typedef struct sc_material {
      *  m[3] u + m[4] v + m[5]); identity when the file has none. */
     float uv_transform[SC_TEX_SLOTS][6];
     char name[64];
+    /* The extensions below read their textures at TEXCOORD_0 without KHR_texture_transform. */
+    uint32_t transmission_tex;  /**< KHR_materials_transmission texture (R, linear) */
+    float specular;             /**< KHR_materials_specular specularFactor, 1 = plain glTF */
+    float specular_color[3];    /**< specularColorFactor, (1, 1, 1) = plain glTF */
+    uint32_t specular_tex;      /**< A x specular (linear) */
+    uint32_t specular_color_tex;/**< rgb x specular_color (sRGB) */
+    float clearcoat;            /**< KHR_materials_clearcoat factor, 0 = no coat */
+    float clearcoat_roughness;  /**< perceptual */
+    uint32_t clearcoat_tex;     /**< R x clearcoat (linear) */
+    uint32_t clearcoat_rough_tex; /**< G x clearcoat_roughness (linear) */
+    float sheen_color[3];       /**< KHR_materials_sheen colour, 0 = no sheen */
+    float sheen_roughness;      /**< perceptual */
+    uint32_t sheen_color_tex;   /**< rgb x sheen_color (sRGB) */
+    uint32_t sheen_rough_tex;   /**< A x sheen_roughness (linear) */
+    /** KHR_materials_volume thicknessFactor: > 0 makes a transmissive material a refracting
+     *  volume; 0 (absent) = thin-walled, light passes straight through (the extension's rule). */
+    float thickness;
+    /** Beer-Lambert absorption coefficient inside the volume, 1/m per channel:
+     *  -ln(attenuationColor) / attenuationDistance; 0 without attenuation. */
+    float sigma_a[3];
 } sc_material;
 
 /** glTF sampler wrap modes (zero: REPEAT, glTF's default). */
@@ -270,7 +290,8 @@ typedef struct sc_load_options {
  * node hierarchy, materials (baseColor factor
  * and texture, metallicRoughness factor and texture, emissive factor and texture, normal
  * texture (tangent space, TANGENT or generated tangents), KHR_materials_emissive_strength,
- * KHR_materials_transmission, KHR_materials_ior, KHR_materials_unlit, KHR_texture_transform),
+ * KHR_materials_transmission (and its texture), KHR_materials_ior, KHR_materials_unlit,
+ * KHR_texture_transform, KHR_materials_specular, _clearcoat, _sheen, _volume: see sc_material),
  * cameras (first perspective camera's node = viewpoint, its yfov and aspectRatio kept),
  * KHR_lights_punctual (the first directional light = sun; every other light, point and spot
  * with range and cone angles, in sc_scene.lights), node animation (T/R/S; LINEAR, STEP,
