@@ -75,6 +75,9 @@ typedef struct sc_gltf_texref {
     float offset[2], rotation_rad, scale[2];
 } sc_gltf_texref;
 
+/** material.alphaMode */
+enum { SC_GLTF_ALPHA_OPAQUE, SC_GLTF_ALPHA_MASK, SC_GLTF_ALPHA_BLEND };
+
 typedef struct sc_gltf_material {
     char name[64];
     float base_color[4];
@@ -90,6 +93,8 @@ typedef struct sc_gltf_material {
     float normal_scale;      /**< normalTexture.scale, 1 when absent */
     bool unlit;              /**< KHR_materials_unlit */
     bool double_sided;
+    int alpha_mode;          /**< SC_GLTF_ALPHA_* from alphaMode; anything else = OPAQUE */
+    float alpha_cutoff;      /**< alphaCutoff, 0.5 when absent */
 } sc_gltf_material;
 
 typedef struct sc_gltf_texture {
