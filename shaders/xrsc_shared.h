@@ -74,6 +74,21 @@ typedef struct xs_mat4 { float m[16]; } xs_mat4; /* column-major */
 /* material flags */
 #define XS_MAT_DOUBLE_SIDED 1u
 #define XS_MAT_UNLIT 2u /* KHR_materials_unlit: shows base colour x texture, scatters nothing */
+/* glTF alphaMode (at most one of the two; neither = OPAQUE). alpha = base_color.a x the base
+ * colour texture's alpha. MASK: the surface is there where alpha >= alpha_cutoff, a hole
+ * elsewhere; BLEND: stochastic transparency, a ray passes with probability 1 - alpha (hit.rahit).
+ * Instances of such materials are the only non-opaque ones in the TLAS, so the any-hit shader
+ * runs for them only. */
+#define XS_MAT_ALPHA_MASK 4u
+#define XS_MAT_ALPHA_BLEND 8u
+
+/* TLAS instance masks (cullMask of traceRayEXT): every instance is in XS_CULL_ALL; BLEND
+ * instances are in XS_CULL_BLEND only, the others in XS_CULL_SOLID only. The sample cache's
+ * retrace rays test with XS_CULL_SOLID (sc_trace.rgen: a stochastic surface does not decide
+ * whether a cached sample behind it lives on). */
+#define XS_CULL_ALL 0xFFu
+#define XS_CULL_SOLID 0x01u
+#define XS_CULL_BLEND 0x02u
 
 /* texture slots of xs_material.uv_rows (KHR_texture_transform, one 2x3 matrix per slot) */
 #define XS_TEX_BASE 0
@@ -123,7 +138,8 @@ XS_STRUCT(xs_material)
     xs_uint flags; /* XS_MAT_* */
     xs_uint normal_tex;      /* tangent-space normal map (linear) or XS_NO_TEXTURE */
     xs_float normal_scale;   /* scales the map's x and y (glTF normalTexture.scale) */
-    xs_uint pad0, pad1;
+    xs_float alpha_cutoff;   /* XS_MAT_ALPHA_MASK: glTF alphaCutoff (default 0.5) */
+    xs_uint pad1;
     /* slot k's uv' = (dot(uv_rows[2k].xyz, (u, v, 1)), dot(uv_rows[2k+1].xyz, (u, v, 1))) */
     xs_vec4 uv_rows[2 * XS_TEX_SLOTS];
     /* ---- KHR_materials_specular / _clearcoat / _sheen / _volume (xs_bsdf.glsl). Their
@@ -227,6 +243,7 @@ _Static_assert(sizeof(xs_material) == 304, "xs_material layout");
 _Static_assert(offsetof(xs_material, specular) == 208, "xs_material layout");
 _Static_assert(offsetof(xs_material, clearcoat) == 256, "xs_material layout");
 _Static_assert(offsetof(xs_material, uv_rows) == 80, "xs_material layout");
+_Static_assert(offsetof(xs_material, alpha_cutoff) == 72, "xs_material layout");
 _Static_assert(sizeof(xs_emitter) == 16, "xs_emitter layout");
 _Static_assert(sizeof(xs_eye) == 208, "xs_eye layout");
 _Static_assert(offsetof(xs_frame, width) == 464, "xs_frame layout");

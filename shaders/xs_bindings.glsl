@@ -28,6 +28,15 @@
 
 #ifndef XS_NO_TLAS
 layout(set = 0, binding = XS_BIND_TLAS) uniform accelerationStructureEXT xs_tlas;
+
+/* Ray flags. No ray forces opacity: the any-hit shader (hit.rahit, glTF alphaMode MASK /
+ * BLEND) runs for the instances the TLAS marks non-opaque, and only for them. Camera rays (and
+ * the sample cache's retraces of camera-ray hits) cull the back faces of single-sided
+ * materials (glTF doubleSided = false), as glTF viewers do; bounce and shadow rays see both
+ * sides (a single-sided wall still casts its shadow). */
+#define XS_RAY_FLAGS_CAMERA gl_RayFlagsCullBackFacingTrianglesEXT
+#define XS_RAY_FLAGS_BOUNCE gl_RayFlagsNoneEXT
+#define XS_RAY_FLAGS_SHADOW (gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsSkipClosestHitShaderEXT)
 #endif
 
 layout(set = 0, binding = XS_BIND_FRAME, std140) uniform XsFrameBlock

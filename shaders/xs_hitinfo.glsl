@@ -144,6 +144,25 @@ xs_surface xs_surface_at(uint instance, uint primitive, vec2 bary)
     return s;
 }
 
+/** glTF alpha (base colour factor alpha x base colour texture alpha) of material m at the
+ *  point (bary) of triangle `primitive` of `instance`: only the uv is rebuilt (hit.rahit). */
+float xs_alpha_at(xs_material m, uint instance, uint primitive, vec2 bary)
+{
+    float a = m.base_color.a;
+    if (m.base_color_tex == XS_NO_TEXTURE)
+        return a;
+    uint base = instances[instance].first_index + 3u * primitive;
+    xs_vertex v0 = vertices[indices[base]];
+    xs_vertex v1 = vertices[indices[base + 1u]];
+    xs_vertex v2 = vertices[indices[base + 2u]];
+    vec3 w = vec3(1.0 - bary.x - bary.y, bary.x, bary.y);
+    vec2 uv = w.x * vec2(v0.position_u.w, v0.normal_v.w) +
+              w.y * vec2(v1.position_u.w, v1.normal_v.w) +
+              w.z * vec2(v2.position_u.w, v2.normal_v.w);
+    return a * textureLod(textures[nonuniformEXT(m.base_color_tex)], xs_uv_slot(m, XS_TEX_BASE, uv),
+                          0.0).a;
+}
+
 /** Flips the normals to face wo (unit, pointing away from the surface). The shading normal
  *  falls back to the geometric one when wo is below it (silhouettes of smooth meshes). */
 void xs_surface_orient(inout xs_surface s, vec3 wo)

@@ -42,10 +42,8 @@ layout(location = XS_PAYLOAD_SHADOW) rayPayloadEXT uint shadow_visible;
 float xs_visible(vec3 o, vec3 d, float tmax, inout uint rays)
 {
     shadow_visible = 0u;
-    traceRayEXT(xs_tlas,
-                gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsSkipClosestHitShaderEXT |
-                    gl_RayFlagsOpaqueEXT,
-                0xFF, 0, 0, XS_MISS_INDEX_SHADOW, o, 0.0, d, tmax, XS_PAYLOAD_SHADOW);
+    traceRayEXT(xs_tlas, XS_RAY_FLAGS_SHADOW, XS_CULL_ALL, 0, 0, XS_MISS_INDEX_SHADOW, o, 0.0, d,
+                tmax, XS_PAYLOAD_SHADOW);
     rays++;
     return float(shadow_visible);
 }
@@ -251,8 +249,10 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
             payload = first;
         } else {
             payload.instance = XS_MISS_INSTANCE;
-            traceRayEXT(xs_tlas, gl_RayFlagsOpaqueEXT, 0xFF, 0, 0, XS_MISS_INDEX_PRIMARY, origin,
-                        0.0, dir, XS_RAY_TMAX, XS_PAYLOAD_PRIMARY);
+            /* bounce 0 here is a camera ray (spp.rgen) */
+            traceRayEXT(xs_tlas, bounce == 0u ? XS_RAY_FLAGS_CAMERA : XS_RAY_FLAGS_BOUNCE,
+                        XS_CULL_ALL, 0, 0, XS_MISS_INDEX_PRIMARY, origin, 0.0, dir, XS_RAY_TMAX,
+                        XS_PAYLOAD_PRIMARY);
             r.rays++;
         }
         if (bounce == 0u)

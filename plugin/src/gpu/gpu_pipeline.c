@@ -270,10 +270,10 @@ fail:
 
 #define GPU_RT_STAGES                                                                              \
     (VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR |                               \
-     VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR)
+     VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR | VK_SHADER_STAGE_ANY_HIT_BIT_KHR)
 
 /* Shader stages and groups of every ray-tracing program, in SBT order. */
-enum { STAGE_RGEN, STAGE_MISS_PRIMARY, STAGE_MISS_SHADOW, STAGE_CHIT, STAGE_COUNT };
+enum { STAGE_RGEN, STAGE_MISS_PRIMARY, STAGE_MISS_SHADOW, STAGE_CHIT, STAGE_AHIT, STAGE_COUNT };
 enum { GROUP_RGEN, GROUP_MISS_PRIMARY, GROUP_MISS_SHADOW, GROUP_HIT, GROUP_COUNT };
 
 static xrsc_result create_sbt(gpu_context *ctx, gpu_rt_program *p, xrsc_diag *diag)
@@ -334,10 +334,12 @@ xrsc_result gpu_rt_program_create(gpu_context *ctx, const gpu_rt_program_desc *d
     xrsc_result res = XRSC_OK;
     memset(out, 0, sizeof(*out));
     VkShaderModule modules[STAGE_COUNT] = {0};
-    const char *names[STAGE_COUNT] = {desc->raygen, "primary.rmiss", "shadow.rmiss", "hit.rchit"};
+    const char *names[STAGE_COUNT] = {desc->raygen, "primary.rmiss", "shadow.rmiss", "hit.rchit",
+                                      "hit.rahit"};
     static const VkShaderStageFlagBits stage_bits[STAGE_COUNT] = {
         VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
-        VK_SHADER_STAGE_MISS_BIT_KHR, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR};
+        VK_SHADER_STAGE_MISS_BIT_KHR, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR,
+        VK_SHADER_STAGE_ANY_HIT_BIT_KHR};
 
     uint32_t n0;
     const gpu_binding *b0 = gpu_rt_set0_bindings(&n0);
@@ -394,6 +396,8 @@ xrsc_result gpu_rt_program_create(gpu_context *ctx, const gpu_rt_program_desc *d
     groups[GROUP_MISS_SHADOW].generalShader = STAGE_MISS_SHADOW;
     groups[GROUP_HIT].type = VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR;
     groups[GROUP_HIT].closestHitShader = STAGE_CHIT;
+    /* alphaMode MASK / BLEND (hit.rahit): runs only for non-opaque instances (gpu_scene.c) */
+    groups[GROUP_HIT].anyHitShader = STAGE_AHIT;
     VkRayTracingPipelineCreateInfoKHR pci = {
         .sType = VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR,
         .stageCount = STAGE_COUNT,

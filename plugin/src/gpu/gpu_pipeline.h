@@ -12,7 +12,8 @@
  *   raygen region: 1 record (the program's .rgen);
  *   miss region:   record XS_MISS_INDEX_PRIMARY = primary.rmiss, XS_MISS_INDEX_SHADOW =
  *                  shadow.rmiss;
- *   hit region:    1 triangle hit group (closest hit hit.rchit, no any-hit), so every
+ *   hit region:    1 triangle hit group (closest hit hit.rchit, any-hit hit.rahit for glTF
+ *                  alphaMode MASK / BLEND, run only for the non-opaque instances), so every
  *                  instance uses sbt offset 0 and traceRayEXT uses sbtRecordOffset 0,
  *                  sbtRecordStride 0 (or 1).
  * Regions start at shaderGroupBaseAlignment; strides are the handle size rounded to

@@ -104,15 +104,24 @@ static void write_tlas_instances(gpu_scene *gs, const sc_scene *scene)
         memset(&inst[i], 0, sizeof(inst[i]));
         fill_instance_transform(si->world, &inst[i].transform);
         inst[i].instanceCustomIndex = i;
-        inst[i].mask = 0xFF;
+        const sc_material *mat = &scene->materials[scene->meshes[si->mesh].material];
+        inst[i].mask = mat->alpha_mode == SC_ALPHA_BLEND ? XS_CULL_BLEND : XS_CULL_SOLID;
         inst[i].instanceShaderBindingTableRecordOffset = 0;
         /* Facing: no FLIP_FACING / FRONT_COUNTERCLOCKWISE bit. Vulkan determines facing in
          * object space, and its default front (clockwise in a left-handed system) is the
          * counter-clockwise side in glTF's right-handed coordinates: the glTF front, also for
          * mirrored instances (glTF 2.0 "Meshes": a negative determinant makes the front
          * clockwise in world space, i.e. still counter-clockwise in object space).
-         * Checked by test_gpu_primary's test_front_face (the bit makes it fail). */
-        inst[i].flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
+         * Checked by test_gpu_primary's test_front_face (the bit makes it fail).
+         * Single-sided materials leave back faces to the ray's cull flag (camera rays cull them,
+         * as glTF viewers do); MASK and BLEND instances are not opaque, so the any-hit shader
+         * (hit.rahit) runs for them, and for them only: the BLAS geometry stays opaque. */
+        VkGeometryInstanceFlagsKHR f = 0;
+        if (mat->double_sided)
+            f |= VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
+        if (mat->alpha_mode != SC_ALPHA_OPAQUE)
+            f |= VK_GEOMETRY_INSTANCE_FORCE_NO_OPAQUE_BIT_KHR;
+        inst[i].flags = f;
         inst[i].accelerationStructureReference = gs->blas[si->mesh].address;
     }
 }
@@ -219,7 +228,10 @@ static xrsc_result upload_materials(gpu_context *ctx, gpu_scene *gs, const sc_sc
                                                                        : XS_NO_TEXTURE;
         d->emission_tex = s->emission_tex < scene->texture_count ? s->emission_tex
                                                                  : XS_NO_TEXTURE;
-        d->flags = (s->double_sided ? XS_MAT_DOUBLE_SIDED : 0u) | (s->unlit ? XS_MAT_UNLIT : 0u);
+        d->flags = (s->double_sided ? XS_MAT_DOUBLE_SIDED : 0u) | (s->unlit ? XS_MAT_UNLIT : 0u) |
+                   (s->alpha_mode == SC_ALPHA_MASK ? XS_MAT_ALPHA_MASK : 0u) |
+                   (s->alpha_mode == SC_ALPHA_BLEND ? XS_MAT_ALPHA_BLEND : 0u);
+        d->alpha_cutoff = s->alpha_cutoff;
         d->normal_tex = s->normal_tex < scene->texture_count ? s->normal_tex : XS_NO_TEXTURE;
         d->normal_scale = s->normal_scale;
         for (int k = 0; k < XS_TEX_SLOTS; k++) {

@@ -748,7 +748,11 @@ xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_glt
         o->normal_scale = clamp_float(mt.normalTexture.scale);
         // occlusionTexture is deliberately not used: it approximates the ambient occlusion
         // that the path tracer computes itself (multiplying it in would darken twice).
-        if (mt.alphaMode != "OPAQUE") sc_gltf_note(doc, "alphaMode MASK/BLEND");
+        // alphaMode (glTF 2.0 §3.9.4): anything but MASK / BLEND is OPAQUE, as in viewers.
+        o->alpha_mode = mt.alphaMode == "MASK"    ? SC_GLTF_ALPHA_MASK
+                        : mt.alphaMode == "BLEND" ? SC_GLTF_ALPHA_BLEND
+                                                  : SC_GLTF_ALPHA_OPAQUE;
+        o->alpha_cutoff = clamp_float(mt.alphaCutoff);
         for (const auto &ext : mt.extensions) {
             const tinygltf::Value &v = ext.second;
             if (ext.first == "KHR_materials_emissive_strength") {

@@ -82,6 +82,9 @@ typedef struct sc_gltf_texref {
     float offset[2], rotation_rad, scale[2];
 } sc_gltf_texref;
 
+/** material.alphaMode */
+enum { SC_GLTF_ALPHA_OPAQUE, SC_GLTF_ALPHA_MASK, SC_GLTF_ALPHA_BLEND };
+
 typedef struct sc_gltf_material {
     char name[64];
     float base_color[4];
@@ -117,6 +120,8 @@ typedef struct sc_gltf_material {
     /** KHR_materials_volume: thicknessFactor (0 when absent: thin-walled), attenuation colour
      *  (1, 1, 1) and distance (0 when absent, meaning infinite). */
     float thickness, attenuation_color[3], attenuation_distance;
+    int alpha_mode;          /**< SC_GLTF_ALPHA_* from alphaMode; anything else = OPAQUE */
+    float alpha_cutoff;      /**< alphaCutoff, 0.5 when absent */
 } sc_gltf_material;
 
 typedef struct sc_gltf_texture {

@@ -1103,6 +1103,10 @@ static xrsc_result build_materials(sc_build *b)
         mt->transmission = g->transmission;
         mt->ior = g->ior;
         mt->double_sided = g->double_sided;
+        mt->alpha_mode = g->alpha_mode == SC_GLTF_ALPHA_MASK    ? SC_ALPHA_MASK
+                         : g->alpha_mode == SC_GLTF_ALPHA_BLEND ? SC_ALPHA_BLEND
+                                                                : SC_ALPHA_OPAQUE;
+        mt->alpha_cutoff = g->alpha_cutoff;
         mt->unlit = g->unlit;
         mt->normal_scale = g->normal_scale;
         uv_transform(&g->base_color_tex, mt->uv_transform[SC_TEX_BASE]);

@@ -52,6 +52,13 @@ typedef struct sc_mesh {
 /** Texture slots of a material, in the order of sc_material.uv_transform. */
 enum { SC_TEX_BASE, SC_TEX_METAL_ROUGH, SC_TEX_EMISSION, SC_TEX_NORMAL, SC_TEX_SLOTS };
 
+/** glTF 2.0 material.alphaMode. */
+typedef enum sc_alpha_mode {
+    SC_ALPHA_OPAQUE = 0, /**< alpha ignored */
+    SC_ALPHA_MASK,       /**< a hole where alpha < alpha_cutoff */
+    SC_ALPHA_BLEND,      /**< blended over what is behind: stochastic transparency */
+} sc_alpha_mode;
+
 typedef struct sc_material {
     float base_color[4];        /**< linear RGBA factor */
     uint32_t base_color_tex;    /**< texture index (sRGB) or SC_NO_TEXTURE */
@@ -64,7 +71,10 @@ typedef struct sc_material {
     uint32_t normal_tex;        /**< tangent-space normal map (linear) or SC_NO_TEXTURE */
     float normal_scale;         /**< normalTexture.scale (scales the map's x and y) */
     bool unlit;                 /**< KHR_materials_unlit: shows base colour x texture, unlit */
-    bool double_sided;
+    bool double_sided;          /**< false: back faces (glTF winding) are culled for camera
+                                 *   rays, as glTF viewers cull them */
+    sc_alpha_mode alpha_mode;   /**< alpha = base_color[3] x the base colour texture's alpha */
+    float alpha_cutoff;         /**< SC_ALPHA_MASK threshold (glTF alphaCutoff, default 0.5) */
     /** KHR_texture_transform per slot (SC_TEX_*): uv' = (m[0] u + m[1] v + m[2],
      *  m[3] u + m[4] v + m[5]); identity when the file has none. */
     float uv_transform[SC_TEX_SLOTS][6];
