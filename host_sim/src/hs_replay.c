@@ -54,8 +54,10 @@ static void buffers_free(replay_buffers *b)
     memset(b, 0, sizeof(*b));
 }
 
-static xrsc_result write_frame(const hs_replay_options *opt, xrsc_renderer *r, uint32_t frame,
-                               uint32_t w, uint32_t h, replay_buffers *b, xrsc_diag *diag)
+/* Stages frame k's files (PNG eyes, PFM, side-by-side) into set (hs_file.h). */
+static xrsc_result stage_frame(const hs_replay_options *opt, xrsc_renderer *r, uint32_t frame,
+                               uint32_t w, uint32_t h, replay_buffers *b, hs_frame_set *set,
+                               xrsc_diag *diag)
 {
     static const char *const eye_name[2] = {"left", "right"};
     size_t bytes = (size_t)w * h * 4 * sizeof(float);
@@ -63,7 +65,7 @@ static xrsc_result write_frame(const hs_replay_options *opt, xrsc_renderer *r, u
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "output",
                           "colour output is %zu bytes, expected %u x %u RGBA float",
                           xrsc_renderer_output_size(r, XRSC_OUTPUT_COLOR), w, h);
-    char path[1200];
+    char path[HS_OUT_PATH_MAX];
     for (int e = 0; e < 2; e++) {
         xrsc_result res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, b->color[e], bytes);
         if (res != XRSC_OK)
@@ -79,21 +81,42 @@ static xrsc_result write_frame(const hs_replay_options *opt, xrsc_renderer *r, u
         hs_tonemap_rgba(&tm, b->color[e], w, h, b->ldr[e]);
         if (opt->write_eyes) {
             snprintf(path, sizeof(path), "%s/frame_%05u_%s.png", opt->out_dir, frame, eye_name[e]);
-            if ((res = hs_write_png(path, b->ldr[e], w, h, diag)) != XRSC_OK)
+            if ((res = hs_frame_set_add(set, path, diag)) != XRSC_OK ||
+                (res = hs_stage_png(path, b->ldr[e], w, h, diag)) != XRSC_OK)
                 return res;
         }
         if (opt->write_linear) {
             snprintf(path, sizeof(path), "%s/frame_%05u_%s.pfm", opt->out_dir, frame, eye_name[e]);
-            if ((res = hs_write_pfm(path, b->color[e], w, h, diag)) != XRSC_OK)
+            if ((res = hs_frame_set_add(set, path, diag)) != XRSC_OK ||
+                (res = hs_stage_pfm(path, b->color[e], w, h, diag)) != XRSC_OK)
                 return res;
         }
     }
     if (opt->write_sbs) {
         hs_side_by_side(b->ldr[0], b->ldr[1], w, h, b->sbs);
         snprintf(path, sizeof(path), "%s/frame_%05u_sbs.png", opt->out_dir, frame);
-        return hs_write_png(path, b->sbs, 2 * w, h, diag);
+        xrsc_result res = hs_frame_set_add(set, path, diag);
+        return res != XRSC_OK ? res : hs_stage_png(path, b->sbs, 2 * w, h, diag);
     }
     return XRSC_OK;
+}
+
+/* Writes frame k's files (hs_replay.h's and hs_outputs.h's) as one set (hs_file.h). */
+static xrsc_result write_frame(const hs_replay_options *opt, xrsc_renderer *r, uint32_t frame,
+                               uint32_t w, uint32_t h, replay_buffers *b, hs_outputs *outs,
+                               xrsc_diag *diag)
+{
+    hs_frame_set set = {0};
+    xrsc_result res = XRSC_OK;
+    if (opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear))
+        res = stage_frame(opt, r, frame, w, h, b, &set, diag);
+    if (res == XRSC_OK)
+        res = hs_outputs_frame(outs, r, frame, &set, diag);
+    if (res != XRSC_OK) {
+        hs_frame_set_abort(&set);
+        return res;
+    }
+    return hs_frame_set_commit(&set, diag);
 }
 
 static void show_progress(const hs_replay_options *opt, uint32_t done, uint32_t total,
@@ -250,6 +273,7 @@ typedef struct replay_loop {
     replay_buffers buf;
     hs_outputs *outs;
     FILE *csv; /* frames.csv, or NULL */
+    const hs_out_file *csv_out; /* its names */
     bool csv_header_done;
 } replay_loop;
 
@@ -272,6 +296,8 @@ static void csv_row(replay_loop *L, uint32_t k, int64_t t_ns, hs_lookup lookup, 
     for (uint32_t p = 0; p < np; p++)
         fprintf(L->csv, ",%.4f", passes[p].gpu_ms);
     fputc('\n', L->csv);
+    /* Whole rows on disk after each frame: a second Ctrl-C keeps them (hs_run.h). */
+    fflush(L->csv);
 }
 
 /* Renders, counts and writes frame k. */
@@ -300,12 +326,12 @@ static xrsc_result replay_frame(replay_loop *L, uint32_t k, hs_replay_stats *st,
     uint32_t np;
     hs_replay_stats_add(st, L->r, ms, passes, &np);
     csv_row(L, k, t_ns, lookup, ms, passes, np);
+    if (L->csv && ferror(L->csv)) /* the first failed write ends the run */
+        return u_diag_set(diag, XRSC_ERROR_IO, L->csv_out->path, 0, "", "cannot write %s: %s",
+                          L->csv_out->tmp, hs_write_error_text(L->csv, errno));
     if (k == 0)
         hs_warn_if_black(opt, L->r, L->w, L->h);
-    if (opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear) &&
-        (res = write_frame(opt, L->r, k, L->w, L->h, &L->buf, diag)) != XRSC_OK)
-        return res;
-    return hs_outputs_frame(L->outs, L->r, k, diag);
+    return write_frame(opt, L->r, k, L->w, L->h, &L->buf, L->outs, diag);
 }
 
 /* The scene's view: --fov scene's FOV, --frame's viewpoint, the stream anchored to it. */
@@ -400,6 +426,7 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
         if ((res = hs_out_open(&csv_file, path, diag)) != XRSC_OK)
             goto done;
         L.csv = csv_file.f;
+        L.csv_out = &csv_file;
         fprintf(L.csv, "frame,display_time_ns,lookup,render_wall_ms,rays");
     }
     if ((res = hs_outputs_open(opt, L.w, L.h, NS_PER_S / L.period_ns, &L.outs, diag)) != XRSC_OK)

@@ -418,7 +418,8 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
 static const char *const not_settings[] = {"--quiet", "--overwrite"};
 
 /* Runs the replay with its record: the output folder checked (--overwrite), run.json and
- * run.conf written before and after, SIGINT/SIGTERM as a clean stop. Returns the exit status:
+ * run.conf written before, run.json after (hs_run.h), SIGINT/SIGTERM/SIGHUP as a clean stop
+ * and a second one as the end at once. Returns the exit status:
  * 0, 1 (failed), 2 (the folder holds a run), 128 + signal (stopped). */
 static int run_recorded(hs_replay_options *opt, bool direct, bool overwrite, bool quiet,
                         hs_run_info *run)
@@ -428,7 +429,7 @@ static int run_recorded(hs_replay_options *opt, bool direct, bool overwrite, boo
     if (opt->out_dir) {
         xrsc_result pr = hs_run_prepare_out(opt->out_dir, overwrite, &diag);
         if (pr == XRSC_OK)
-            pr = hs_run_write_record(run, NULL, "running", 0, &diag);
+            pr = hs_run_write_record(run, NULL, "running", 0, NULL, &diag);
         if (pr != XRSC_OK) {
             fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
             return pr == XRSC_ERROR_INVALID_ARGUMENT ? HS_EXIT_BAD_ARGS : 1;
@@ -447,10 +448,13 @@ static int run_recorded(hs_replay_options *opt, bool direct, bool overwrite, boo
     if (opt->out_dir) {
         xrsc_diag rd = {0};
         const char *status = res != XRSC_OK ? "failed" : st.stopped_by ? "interrupted" : "completed";
-        if (hs_run_write_record(run, &st, status, rc, &rd) != XRSC_OK) {
+        if (hs_run_write_record(run, &st, status, rc, res != XRSC_OK ? msg : NULL, &rd) !=
+                XRSC_OK &&
+            res == XRSC_OK) { /* a failed run's one error is the one above */
             fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&rd, msg, sizeof(msg)));
             rc = rc ? rc : 1;
         }
+        hs_run_disarm();
     }
     if (!quiet && res == XRSC_OK) {
         char sig[32];

@@ -346,6 +346,15 @@ static XrResult config_outputs(hsrt_config *cfg)
 {
     const char *v = getenv("XRSC_RT_OUT");
     snprintf(cfg->out_dir, sizeof(cfg->out_dir), "%s", v ? v : "");
+    uint64_t fd = 0;
+    cfg->error_fd = -1;
+    v = getenv("XRSC_RT_ERROR_FD");
+    if (v && *v) {
+        if (!parse_u64(v, &fd) || fd > INT32_MAX)
+            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
+                             "XRSC_RT_ERROR_FD='%s' is not a file descriptor", v);
+        cfg->error_fd = (int)fd;
+    }
     v = getenv("XRSC_RT_WRITE");
     if (!v || !*v) {
         cfg->write_eyes = cfg->write_sbs = true;
