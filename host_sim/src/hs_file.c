@@ -9,6 +9,8 @@
 #include "u_diag.h"
 
 #include <errno.h>
+#include <pthread.h>
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -101,6 +103,14 @@ xrsc_result hs_frame_set_commit(hs_frame_set *set, xrsc_diag *diag)
 {
     char tmp[HS_OUT_PATH_MAX + sizeof(HS_TEMP_SUFFIX)];
     xrsc_result res = XRSC_OK;
+    /* The signals that end a run (hs_run.h) wait until the set is renamed: a handler that
+     * ends the process at once then finds the set whole or still all temporary. */
+    sigset_t stop, old;
+    sigemptyset(&stop);
+    sigaddset(&stop, SIGINT);
+    sigaddset(&stop, SIGTERM);
+    sigaddset(&stop, SIGHUP);
+    pthread_sigmask(SIG_BLOCK, &stop, &old);
     for (uint32_t i = 0; i < set->count; i++) {
         hs_temp_path(set->path[i], tmp, sizeof(tmp));
         if (rename(tmp, set->path[i]) == 0)
@@ -113,6 +123,7 @@ xrsc_result hs_frame_set_commit(hs_frame_set *set, xrsc_diag *diag)
         remove_temps(set, i);
         break;
     }
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
     set->count = 0;
     return res;
 }

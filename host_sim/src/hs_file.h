@@ -77,7 +77,8 @@ typedef struct hs_frame_set {
 xrsc_result hs_frame_set_add(hs_frame_set *set, const char *path, xrsc_diag *diag);
 
 /**
- * Renames every member's temporary file onto its path, in the order added. When one rename
+ * Renames every member's temporary file onto its path, in the order added, with SIGINT,
+ * SIGTERM and SIGHUP blocked meanwhile (their handler may end the process: hs_run.h). When one rename
  * fails (the folder removed), the members already renamed and the temporary files left are
  * removed, and the error (XRSC_ERROR_IO) names that path and the errno text. Empties the set.
  */

@@ -196,6 +196,17 @@ bool hs_scene_fov(const xrsc_scene_info *info, uint32_t width, uint32_t height, 
     return true;
 }
 
+xrsc_result hs_replay_load_poses(const hs_replay_options *opt, hs_pose_stream **out,
+                                 xrsc_diag *diag)
+{
+    const hs_pose_load_options lo = {
+        .format = opt->pose_format,
+        .columns = opt->pose_columns.count > 0 ? &opt->pose_columns : NULL,
+        .max_bytes = opt->max_pose_bytes,
+    };
+    return hs_pose_stream_load_with(opt->poses_path, &lo, out, diag);
+}
+
 xrsc_result hs_check_start(const char *poses_path, double start_s, int64_t duration_ns,
                            xrsc_diag *diag)
 {
@@ -204,6 +215,30 @@ xrsc_result hs_check_start(const char *poses_path, double start_s, int64_t durat
     return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, poses_path, 0, "--start",
                       "%.9g s is past the end of the stream, which lasts %.9g s", start_s,
                       (double)duration_ns / NS_PER_S);
+}
+
+uint32_t hs_warn_frames_past_end(const hs_replay_options *opt, int64_t duration_ns,
+                                 double period_ns, uint32_t first, uint32_t last)
+{
+    /* As the frame counts of both paths: the span from --start in whole nanoseconds. Frame k
+     * is at k periods from --start; the last within the stream is floor(span / period). */
+    double span_ns = (double)(duration_ns - (int64_t)(opt->start_s * NS_PER_S));
+    double inside = span_ns >= 0.0 ? floor(span_ns / period_ns) : -1.0;
+    if (last <= inside || last < first)
+        return 0;
+    uint32_t held = inside < first ? last - first + 1 : (uint32_t)(last - inside);
+    if (opt->hold_last)
+        return held;
+    xrsc_diag d = {0};
+    char msg[1400];
+    u_diag_set(&d, XRSC_WARN_FRAMES_PAST_END, opt->poses_path, 0, "--frames",
+               "%u frames at %.6g Hz last %.6g s, but the stream lasts %.6g s from --start %.6g "
+               "s: the last %u frames hold its last pose (--hold-last asks for that without "
+               "this warning)",
+               last - first + 1, NS_PER_S / period_ns, (last - first + 1) * period_ns / NS_PER_S,
+               span_ns > 0.0 ? span_ns / NS_PER_S : 0.0, opt->start_s, held);
+    U_LOG_W("%s", xrsc_diag_format(&d, msg, sizeof(msg)));
+    return held;
 }
 
 void hs_warn_if_black(const hs_replay_options *opt, xrsc_renderer *r, uint32_t w, uint32_t h)
@@ -385,9 +420,7 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
     L.w = ropt.width;
     L.h = ropt.height;
 
-    res = opt->pose_columns.count > 0
-              ? hs_pose_stream_load_columns(opt->poses_path, &opt->pose_columns, &stream, diag)
-              : hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag);
+    res = hs_replay_load_poses(opt, &stream, diag);
     if (res != XRSC_OK ||
         (res = hs_check_start(opt->poses_path, opt->start_s, hs_pose_stream_duration_ns(stream),
                               diag)) != XRSC_OK ||
@@ -417,6 +450,8 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
     L.frames = opt->frames;
     if (L.frames == 0)
         L.frames = span_ns > 0 ? (uint32_t)(span_ns / L.period_ns) + 1 : 1;
+    hs_warn_frames_past_end(opt, hs_pose_stream_duration_ns(stream), L.period_ns, 0,
+                            L.frames - 1);
 
     if (opt->out_dir) {
         if ((res = hs_make_dirs(opt->out_dir, "--out", diag)) != XRSC_OK)

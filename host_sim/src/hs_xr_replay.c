@@ -138,6 +138,10 @@ static xrsc_result configure_runtime(const hs_replay_options *opt, const hs_pose
     snprintf(buf, sizeof(buf), "%.17g", opt->start_s);
     if ((res = set_env("XRSC_RT_START_S", buf, diag)) != XRSC_OK)
         return res;
+    /* --max-pose-bytes: the runtime reads the same file with the same limit. */
+    snprintf(buf, sizeof(buf), "%llu", (unsigned long long)opt->max_pose_bytes);
+    if ((res = set_env("XRSC_RT_MAX_POSE_BYTES", buf, diag)) != XRSC_OK)
+        return res;
     const char *pace = getenv("XRSC_RT_PACE");
     if ((!pace || !*pace) && (res = set_env("XRSC_RT_PACE", "fast", diag)) != XRSC_OK)
         return res;
@@ -156,8 +160,7 @@ static xrsc_result load_stream(const hs_replay_options **opt, hs_replay_options 
     const hs_replay_options *o = *opt;
     xrsc_result res;
     if (o->pose_columns.count > 0) {
-        if ((res = hs_pose_stream_load_columns(o->poses_path, &o->pose_columns, stream, diag)) !=
-            XRSC_OK)
+        if ((res = hs_replay_load_poses(o, stream, diag)) != XRSC_OK)
             return res;
         const char *tmp = getenv("TMPDIR");
         snprintf(imported, imported_size, "%s/xrsc-poses-XXXXXX", tmp && *tmp ? tmp : "/tmp");
@@ -174,8 +177,7 @@ static xrsc_result load_stream(const hs_replay_options **opt, hs_replay_options 
         conv->poses_path = imported;
         conv->pose_format = HS_POSE_FORMAT_AUTO;
         *opt = o = conv;
-    } else if ((res = hs_pose_stream_load(o->poses_path, o->pose_format, stream, diag)) !=
-               XRSC_OK) {
+    } else if ((res = hs_replay_load_poses(o, stream, diag)) != XRSC_OK) {
         return res;
     }
     if ((res = hs_check_start(o->poses_path, o->start_s, hs_pose_stream_duration_ns(*stream),
@@ -185,7 +187,8 @@ static xrsc_result load_stream(const hs_replay_options **opt, hs_replay_options 
         return XRSC_OK;
     hs_pose_stream *probe = NULL;
     xrsc_diag pd = {0};
-    bool same = hs_pose_stream_load(o->poses_path, HS_POSE_FORMAT_AUTO, &probe, &pd) == XRSC_OK &&
+    const hs_pose_load_options auto_opt = {.max_bytes = o->max_pose_bytes};
+    bool same = hs_pose_stream_load_with(o->poses_path, &auto_opt, &probe, &pd) == XRSC_OK &&
                 probe->format == o->pose_format;
     hs_pose_stream_destroy(&probe);
     if (!same)
@@ -373,6 +376,7 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
         session_frames = span_ns > 0 ? (uint32_t)(span_ns / period_ns) + 1 : 2;
         frames = session_frames - 1;
     }
+    hs_warn_frames_past_end(opt, hs_pose_stream_duration_ns(stream), period_ns, 1, frames);
 
     hs_replay_options scene_fov_opt;
     if (opt->fov_scene && (res = use_scene_fov(&opt, &scene_fov_opt, w, h, diag)) != XRSC_OK)

@@ -69,7 +69,11 @@ static void usage(FILE *f)
 "                      aspect ratio (both paths) [headset]\n"
 "  --frame             place the viewpoint so the scene's bounds fill the view (default:\n"
 "                      the glTF camera, else in front of the bounds looking down -Z)\n"
-"  --frames N          render N frames (0 = until the stream ends) [0]\n"
+"  --frames N          render N frames (0 = until the stream ends) [0]; frames past the\n"
+"                      stream's end hold its last pose, with a warning\n"
+"                      (XRSC_WARN_FRAMES_PAST_END) naming how many\n"
+"  --hold-last         hold the last pose past the stream's end without that warning\n"
+"  --max-pose-bytes N  refuse pose files larger than N bytes (suffix K, M or G) [1G]\n"
 "\n"
 "Rendering:\n"
 "  --method M          spp | primary | samplecache | taa | hashcache | hybrid | isrt\n"
@@ -213,6 +217,7 @@ static const char *const value_options[] = {
     "--blend-estimate", "--taa", "--taa-alpha",
     "--isrt-m", "--hc-table", "--hc-lod", "--hc-voxel-scale", "--hc-max-age",
     "--hc-voxel-jitter",
+    "--max-pose-bytes",
 };
 
 /* Positive float option; returns 0 or the exit code of bad_arg. */
@@ -488,6 +493,8 @@ static int parse_flag(const char *a, main_args *m)
         opt->no_anchor = true;
     else if (!strcmp(a, "--frame"))
         opt->frame_bounds = true;
+    else if (!strcmp(a, "--hold-last"))
+        opt->hold_last = true;
     else if (!strcmp(a, "--direct"))
         m->direct = true;
     else if (!strcmp(a, "--preview") || !strcmp(a, "--preview-autoclose")) {
@@ -536,6 +543,9 @@ static int parse_input_option(const char *a, const char *v, main_args *m)
     } else if (!strcmp(a, "--frames")) {
         if (!hs_parse_u32(v, &opt->frames))
             return bad_arg(a, v, "expected a count");
+    } else if (!strcmp(a, "--max-pose-bytes")) {
+        if (!hs_parse_bytes(v, &opt->max_pose_bytes))
+            return bad_arg(a, v, "expected a byte count >= 1, e.g. 1G or 500M");
     } else {
         return HS_ARG_NOT_MINE;
     }
@@ -759,6 +769,7 @@ static int run_with_record(main_args *m, const hs_args *args, hs_run_info *run)
         {"--scene", opt->scene_path},   {"--poses", opt->poses_path},
         {"--pose-format", "auto"},      {"--start", "0"},
         {"--frames", "0"},              {"--fov", "headset"},
+        {"--max-pose-bytes", "1G"},
         {"--method", xrsc_method_name(opt->renderer.method)},
         {"--blend", xrsc_blend_name(opt->renderer.blend)},
         {"--blend-r", "0"},             {"--blend-estimate", "samples"},

@@ -75,6 +75,7 @@ typedef struct hsrt_config {
     char out_dir[1024]; /**< "" = write nothing */
     uint64_t frames;    /**< 0 = run until the application stops */
     uint64_t lose_after; /**< 0 = never; else the session is lost after this many frames */
+    uint64_t max_pose_bytes; /**< XRSC_RT_MAX_POSE_BYTES; 0 = HS_POSE_MAX_FILE_BYTES */
     hsrt_pace pace;
     bool write_eyes, write_sbs, write_linear;
     /** XRSC_RT_ERROR_FD: write end of a pipe that gets the error which ended the session (a

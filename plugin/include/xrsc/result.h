@@ -38,7 +38,12 @@ extern "C" {
     X(XRSC_ERROR_DEVICE_NOT_FOUND, -21, "the requested Vulkan device does not exist")          \
     X(XRSC_ERROR_XR, -22, "an OpenXR call failed")                                                 \
     X(XRSC_ERROR_XR_RUNTIME_UNAVAILABLE, -23, "no OpenXR runtime (see XR_RUNTIME_JSON)")           \
-    X(XRSC_ERROR_XR_SESSION_LOST, -24, "the OpenXR runtime lost the session or instance")
+    X(XRSC_ERROR_XR_SESSION_LOST, -24, "the OpenXR runtime lost the session or instance")         \
+    XRSC_RESULT_LIST_RUN(X)
+
+/* A replay's run (issue 23): warnings are positive (the run goes on), printed with their ID. */
+#define XRSC_RESULT_LIST_RUN(X)                                                                    \
+    X(XRSC_WARN_FRAMES_PAST_END, 60, "--frames runs past the pose stream: its last pose is held")
 
 typedef enum xrsc_result {
 #define XRSC_X_ENUM(name, value, text) name = value,
