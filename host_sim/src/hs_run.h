@@ -88,9 +88,12 @@ void hs_run_info_start(hs_run_info *info);
  *
  * status "running" is written before the run (st NULL), with run.conf (the same settings in
  * --config format, out commented out) and a blank reserve of whitespace at its end; it also
- * prepares the record a second signal writes (hs_run_catch_signals). The final status is
- * written after the run; when no new file can be written (a full disk, a file size limit)
- * it is written in place over the running record, within its reserve.
+ * prepares the record a second signal writes (hs_run_catch_signals) and keeps the folder
+ * open. The final status is written after the run through that descriptor (so the record
+ * follows a folder moved during the run), after the run's temporary files are settled as a
+ * second signal would (frames.csv.tmp renamed into place when whole, others removed); when no
+ * new file can be written (a full disk) it is written in place over the running record,
+ * within its reserve.
  */
 xrsc_result hs_run_write_record(const hs_run_info *info, const hs_replay_stats *st,
                                 const char *status, int exit_code, const char *error,
