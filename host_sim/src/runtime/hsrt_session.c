@@ -1153,8 +1153,9 @@ static XrResult XRAPI_CALL hsrt_xrCreateAction(XrActionSet actionSet,
     snprintf(a->name, sizeof(a->name), "%s", createInfo->actionName);
     snprintf(a->localized_name, sizeof(a->localized_name), "%s", createInfo->localizedActionName);
     a->subaction_count = createInfo->countSubactionPaths;
-    memcpy(a->subaction_paths, createInfo->subactionPaths,
-           a->subaction_count * sizeof(a->subaction_paths[0]));
+    if (a->subaction_count) /* subactionPaths may be NULL when there are none */
+        memcpy(a->subaction_paths, createInfo->subactionPaths,
+               a->subaction_count * sizeof(a->subaction_paths[0]));
     a->next_in_set = set->actions;
     set->actions = a;
     *action = HSRT_XR(XrAction, a->handle);
