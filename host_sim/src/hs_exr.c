@@ -97,8 +97,8 @@ static exr_result_t write_chunks(exr_context_t ctx, uint32_t h, const exr_plane 
     return rv;
 }
 
-static xrsc_result write_exr(const char *path, bool staged, const float *rgba,
-                             const float *depth, uint32_t w, uint32_t h, xrsc_diag *diag)
+static xrsc_result write_exr(const char *path, bool staged, const float *rgba, const float *depth,
+                             uint32_t w, uint32_t h, xrsc_diag *diag)
 {
     if (!path || !rgba || w == 0 || h == 0 || w > EXR_MAX_SIDE || h > EXR_MAX_SIDE)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0, "exr",

@@ -151,8 +151,8 @@ static xrsc_result write_png(const char *path, bool staged, const uint8_t *rgb, 
     if (res != XRSC_OK)
         return res;
     out.staged = staged;
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, png_quiet_error,
-                                              png_quiet_warning);
+    png_structp png =
+        png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, png_quiet_error, png_quiet_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (!png || !info) {
         png_destroy_write_struct(&png, &info);

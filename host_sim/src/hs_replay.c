@@ -307,7 +307,7 @@ typedef struct replay_loop {
     int64_t start_ns;      /* --start */
     replay_buffers buf;
     hs_outputs *outs;
-    FILE *csv; /* frames.csv, or NULL */
+    FILE *csv;                  /* frames.csv, or NULL */
     const hs_out_file *csv_out; /* its names */
     bool csv_header_done;
 } replay_loop;

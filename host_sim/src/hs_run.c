@@ -29,7 +29,7 @@
 
 /* ---- signals ---- */
 
-/** Frames of the emergency record: SIGINT, SIGTERM, SIGHUP. */
+/** The signals handled, each with its record for a second signal: SIGINT, SIGTERM, SIGHUP. */
 #define HS_RUN_SIGNALS 3
 /** Room left in the "running" run.json (blank padding after it) for the final record's
  *  summary, device and error, so that it can be written in place on a full disk. */
@@ -499,8 +499,8 @@ static void arm_second_signal(const hs_run_info *info)
     for (int i = 0; i < HS_RUN_SIGNALS; i++) {
         int sig = handled_signals[i];
         size_t len = 0;
-        char *text = render_json(info, NULL, "interrupted", hs_run_exit_status(sig), sig, NULL,
-                                 &len);
+        char *text =
+            render_json(info, NULL, "interrupted", hs_run_exit_status(sig), sig, NULL, &len);
         if (!text || len > sizeof(hs_run_state.record[i])) {
             free(text);
             return;

@@ -25,8 +25,8 @@
 /** Tries of the double Ctrl-C: the second signal must come before the clean stop ends. */
 #define DOUBLE_SIGNAL_TRIES 3
 
-static const char *const run_args[] = {"--spp",   "1",        "--frames",   MANY_FRAMES,
-                                       "--resolution", "32x32", "--write", "eyes,sbs,linear",
+static const char *const run_args[] = {"--spp",        "1",     "--frames", MANY_FRAMES,
+                                       "--resolution", "32x32", "--write",  "eyes,sbs,linear",
                                        "--out"};
 #define RUN_ARGS (sizeof(run_args) / sizeof(run_args[0]))
 
@@ -140,7 +140,8 @@ static bool signal_pending(pid_t pid, int sig)
     bool pending = false;
     while (fgets(line, sizeof(line), f)) {
         unsigned long long mask = 0;
-        if ((sscanf(line, "ShdPnd: %llx", &mask) == 1 || sscanf(line, "SigPnd: %llx", &mask) == 1) &&
+        if ((sscanf(line, "ShdPnd: %llx", &mask) == 1 ||
+             sscanf(line, "SigPnd: %llx", &mask) == 1) &&
             (mask >> (sig - 1)) & 1)
             pending = true;
     }
@@ -246,9 +247,14 @@ static char *past_end_run(const char *name, bool hold_last, int *status)
     snprintf(log, sizeof(log), "%s/%s", XRSC_TEST_OUT, name);
     rm_rf(dir);
     /* The bundled orbit lasts 1.9889 s: from 1.98 s, frame 0 is inside, frames 1..3 are not. */
-    const char *args[] = {"--direct", "--spp",   "1",    "--resolution", "16x16", "--start",
-                          "1.98",     "--frames", "4",   "--write",      "none",  "--out",
-                          dir,        hold_last ? "--hold-last" : NULL, NULL};
+    const char *args[] = {"--direct", "--spp",
+                          "1",        "--resolution",
+                          "16x16",    "--start",
+                          "1.98",     "--frames",
+                          "4",        "--write",
+                          "none",     "--out",
+                          dir,        hold_last ? "--hold-last" : NULL,
+                          NULL};
     pid_t pid = spawn(args, log);
     CHECK(waitpid(pid, status, 0) == pid);
     return log_text(log, ".err");
