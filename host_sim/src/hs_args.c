@@ -34,6 +34,26 @@ bool hs_parse_u32(const char *s, uint32_t *out)
     return true;
 }
 
+bool hs_parse_bytes(const char *s, uint64_t *out)
+{
+    char *end;
+    errno = 0;
+    unsigned long long v = strtoull(s, &end, 10);
+    if (errno || end == s || s[0] == '-' || v == 0)
+        return false;
+    int shift = 0;
+    if (*end == 'K' || *end == 'k')
+        shift = 10;
+    else if (*end == 'M' || *end == 'm')
+        shift = 20;
+    else if (*end == 'G' || *end == 'g')
+        shift = 30;
+    if ((shift && end[1]) || (!shift && *end) || v > (UINT64_MAX >> shift))
+        return false;
+    *out = (uint64_t)v << shift;
+    return true;
+}
+
 bool hs_parse_f(const char *s, double *out)
 {
     char *end;

@@ -29,6 +29,10 @@ int hs_bad_arg(const char *cmd, const char *flag, const char *value, const char 
 /** A decimal unsigned 32-bit integer, the whole of s (no sign); *out is set only on success. */
 bool hs_parse_u32(const char *s, uint32_t *out);
 
+/** A byte count: a decimal integer >= 1 with an optional binary suffix K, M or G (KiB, MiB,
+ *  GiB), the whole of s; *out is set only on success. */
+bool hs_parse_bytes(const char *s, uint64_t *out);
+
 /** A number (strtod), the whole of s, not NaN; infinities pass (callers bound the value). *out
  *  is set only on success. */
 bool hs_parse_f(const char *s, double *out);

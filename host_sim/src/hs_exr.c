@@ -97,8 +97,8 @@ static exr_result_t write_chunks(exr_context_t ctx, uint32_t h, const exr_plane 
     return rv;
 }
 
-xrsc_result hs_write_exr(const char *path, const float *rgba, const float *depth, uint32_t w,
-                         uint32_t h, xrsc_diag *diag)
+static xrsc_result write_exr(const char *path, bool staged, const float *rgba, const float *depth,
+                             uint32_t w, uint32_t h, xrsc_diag *diag)
 {
     if (!path || !rgba || w == 0 || h == 0 || w > EXR_MAX_SIDE || h > EXR_MAX_SIDE)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0, "exr",
@@ -148,7 +148,19 @@ xrsc_result hs_write_exr(const char *path, const float *rgba, const float *depth
         remove(tmp);
         return exr_fail(diag, XRSC_ERROR_IO, path, "finishing failed", rv, &msg);
     }
-    return hs_out_rename(tmp, path, diag);
+    return staged ? XRSC_OK : hs_out_rename(tmp, path, diag);
+}
+
+xrsc_result hs_write_exr(const char *path, const float *rgba, const float *depth, uint32_t w,
+                         uint32_t h, xrsc_diag *diag)
+{
+    return write_exr(path, false, rgba, depth, w, h, diag);
+}
+
+xrsc_result hs_stage_exr(const char *path, const float *rgba, const float *depth, uint32_t w,
+                         uint32_t h, xrsc_diag *diag)
+{
+    return write_exr(path, true, rgba, depth, w, h, diag);
 }
 
 static exr_result_t read_chunks(exr_context_t ctx, const exr_attr_box2i_t *dw,

@@ -29,6 +29,10 @@ extern "C" {
  */
 xrsc_result hs_write_exr(const char *path, const float *rgba, const float *depth, uint32_t w,
                          uint32_t h, xrsc_diag *diag);
+/** As hs_write_exr, for a frame set (hs_file.h): written whole as PATH.tmp and left there for
+ *  hs_frame_set_commit. */
+xrsc_result hs_stage_exr(const char *path, const float *rgba, const float *depth, uint32_t w,
+                         uint32_t h, xrsc_diag *diag);
 
 /**
  * Reads a scanline EXR's first part: R, G, B (missing channels read 0) into malloc'ed RGBA

@@ -129,15 +129,30 @@ float hs_autoexposure_update(hs_autoexposure *ae, const float *const *rgba, uint
     return ae->frames == 0 ? 1.0f : (float)exp2(ae->log2_exposure);
 }
 
-xrsc_result hs_write_png(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h,
-                         xrsc_diag *diag)
+/* libpng's errors are reported by the caller (with errno), not printed by libpng. */
+static void png_quiet_error(png_structp png, png_const_charp msg)
+{
+    (void)msg;
+    png_longjmp(png, 1);
+}
+
+static void png_quiet_warning(png_structp png, png_const_charp msg)
+{
+    (void)png;
+    (void)msg;
+}
+
+static xrsc_result write_png(const char *path, bool staged, const uint8_t *rgb, uint32_t w,
+                             uint32_t h, xrsc_diag *diag)
 {
     /* Written whole under a temporary name, then renamed (hs_file.h). */
     hs_out_file out;
     xrsc_result res = hs_out_open(&out, path, diag);
     if (res != XRSC_OK)
         return res;
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    out.staged = staged;
+    png_structp png =
+        png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, png_quiet_error, png_quiet_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (!png || !info) {
         png_destroy_write_struct(&png, &info);
@@ -145,9 +160,9 @@ xrsc_result hs_write_png(const char *path, const uint8_t *rgb, uint32_t w, uint3
         return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "libpng setup failed");
     }
     if (setjmp(png_jmpbuf(png))) {
+        /* libpng's only error while writing rows to a FILE is a failed fwrite. */
         png_destroy_write_struct(&png, &info);
-        hs_out_close(&out, false, diag);
-        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "libpng write failed");
+        return hs_out_close(&out, true, diag); /* names the file and the errno text */
     }
     png_init_io(png, out.f);
     png_set_IHDR(png, info, w, h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
@@ -162,13 +177,26 @@ xrsc_result hs_write_png(const char *path, const uint8_t *rgb, uint32_t w, uint3
     return hs_out_close(&out, true, diag);
 }
 
-xrsc_result hs_write_pfm(const char *path, const float *rgba, uint32_t w, uint32_t h,
+xrsc_result hs_write_png(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h,
                          xrsc_diag *diag)
+{
+    return write_png(path, false, rgb, w, h, diag);
+}
+
+xrsc_result hs_stage_png(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h,
+                         xrsc_diag *diag)
+{
+    return write_png(path, true, rgb, w, h, diag);
+}
+
+static xrsc_result write_pfm(const char *path, bool staged, const float *rgba, uint32_t w,
+                             uint32_t h, xrsc_diag *diag)
 {
     hs_out_file out; /* whole or nothing (hs_file.h) */
     xrsc_result res = hs_out_open(&out, path, diag);
     if (res != XRSC_OK)
         return res;
+    out.staged = staged;
     FILE *f = out.f;
     /* The sign of the scale gives the byte order (negative: little-endian); the pixels are
      * written in the host's. PFM rows run bottom to top. */
@@ -186,11 +214,20 @@ xrsc_result hs_write_pfm(const char *path, const float *rgba, uint32_t w, uint32
         ok = fwrite(row, sizeof(float) * 3, w, f) == w;
     }
     free(row);
-    if (!ok) {
-        hs_out_close(&out, false, diag);
-        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "write failed");
-    }
+    /* A failed fwrite sets the stream's error flag: the close names the file and errno. */
     return hs_out_close(&out, true, diag);
+}
+
+xrsc_result hs_write_pfm(const char *path, const float *rgba, uint32_t w, uint32_t h,
+                         xrsc_diag *diag)
+{
+    return write_pfm(path, false, rgba, w, h, diag);
+}
+
+xrsc_result hs_stage_pfm(const char *path, const float *rgba, uint32_t w, uint32_t h,
+                         xrsc_diag *diag)
+{
+    return write_pfm(path, true, rgba, w, h, diag);
 }
 
 xrsc_result hs_read_pfm(const char *path, float **out_rgba, uint32_t *out_w, uint32_t *out_h,

@@ -71,6 +71,12 @@ xrsc_result hs_write_png(const char *path, const uint8_t *rgb, uint32_t w, uint3
  */
 xrsc_result hs_write_pfm(const char *path, const float *rgba, uint32_t w, uint32_t h,
                          xrsc_diag *diag);
+/** As hs_write_png / hs_write_pfm, for a frame set (hs_file.h): the file is written whole as
+ *  PATH.tmp and left there for hs_frame_set_commit. Write errors name path and the errno text. */
+xrsc_result hs_stage_png(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h,
+                         xrsc_diag *diag);
+xrsc_result hs_stage_pfm(const char *path, const float *rgba, uint32_t w, uint32_t h,
+                         xrsc_diag *diag);
 /**
  * Reads a colour PFM (either byte order) back into RGBA floats, rows top to bottom, alpha 1;
  * *out_rgba is malloc'ed. XRSC_ERROR_BAD_HEADER for anything but "PF" with sides 1..65536,

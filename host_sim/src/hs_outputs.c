@@ -203,11 +203,11 @@ static xrsc_result write_video(hs_outputs *o, xrsc_diag *diag)
     return XRSC_OK;
 }
 
-xrsc_result hs_outputs_frame(hs_outputs *o, xrsc_renderer *r, uint32_t frame, xrsc_diag *diag)
+/* The EXR files of both eyes, staged into set (hs_file.h). */
+static xrsc_result stage_exrs(hs_outputs *o, xrsc_renderer *r, uint32_t frame, hs_frame_set *set,
+                              xrsc_diag *diag)
 {
     static const char *const eye_name[2] = {"left", "right"};
-    if (!o)
-        return XRSC_OK;
     size_t n = (size_t)o->w * o->h;
     for (uint32_t e = 0; e < 2; e++) {
         xrsc_result res =
@@ -217,14 +217,30 @@ xrsc_result hs_outputs_frame(hs_outputs *o, xrsc_renderer *r, uint32_t frame, xr
                                      n * sizeof(float));
         if (res != XRSC_OK)
             return u_diag_set(diag, res, "", 0, "output", "reading eye %u failed", e);
-        if (o->exr) {
-            char path[PATH_CHARS];
-            snprintf(path, sizeof(path), "%s/frame_%05u_%s.exr", o->opt->out_dir, frame,
-                     eye_name[e]);
-            if ((res = hs_write_exr(path, o->color[e], o->depth, o->w, o->h, diag)) != XRSC_OK)
-                return res;
-        }
+        if (!o->exr)
+            continue;
+        char path[PATH_CHARS];
+        snprintf(path, sizeof(path), "%s/frame_%05u_%s.exr", o->opt->out_dir, frame, eye_name[e]);
+        if ((res = hs_frame_set_add(set, path, diag)) != XRSC_OK ||
+            (res = hs_stage_exr(path, o->color[e], o->depth, o->w, o->h, diag)) != XRSC_OK)
+            return res;
     }
+    return XRSC_OK;
+}
+
+xrsc_result hs_outputs_frame(hs_outputs *o, xrsc_renderer *r, uint32_t frame, hs_frame_set *set,
+                             xrsc_diag *diag)
+{
+    if (!o)
+        return XRSC_OK;
+    hs_frame_set own = {0};
+    xrsc_result res = stage_exrs(o, r, frame, set ? set : &own, diag);
+    if (res != XRSC_OK) {
+        hs_frame_set_abort(set ? set : &own);
+        return res;
+    }
+    if (!set && (res = hs_frame_set_commit(&own, diag)) != XRSC_OK)
+        return res;
     if (!o->video)
         return XRSC_OK;
     /* One exposure for both eyes, fixed or automatic, as the side-by-side PNG's. */

@@ -21,6 +21,7 @@
  */
 #pragma once
 
+#include "hs_file.h"
 #include "hs_replay.h"
 
 #ifdef __cplusplus
@@ -37,8 +38,13 @@ typedef struct hs_outputs hs_outputs;
 xrsc_result hs_outputs_open(const hs_replay_options *opt, uint32_t w, uint32_t h, double fps,
                             hs_outputs **out, xrsc_diag *diag);
 
-/** Writes frame number `frame` from the renderer's current outputs; accepts o == NULL. */
-xrsc_result hs_outputs_frame(hs_outputs *o, xrsc_renderer *r, uint32_t frame, xrsc_diag *diag);
+/**
+ * Writes frame number `frame` from the renderer's current outputs; accepts o == NULL. The EXR
+ * files join set (hs_file.h: staged, renamed with the frame's other files by the caller's
+ * hs_frame_set_commit); set NULL: they form a set of their own, committed here.
+ */
+xrsc_result hs_outputs_frame(hs_outputs *o, xrsc_renderer *r, uint32_t frame, hs_frame_set *set,
+                             xrsc_diag *diag);
 
 /**
  * The renderer whose XRSC_OUTPUT_DEPTH the EXRs' Z is read from (hs_views.h: depth at pixel

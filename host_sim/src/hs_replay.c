@@ -56,8 +56,10 @@ static void buffers_free(replay_buffers *b)
     memset(b, 0, sizeof(*b));
 }
 
-static xrsc_result write_frame(const hs_replay_options *opt, xrsc_renderer *r, uint32_t frame,
-                               uint32_t w, uint32_t h, replay_buffers *b, xrsc_diag *diag)
+/* Stages frame k's files (PNG eyes, PFM, side-by-side) into set (hs_file.h). */
+static xrsc_result stage_frame(const hs_replay_options *opt, xrsc_renderer *r, uint32_t frame,
+                               uint32_t w, uint32_t h, replay_buffers *b, hs_frame_set *set,
+                               xrsc_diag *diag)
 {
     static const char *const eye_name[2] = {"left", "right"};
     size_t bytes = (size_t)w * h * 4 * sizeof(float);
@@ -65,7 +67,7 @@ static xrsc_result write_frame(const hs_replay_options *opt, xrsc_renderer *r, u
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "output",
                           "colour output is %zu bytes, expected %u x %u RGBA float",
                           xrsc_renderer_output_size(r, XRSC_OUTPUT_COLOR), w, h);
-    char path[1200];
+    char path[HS_OUT_PATH_MAX];
     for (int e = 0; e < 2; e++) {
         xrsc_result res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, b->color[e], bytes);
         if (res != XRSC_OK)
@@ -81,21 +83,42 @@ static xrsc_result write_frame(const hs_replay_options *opt, xrsc_renderer *r, u
         hs_tonemap_rgba(&tm, b->color[e], w, h, b->ldr[e]);
         if (opt->write_eyes) {
             snprintf(path, sizeof(path), "%s/frame_%05u_%s.png", opt->out_dir, frame, eye_name[e]);
-            if ((res = hs_write_png(path, b->ldr[e], w, h, diag)) != XRSC_OK)
+            if ((res = hs_frame_set_add(set, path, diag)) != XRSC_OK ||
+                (res = hs_stage_png(path, b->ldr[e], w, h, diag)) != XRSC_OK)
                 return res;
         }
         if (opt->write_linear) {
             snprintf(path, sizeof(path), "%s/frame_%05u_%s.pfm", opt->out_dir, frame, eye_name[e]);
-            if ((res = hs_write_pfm(path, b->color[e], w, h, diag)) != XRSC_OK)
+            if ((res = hs_frame_set_add(set, path, diag)) != XRSC_OK ||
+                (res = hs_stage_pfm(path, b->color[e], w, h, diag)) != XRSC_OK)
                 return res;
         }
     }
     if (opt->write_sbs) {
         hs_side_by_side(b->ldr[0], b->ldr[1], w, h, b->sbs);
         snprintf(path, sizeof(path), "%s/frame_%05u_sbs.png", opt->out_dir, frame);
-        return hs_write_png(path, b->sbs, 2 * w, h, diag);
+        xrsc_result res = hs_frame_set_add(set, path, diag);
+        return res != XRSC_OK ? res : hs_stage_png(path, b->sbs, 2 * w, h, diag);
     }
     return XRSC_OK;
+}
+
+/* Writes frame k's files (hs_replay.h's and hs_outputs.h's) as one set (hs_file.h). */
+static xrsc_result write_frame(const hs_replay_options *opt, xrsc_renderer *r, uint32_t frame,
+                               uint32_t w, uint32_t h, replay_buffers *b, hs_outputs *outs,
+                               xrsc_diag *diag)
+{
+    hs_frame_set set = {0};
+    xrsc_result res = XRSC_OK;
+    if (opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear))
+        res = stage_frame(opt, r, frame, w, h, b, &set, diag);
+    if (res == XRSC_OK)
+        res = hs_outputs_frame(outs, r, frame, &set, diag);
+    if (res != XRSC_OK) {
+        hs_frame_set_abort(&set);
+        return res;
+    }
+    return hs_frame_set_commit(&set, diag);
 }
 
 static void show_progress(const hs_replay_options *opt, uint32_t done, uint32_t total,
@@ -152,6 +175,17 @@ bool hs_scene_fov(const xrsc_scene_info *info, uint32_t width, uint32_t height, 
     return true;
 }
 
+xrsc_result hs_replay_load_poses(const hs_replay_options *opt, hs_pose_stream **out,
+                                 xrsc_diag *diag)
+{
+    const hs_pose_load_options lo = {
+        .format = opt->pose_format,
+        .columns = opt->pose_columns.count > 0 ? &opt->pose_columns : NULL,
+        .max_bytes = opt->max_pose_bytes,
+    };
+    return hs_pose_stream_load_with(opt->poses_path, &lo, out, diag);
+}
+
 xrsc_result hs_check_start(const char *poses_path, double start_s, int64_t duration_ns,
                            xrsc_diag *diag)
 {
@@ -160,6 +194,30 @@ xrsc_result hs_check_start(const char *poses_path, double start_s, int64_t durat
     return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, poses_path, 0, "--start",
                       "%.9g s is past the end of the stream, which lasts %.9g s", start_s,
                       (double)duration_ns / NS_PER_S);
+}
+
+uint32_t hs_warn_frames_past_end(const hs_replay_options *opt, int64_t duration_ns,
+                                 double period_ns, uint32_t first, uint32_t last)
+{
+    /* As the frame counts of both paths: the span from --start in whole nanoseconds. Frame k
+     * is at k periods from --start; the last within the stream is floor(span / period). */
+    double span_ns = (double)(duration_ns - (int64_t)(opt->start_s * NS_PER_S));
+    double inside = span_ns >= 0.0 ? floor(span_ns / period_ns) : -1.0;
+    if (last <= inside || last < first)
+        return 0;
+    uint32_t held = inside < first ? last - first + 1 : (uint32_t)(last - inside);
+    if (opt->hold_last)
+        return held;
+    xrsc_diag d = {0};
+    char msg[1400];
+    u_diag_set(&d, XRSC_WARN_FRAMES_PAST_END, opt->poses_path, 0, "--frames",
+               "%u frames at %.6g Hz last %.6g s, but the stream lasts %.6g s from --start %.6g "
+               "s: the last %u frames hold its last pose (--hold-last asks for that without "
+               "this warning)",
+               last - first + 1, NS_PER_S / period_ns, (last - first + 1) * period_ns / NS_PER_S,
+               span_ns > 0.0 ? span_ns / NS_PER_S : 0.0, opt->start_s, held);
+    U_LOG_W("%s", xrsc_diag_format(&d, msg, sizeof(msg)));
+    return held;
 }
 
 /** Fraction of pixels of both eyes that are black (colour) or background (depth 0); -1 when
@@ -316,8 +374,9 @@ typedef struct replay_loop {
     int64_t start_ns;      /* --start */
     replay_buffers buf;
     hs_outputs *outs;
-    hs_views *views; /* views.csv and the EXRs' depth (hs_views.h), or NULL */
-    FILE *csv; /* frames.csv, or NULL */
+    hs_views *views;            /* views.csv and the EXRs' depth (hs_views.h), or NULL */
+    FILE *csv;                  /* frames.csv, or NULL */
+    const hs_out_file *csv_out; /* its names */
     bool csv_header_done;
 } replay_loop;
 
@@ -340,6 +399,8 @@ static void csv_row(replay_loop *L, uint32_t k, int64_t t_ns, hs_lookup lookup, 
     for (uint32_t p = 0; p < np; p++)
         fprintf(L->csv, ",%.4f", passes[p].gpu_ms);
     fputc('\n', L->csv);
+    /* Whole rows on disk after each frame: a second Ctrl-C keeps them (hs_run.h). */
+    fflush(L->csv);
 }
 
 /* Renders, counts and writes frame k. */
@@ -368,14 +429,14 @@ static xrsc_result replay_frame(replay_loop *L, uint32_t k, hs_replay_stats *st,
     uint32_t np;
     hs_replay_stats_add(st, L->r, ms, passes, &np);
     csv_row(L, k, t_ns, lookup, ms, passes, np);
+    if (L->csv && ferror(L->csv)) /* the first failed write ends the run */
+        return u_diag_set(diag, XRSC_ERROR_IO, L->csv_out->path, 0, "", "cannot write %s: %s",
+                          L->csv_out->tmp, hs_write_error_text(L->csv, errno));
     if (k == 0)
         hs_warn_first_frame(opt, L->r, L->w, L->h, &st->scene, frame.views, st);
-    if (opt->out_dir && (opt->write_eyes || opt->write_sbs || opt->write_linear) &&
-        (res = write_frame(opt, L->r, k, L->w, L->h, &L->buf, diag)) != XRSC_OK)
-        return res;
     if ((res = hs_views_frame(L->views, &frame, k, diag)) != XRSC_OK)
         return res;
-    return hs_outputs_frame(L->outs, L->r, k, diag);
+    return write_frame(opt, L->r, k, L->w, L->h, &L->buf, L->outs, diag);
 }
 
 /* The scene's view: --fov scene's FOV, --viewpoint's or --frame's viewpoint (a scene narrower
@@ -433,9 +494,7 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
     L.w = ropt.width;
     L.h = ropt.height;
 
-    res = opt->pose_columns.count > 0
-              ? hs_pose_stream_load_columns(opt->poses_path, &opt->pose_columns, &stream, diag)
-              : hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag);
+    res = hs_replay_load_poses(opt, &stream, diag);
     if (res != XRSC_OK ||
         (res = hs_check_start(opt->poses_path, opt->start_s, hs_pose_stream_duration_ns(stream),
                               diag)) != XRSC_OK ||
@@ -467,6 +526,8 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
     L.frames = opt->frames;
     if (L.frames == 0)
         L.frames = span_ns > 0 ? (uint32_t)(span_ns / L.period_ns) + 1 : 1;
+    hs_warn_frames_past_end(opt, hs_pose_stream_duration_ns(stream), L.period_ns, 0,
+                            L.frames - 1);
 
     if (opt->out_dir) {
         if ((res = hs_make_dirs(opt->out_dir, "--out", diag)) != XRSC_OK)
@@ -476,6 +537,7 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
         if ((res = hs_out_open(&csv_file, path, diag)) != XRSC_OK)
             goto done;
         L.csv = csv_file.f;
+        L.csv_out = &csv_file;
         fprintf(L.csv, "frame,display_time_ns,lookup,render_wall_ms,rays");
     }
     if ((res = hs_outputs_open(opt, L.w, L.h, NS_PER_S / L.period_ns, &L.outs, diag)) != XRSC_OK ||

@@ -37,6 +37,12 @@ typedef struct hs_replay_options {
     xrsc_headset headset;         /**< fill with xrsc_headset_default first (all zero: default) */
     double start_s;               /**< offset into the stream */
     uint32_t frames;              /**< 0: until the stream ends */
+    /** --hold-last: frames past the stream's end hold its last pose without the warning
+     *  XRSC_WARN_FRAMES_PAST_END (hs_warn_frames_past_end). */
+    bool hold_last;
+    /** --max-pose-bytes: pose files larger than this are refused (0: 1 GiB,
+     *  HS_POSE_DEFAULT_MAX_BYTES; hs_pose_stream.h). */
+    uint64_t max_pose_bytes;
     bool no_anchor;               /**< keep the stream's own coordinates */
     /** --fov scene: both eyes get the glTF camera's FOV (yfov, and aspectRatio or else the
      *  eye's width/height) instead of the headset's or the stream's; a scene without a
@@ -117,12 +123,27 @@ XrPosef hs_frame_viewpoint(const xrsc_scene_info *info, const XrFovf fov[2]);
  */
 bool hs_scene_fov(const xrsc_scene_info *info, uint32_t width, uint32_t height, XrFovf *out);
 
+/** Loads opt's pose stream as both replay paths do: --pose-format or --pose-columns, and the
+ *  --max-pose-bytes limit (hs_pose_stream_load_with). */
+xrsc_result hs_replay_load_poses(const hs_replay_options *opt, hs_pose_stream **out,
+                                 xrsc_diag *diag);
+
 /**
  * --start past the stream's end: XRSC_ERROR_INVALID_ARGUMENT naming the stream's duration
  * (field "--start"); XRSC_OK otherwise. Both replay paths check it before rendering.
  */
 xrsc_result hs_check_start(const char *poses_path, double start_s, int64_t duration_ns,
                            xrsc_diag *diag);
+
+/**
+ * --frames past the stream's end: frames first..last (inclusive, at period_ns on the simulated
+ * clock from --start) whose time is past the stream's duration hold its last pose. Unless
+ * opt->hold_last, warns once on stderr with XRSC_WARN_FRAMES_PAST_END naming the stream,
+ * its duration from --start and how many frames hold. Returns that count. Both replay paths
+ * call it before rendering.
+ */
+uint32_t hs_warn_frames_past_end(const hs_replay_options *opt, int64_t duration_ns,
+                                 double period_ns, uint32_t first, uint32_t last);
 
 /**
  * The first frame's check, both replay paths call it after their first rendered frame: reads

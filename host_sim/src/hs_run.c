@@ -3,6 +3,7 @@
  * @file hs_run.c
  * @brief A run's signals, output folder and record (hs_run.h).
  */
+#define _GNU_SOURCE /* syscall(SYS_getdents64) in the signal handler */
 #include "hs_run.h"
 
 #include "hs_args.h"
@@ -11,23 +12,176 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <openxr/openxr.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
 #include <time.h>
+#include <unistd.h>
 #include <vulkan/vulkan.h>
 
 #ifndef XRSC_VERSION
 #define XRSC_VERSION "unknown"
 #endif
 
-/** Set by the handler, read by the frame loops (hs_replay_options.stop). The program's one
- *  process-wide variable: a signal handler can reach nothing else. */
-static volatile sig_atomic_t hs_run_signal;
+/* ---- signals ---- */
+
+/** The signals handled, each with its record for a second signal: SIGINT, SIGTERM, SIGHUP. */
+#define HS_RUN_SIGNALS 3
+/** Room left in the "running" run.json (blank padding after it) for the final record's
+ *  summary, device and error, so that it can be written in place on a full disk. */
+#define HS_RUN_JSON_RESERVE 4096
+/** Largest run.json (the settings, the summary and the reserve). */
+#define HS_RUN_JSON_MAX 32768
+
+/**
+ * What a signal handler needs, prepared beforehand: the program's one process-wide state (a
+ * handler can reach nothing else). `signal` is read by the frame loops (hs_replay_options.stop).
+ * The rest serves a second signal: the output folder, and run.json's text saying "interrupted"
+ * by each handled signal, written with async-signal-safe calls only (hs_run.h).
+ */
+static struct {
+    volatile sig_atomic_t signal;
+    volatile sig_atomic_t armed; /**< 1 while the records below are ready */
+    pthread_t main_thread;
+    int dir_fd; /**< the output folder, opened with the running record; -1 before */
+    char record[HS_RUN_SIGNALS][HS_RUN_JSON_MAX];
+    size_t record_len[HS_RUN_SIGNALS];
+} hs_run_state = {.dir_fd = -1};
+
+static const int handled_signals[HS_RUN_SIGNALS] = {SIGINT, SIGTERM, SIGHUP};
+
+static int signal_slot(int sig)
+{
+    for (int i = 0; i < HS_RUN_SIGNALS; i++)
+        if (handled_signals[i] == sig)
+            return i;
+    return 0;
+}
+
+/** Whether name (NUL-terminated) ends with suffix. */
+static bool ends_with(const char *name, const char *suffix)
+{
+    size_t n = strlen(name), s = strlen(suffix);
+    return n >= s && !strcmp(name + n - s, suffix);
+}
+
+static bool is_run_file(const char *name);
+
+/* Async-signal-safe from here to the handler: openat, pread, pwrite, ftruncate, renameat,
+ * unlinkat, close, getdents64, _exit; no stdio, no malloc. All relative to the output folder's
+ * descriptor, so the record follows the folder if it is moved during the run. */
+
+/* frames.csv.tmp: renamed into place when it holds whole rows (it is flushed row by row), else
+ * removed. Any other temporary file of the run is removed: its frame set is not whole. */
+static void settle_temp(int dir, const char *name)
+{
+    if (!strcmp(name, "frames.csv" HS_TEMP_SUFFIX)) {
+        int fd = openat(dir, name, O_RDONLY | O_CLOEXEC);
+        struct stat st;
+        char last = 0;
+        bool whole = fd >= 0 && fstat(fd, &st) == 0 && st.st_size > 0 &&
+                     pread(fd, &last, 1, st.st_size - 1) == 1 && last == '\n';
+        if (fd >= 0)
+            close(fd);
+        if (whole && renameat(dir, name, dir, "frames.csv") == 0)
+            return;
+    }
+    unlinkat(dir, name, 0);
+}
+
+static void settle_temps(int dir)
+{
+    int fd = openat(dir, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0)
+        return;
+    char buf[4096];
+    long n;
+    while ((n = syscall(SYS_getdents64, fd, buf, sizeof(buf))) > 0) {
+        for (long off = 0; off < n;) {
+            /* struct linux_dirent64: ino 8, off 8, reclen 2, type 1, name */
+            unsigned short reclen;
+            memcpy(&reclen, buf + off + 16, sizeof(reclen));
+            const char *name = buf + off + 19;
+            if (ends_with(name, HS_TEMP_SUFFIX) && is_run_file(name))
+                settle_temp(dir, name);
+            off += reclen;
+        }
+    }
+    close(fd);
+}
+
+static bool write_all(int fd, const char *text, size_t len)
+{
+    size_t done = 0;
+    while (done < len) {
+        ssize_t w = pwrite(fd, text + done, len - done, (off_t)done);
+        if (w <= 0)
+            return false;
+        done += (size_t)w;
+    }
+    return true;
+}
+
+/* run.json rewritten in place (no new file: the disk may be full), cut to its new length. */
+static bool write_in_place(int dir, const char *text, size_t len)
+{
+    int fd = openat(dir, HS_RUN_JSON, O_WRONLY | O_CLOEXEC);
+    if (fd < 0)
+        return false;
+    bool ok = write_all(fd, text, len) && ftruncate(fd, (off_t)len) == 0;
+    close(fd);
+    return ok;
+}
+
+/* run.json replaced whole (temporary file, then renameat); *err: errno of a failure. */
+static bool write_whole(int dir, const char *text, size_t len, int *err)
+{
+    const char *tmp = HS_RUN_JSON HS_TEMP_SUFFIX;
+    int fd = openat(dir, tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    bool ok = fd >= 0 && write_all(fd, text, len);
+    *err = ok ? 0 : errno;
+    if (fd >= 0 && close(fd) != 0 && ok) {
+        ok = false;
+        *err = errno;
+    }
+    if (ok && renameat(dir, tmp, dir, HS_RUN_JSON) != 0) {
+        ok = false;
+        *err = errno;
+    }
+    if (!ok)
+        unlinkat(dir, tmp, 0);
+    return ok;
+}
 
 static void on_signal(int sig)
 {
-    hs_run_signal = sig;
+    if (!hs_run_state.signal) { /* the first: a clean stop after the frame in flight */
+        hs_run_state.signal = sig;
+        return;
+    }
+    if (!hs_run_state.armed) { /* no record to keep: end as the signal would */
+        signal(sig, SIG_DFL);
+        raise(sig);
+        return;
+    }
+    /* The second: end now. Done on the main thread, which then writes nothing more. */
+    if (!pthread_equal(pthread_self(), hs_run_state.main_thread)) {
+        pthread_kill(hs_run_state.main_thread, sig);
+        return;
+    }
+    hs_run_state.armed = 0;
+    static const char notice[] = "xrsc: a second signal: ended at once; run.json says "
+                                 "interrupted, the files written are whole\n";
+    ssize_t ignored = write(STDERR_FILENO, notice, sizeof(notice) - 1);
+    (void)ignored;
+    int slot = signal_slot(sig);
+    settle_temps(hs_run_state.dir_fd);
+    write_in_place(hs_run_state.dir_fd, hs_run_state.record[slot], hs_run_state.record_len[slot]);
+    _exit(hs_run_exit_status(sig));
 }
 
 const volatile sig_atomic_t *hs_run_catch_signals(void)
@@ -36,12 +190,17 @@ const volatile sig_atomic_t *hs_run_catch_signals(void)
     memset(&sa, 0, sizeof(sa));
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
-    /* SA_RESTART: writes and waits in flight go on; SA_RESETHAND: a second signal is not
-     * caught, so a second Ctrl-C ends a run that does not stop. */
-    sa.sa_flags = SA_RESTART | SA_RESETHAND;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-    return &hs_run_signal;
+    for (int i = 0; i < HS_RUN_SIGNALS; i++)
+        sigaddset(&sa.sa_mask, handled_signals[i]); /* one handler at a time */
+    /* SA_RESTART: writes and waits in flight go on. */
+    sa.sa_flags = SA_RESTART;
+    hs_run_state.main_thread = pthread_self();
+    for (int i = 0; i < HS_RUN_SIGNALS; i++)
+        sigaction(handled_signals[i], &sa, NULL);
+    /* A file size limit (RLIMIT_FSIZE) makes a write fail with EFBIG, an error the run
+     * reports, instead of ending the process. */
+    signal(SIGXFSZ, SIG_IGN);
+    return &hs_run_state.signal;
 }
 
 int hs_run_exit_status(int sig)
@@ -55,19 +214,14 @@ const char *hs_run_signal_name(int sig, char *buf, size_t size)
         snprintf(buf, size, "SIGINT");
     else if (sig == SIGTERM)
         snprintf(buf, size, "SIGTERM");
+    else if (sig == SIGHUP)
+        snprintf(buf, size, "SIGHUP");
     else
         snprintf(buf, size, "signal %d", sig);
     return buf;
 }
 
 /* ---- output folder ---- */
-
-/** Whether name ends with suffix. */
-static bool ends_with(const char *name, const char *suffix)
-{
-    size_t n = strlen(name), s = strlen(suffix);
-    return n >= s && !strcmp(name + n - s, suffix);
-}
 
 /** A file this program writes: frame_<digits>_<part>.<png|pfm|exr>, frames.csv, views.csv,
  *  run.json, run.conf, each also with HS_TEMP_SUFFIX (a run killed while writing it). */
@@ -264,8 +418,10 @@ static void json_summary(FILE *f, const hs_replay_stats *st)
     fputs("}\n  }", f);
 }
 
+/** run.json without its last newline; sig: the signal that stopped the run (0: none); error:
+ *  a failed run's error (NULL: none). */
 static void write_json(FILE *f, const hs_run_info *info, const hs_replay_stats *st,
-                       const char *status, int exit_code)
+                       const char *status, int exit_code, int sig, const char *error)
 {
     fputs("{\n  \"program\": \"xrsc\",\n  \"version\": ", f);
     json_string(f, XRSC_VERSION);
@@ -294,15 +450,20 @@ static void write_json(FILE *f, const hs_run_info *info, const hs_replay_stats *
         fputs("null", f);
     fputs(",\n  \"status\": ", f);
     json_string(f, status);
-    char sig[32];
+    char name[32];
     fputs(",\n  \"signal\": ", f);
-    if (st && st->stopped_by)
-        json_string(f, hs_run_signal_name(st->stopped_by, sig, sizeof(sig)));
+    if (sig)
+        json_string(f, hs_run_signal_name(sig, name, sizeof(name)));
     else
         fputs("null", f);
     fputs(",\n  \"exit_code\": ", f);
-    if (st)
+    if (strcmp(status, "running") != 0)
         fprintf(f, "%d", exit_code);
+    else
+        fputs("null", f);
+    fputs(",\n  \"error\": ", f);
+    if (error)
+        json_string(f, error);
     else
         fputs("null", f);
     fputs(",\n  \"summary\": ", f);
@@ -310,7 +471,46 @@ static void write_json(FILE *f, const hs_run_info *info, const hs_replay_stats *
         json_summary(f, st);
     else
         fputs("null", f);
-    fputs("\n}\n", f);
+    fputs("\n}", f);
+}
+
+/** The whole text of run.json (malloc'ed, *len bytes); running: with the blank reserve. */
+static char *render_json(const hs_run_info *info, const hs_replay_stats *st, const char *status,
+                         int exit_code, int sig, const char *error, size_t *len)
+{
+    char *text = NULL;
+    FILE *m = open_memstream(&text, len);
+    if (!m)
+        return NULL;
+    write_json(m, info, st, status, exit_code, sig, error);
+    if (!strcmp(status, "running")) /* blank JSON whitespace: room for the final record */
+        fprintf(m, "%*s", HS_RUN_JSON_RESERVE, "");
+    fputc('\n', m);
+    if (fclose(m) != 0) {
+        free(text);
+        return NULL;
+    }
+    return text;
+}
+
+/** Prepares what a second signal writes: run.json "interrupted" by each handled signal. */
+static void arm_second_signal(const hs_run_info *info)
+{
+    hs_run_state.armed = 0;
+    for (int i = 0; i < HS_RUN_SIGNALS; i++) {
+        int sig = handled_signals[i];
+        size_t len = 0;
+        char *text =
+            render_json(info, NULL, "interrupted", hs_run_exit_status(sig), sig, NULL, &len);
+        if (!text || len > sizeof(hs_run_state.record[i])) {
+            free(text);
+            return;
+        }
+        memcpy(hs_run_state.record[i], text, len);
+        hs_run_state.record_len[i] = len;
+        free(text);
+    }
+    hs_run_state.armed = hs_run_state.dir_fd >= 0;
 }
 
 /** A config value, double-quoted when it has blanks, '#', '"', '\' or is empty. */
@@ -353,23 +553,62 @@ static void write_conf(FILE *f, const hs_run_info *info)
     for_each_flag(info, conf_flag, f);
 }
 
-xrsc_result hs_run_write_record(const hs_run_info *info, const hs_replay_stats *st,
-                                const char *status, int exit_code, xrsc_diag *diag)
+/* The final record, through the folder's descriptor: whole, else in place (full disk). The
+ * run's temporary files are settled first, as a second signal would. */
+static xrsc_result write_final(const char *path, const char *text, size_t len, xrsc_diag *diag)
 {
-    char path[1200];
-    hs_out_file out;
+    int dir = hs_run_state.dir_fd, err = 0;
+    settle_temps(dir);
+    if (write_whole(dir, text, len, &err) || write_in_place(dir, text, len))
+        return XRSC_OK;
+    return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot write the run's record: %s",
+                      strerror(err));
+}
+
+xrsc_result hs_run_write_record(const hs_run_info *info, const hs_replay_stats *st,
+                                const char *status, int exit_code, const char *error,
+                                xrsc_diag *diag)
+{
+    char path[HS_OUT_PATH_MAX];
+    bool running = !strcmp(status, "running");
     snprintf(path, sizeof(path), "%s/" HS_RUN_JSON, info->out_dir);
-    xrsc_result res = hs_out_open(&out, path, diag);
-    if (res != XRSC_OK)
+    size_t len = 0;
+    char *text = render_json(info, st, status, exit_code, st ? st->stopped_by : 0, error, &len);
+    if (!text)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "cannot format");
+    xrsc_result res;
+    if (!running && hs_run_state.dir_fd >= 0) {
+        res = write_final(path, text, len, diag);
+        free(text);
         return res;
-    write_json(out.f, info, st, status, exit_code);
-    if ((res = hs_out_close(&out, true, diag)) != XRSC_OK)
+    }
+    hs_out_file out;
+    if ((res = hs_out_open(&out, path, diag)) == XRSC_OK) {
+        fwrite(text, 1, len, out.f);
+        res = hs_out_close(&out, true, diag);
+    }
+    free(text);
+    if (res != XRSC_OK || !running)
         return res;
+    /* run.conf: the settings, the same before and after the run. */
     snprintf(path, sizeof(path), "%s/" HS_RUN_CONF, info->out_dir);
     if ((res = hs_out_open(&out, path, diag)) != XRSC_OK)
         return res;
     write_conf(out.f, info);
-    return hs_out_close(&out, true, diag);
+    if ((res = hs_out_close(&out, true, diag)) != XRSC_OK)
+        return res;
+    if (hs_run_state.dir_fd < 0)
+        hs_run_state.dir_fd = open(info->out_dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    arm_second_signal(info);
+    return XRSC_OK;
+}
+
+void hs_run_disarm(void)
+{
+    hs_run_state.armed = 0;
+    if (hs_run_state.dir_fd >= 0)
+        close(hs_run_state.dir_fd);
+    hs_run_state.dir_fd = -1;
 }
 
 /* ---- --version ---- */

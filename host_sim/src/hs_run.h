@@ -23,16 +23,24 @@ extern "C" {
 #define HS_RUN_CONF "run.conf"
 
 /**
- * Installs handlers of SIGINT and SIGTERM (sigaction, SA_RESTART, one-shot: a second Ctrl-C
- * ends the process at once) that only store the signal's number in a volatile sig_atomic_t,
- * the one process-wide variable of the program. Returns it, for hs_replay_options.stop.
+ * Installs handlers of SIGINT, SIGTERM and SIGHUP (sigaction, SA_RESTART). The first signal
+ * only stores its number in a volatile sig_atomic_t, returned here for
+ * hs_replay_options.stop: the run stops cleanly after the frame in flight. A second signal
+ * (a second Ctrl-C) ends the process at once: once the "running" record is written
+ * (hs_run_write_record) it rewrites run.json in place as "interrupted" by that signal (text
+ * prepared beforehand), renames frames.csv.tmp into place when it holds whole rows (else
+ * removes it), removes the run's other temporary files (a frame set in flight) and exits
+ * with 128 + signal, with async-signal-safe calls only, on the main thread (another thread
+ * that gets it passes it on); before that record, it ends the process as the signal would.
+ * SIGXFSZ is ignored, so a file size limit (RLIMIT_FSIZE) is a write error (EFBIG) that the
+ * run reports rather than the end of the process.
  */
 const volatile sig_atomic_t *hs_run_catch_signals(void);
 
 /** The exit status of a run stopped by signal sig: 128 + sig (SIGINT 130, SIGTERM 143). */
 int hs_run_exit_status(int sig);
 
-/** "SIGINT", "SIGTERM" or "signal N". */
+/** "SIGINT", "SIGTERM", "SIGHUP" or "signal N". */
 const char *hs_run_signal_name(int sig, char *buf, size_t size);
 
 /**
@@ -71,16 +79,28 @@ typedef struct hs_run_info {
 void hs_run_info_start(hs_run_info *info);
 
 /**
- * Writes run.json and run.conf into info->out_dir, each whole (hs_file.h). run.json: program
- * and version, the command line as typed and as parsed, the settings (every option given, by
- * its last value, and the defaults of those not given; flags given are true; options left to
- * the library's defaults are listed under "library_defaults"), the device, the start time, the
- * status ("running", "completed", "interrupted", "failed"), exit code, signal, and with st the
- * run's summary. run.conf: the same settings in --config format (out commented out).
- * status "running" is written before the run (st NULL), the rest after it.
+ * Writes run.json into info->out_dir, whole (hs_file.h). run.json: program and version, the
+ * command line as typed and as parsed, the settings (every option given, by its last value,
+ * and the defaults of those not given; flags given are true; options left to the library's
+ * defaults are listed under "library_defaults"), the device, the start time, the status
+ * ("running", "completed", "interrupted", "failed"), the signal, exit code, error (a failed
+ * run's, as printed) and with st the run's summary.
+ *
+ * status "running" is written before the run (st NULL), with run.conf (the same settings in
+ * --config format, out commented out) and a blank reserve of whitespace at its end; it also
+ * prepares the record a second signal writes (hs_run_catch_signals) and keeps the folder
+ * open. The final status is written after the run through that descriptor (so the record
+ * follows a folder moved during the run), after the run's temporary files are settled as a
+ * second signal would (frames.csv.tmp renamed into place when whole, others removed); when no
+ * new file can be written (a full disk) it is written in place over the running record,
+ * within its reserve.
  */
 xrsc_result hs_run_write_record(const hs_run_info *info, const hs_replay_stats *st,
-                                const char *status, int exit_code, xrsc_diag *diag);
+                                const char *status, int exit_code, const char *error,
+                                xrsc_diag *diag);
+
+/** After the final record: a second signal no longer rewrites run.json. */
+void hs_run_disarm(void);
 
 /** Prints the program's version and the Vulkan/OpenXR versions it uses (xrsc --version). */
 void hs_run_print_version(FILE *f);

@@ -4,6 +4,7 @@
  * @brief The OpenXR path of `xrsc replay`: configure the runtime, then run the plugin's
  *        OpenXR frame loop until the runtime ends the session.
  */
+#define _GNU_SOURCE /* pipe2 */
 #include "hs_xr_replay.h"
 
 #include "hs_args.h"
@@ -14,6 +15,7 @@
 #include "xrsc/xrsc_xr.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -137,6 +139,10 @@ static xrsc_result configure_runtime(const hs_replay_options *opt, const hs_pose
     snprintf(buf, sizeof(buf), "%.17g", opt->start_s);
     if ((res = set_env("XRSC_RT_START_S", buf, diag)) != XRSC_OK)
         return res;
+    /* --max-pose-bytes: the runtime reads the same file with the same limit. */
+    snprintf(buf, sizeof(buf), "%llu", (unsigned long long)opt->max_pose_bytes);
+    if ((res = set_env("XRSC_RT_MAX_POSE_BYTES", buf, diag)) != XRSC_OK)
+        return res;
     const char *pace = getenv("XRSC_RT_PACE");
     if ((!pace || !*pace) && (res = set_env("XRSC_RT_PACE", "fast", diag)) != XRSC_OK)
         return res;
@@ -155,8 +161,7 @@ static xrsc_result load_stream(const hs_replay_options **opt, hs_replay_options 
     const hs_replay_options *o = *opt;
     xrsc_result res;
     if (o->pose_columns.count > 0) {
-        if ((res = hs_pose_stream_load_columns(o->poses_path, &o->pose_columns, stream, diag)) !=
-            XRSC_OK)
+        if ((res = hs_replay_load_poses(o, stream, diag)) != XRSC_OK)
             return res;
         const char *tmp = getenv("TMPDIR");
         snprintf(imported, imported_size, "%s/xrsc-poses-XXXXXX", tmp && *tmp ? tmp : "/tmp");
@@ -173,8 +178,7 @@ static xrsc_result load_stream(const hs_replay_options **opt, hs_replay_options 
         conv->poses_path = imported;
         conv->pose_format = HS_POSE_FORMAT_AUTO;
         *opt = o = conv;
-    } else if ((res = hs_pose_stream_load(o->poses_path, o->pose_format, stream, diag)) !=
-               XRSC_OK) {
+    } else if ((res = hs_replay_load_poses(o, stream, diag)) != XRSC_OK) {
         return res;
     }
     if ((res = hs_check_start(o->poses_path, o->start_s, hs_pose_stream_duration_ns(*stream),
@@ -184,7 +188,8 @@ static xrsc_result load_stream(const hs_replay_options **opt, hs_replay_options 
         return XRSC_OK;
     hs_pose_stream *probe = NULL;
     xrsc_diag pd = {0};
-    bool same = hs_pose_stream_load(o->poses_path, HS_POSE_FORMAT_AUTO, &probe, &pd) == XRSC_OK &&
+    const hs_pose_load_options auto_opt = {.max_bytes = o->max_pose_bytes};
+    bool same = hs_pose_stream_load_with(o->poses_path, &auto_opt, &probe, &pd) == XRSC_OK &&
                 probe->format == o->pose_format;
     hs_pose_stream_destroy(&probe);
     if (!same)
@@ -218,6 +223,51 @@ static xrsc_result use_scene_fov(const hs_replay_options **opt, hs_replay_option
     return XRSC_OK;
 }
 
+/* XRSC_RT_ERROR_FD: a pipe on which host_sim's runtime sends the error that ended its session
+ * (a frame it could not write), so that the run reports that error, once, instead of the lost
+ * session it causes. fd[0] reads (non-blocking), fd[1] is the runtime's. */
+static xrsc_result error_pipe_open(int fd[2], xrsc_diag *diag)
+{
+    char buf[32];
+    if (pipe2(fd, O_CLOEXEC | O_NONBLOCK) != 0) {
+        fd[0] = fd[1] = -1;
+        return u_diag_set(diag, XRSC_ERROR_IO, "", 0, "XRSC_RT_ERROR_FD", "pipe: %s",
+                          strerror(errno));
+    }
+    snprintf(buf, sizeof(buf), "%d", fd[1]);
+    return set_env("XRSC_RT_ERROR_FD", buf, diag);
+}
+
+/* The runtime's error, when it sent one, replaces diag's (res: the run's result so far). */
+static xrsc_result error_pipe_read(const int fd[2], xrsc_result res, xrsc_diag *diag)
+{
+    char line[1400];
+    ssize_t n = fd[0] >= 0 ? read(fd[0], line, sizeof(line) - 1) : -1;
+    if (n <= 0)
+        return res;
+    line[n] = '\0';
+    line[strcspn(line, "\n")] = '\0';
+    char *field[4] = {line, NULL, NULL, NULL};
+    for (int i = 1; i < 4; i++) {
+        char *tab = field[i - 1] ? strchr(field[i - 1], '\t') : NULL;
+        if (tab)
+            *tab = '\0';
+        field[i] = tab ? tab + 1 : NULL;
+    }
+    int code = atoi(field[0]);
+    return u_diag_set(diag, code < 0 ? (xrsc_result)code : XRSC_ERROR_IO, field[1] ? field[1] : "",
+                      0, field[2] ? field[2] : "", "%s", field[3] ? field[3] : field[0]);
+}
+
+static void error_pipe_close(int fd[2])
+{
+    for (int i = 0; i < 2; i++)
+        if (fd[i] >= 0)
+            close(fd[i]);
+    fd[0] = fd[1] = -1;
+    unsetenv("XRSC_RT_ERROR_FD");
+}
+
 /* One rendered frame of the session: statistics, the overlay's line, the app's own outputs. */
 static xrsc_result count_frame(const hs_replay_options *opt, const xrsc_xr_frame_info *fi,
                                xrsc_renderer *r, hs_outputs *outs, hs_views *views,
@@ -234,7 +284,7 @@ static xrsc_result count_frame(const hs_replay_options *opt, const xrsc_xr_frame
     hs_preview_link_frame(plink, fi->frame_index, fi->render_ms, passes, np);
     /* Numbered as the runtime numbers the PNG/PFM files of this frame. */
     xrsc_result res = hs_views_frame(views, &frame, fi->frame_index, diag);
-    return res != XRSC_OK ? res : hs_outputs_frame(outs, r, fi->frame_index, diag);
+    return res != XRSC_OK ? res : hs_outputs_frame(outs, r, fi->frame_index, NULL, diag);
 }
 
 /* Steps the session until the runtime ends it after `frames` shown frames (or a Ctrl-C,
@@ -308,6 +358,7 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
     hs_views *views = NULL;  /* views.csv and the EXRs' depth (hs_views.h) */
     char imported[1100] = ""; /* --pose-columns: the canonical copy given to the runtime */
     hs_preview_link *plink = NULL; /* --preview: the overlay's information (hs_preview_link.h) */
+    int rt_error[2] = {-1, -1};    /* the runtime's own error (error_pipe_open) */
 
     hs_replay_options conv;
     if ((res = load_stream(&opt, &conv, imported, sizeof(imported), &stream, diag)) != XRSC_OK)
@@ -327,6 +378,7 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
         session_frames = span_ns > 0 ? (uint32_t)(span_ns / period_ns) + 1 : 2;
         frames = session_frames - 1;
     }
+    hs_warn_frames_past_end(opt, hs_pose_stream_duration_ns(stream), period_ns, 1, frames);
 
     hs_replay_options scene_fov_opt;
     if (opt->fov_scene && (res = use_scene_fov(&opt, &scene_fov_opt, w, h, diag)) != XRSC_OK)
@@ -335,7 +387,8 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
         goto done;
     if ((res = configure_runtime(opt, stream, w, h, refresh, session_frames, diag)) != XRSC_OK)
         goto done;
-    if ((res = hs_preview_link_open(opt, &plink, diag)) != XRSC_OK)
+    if ((res = hs_preview_link_open(opt, &plink, diag)) != XRSC_OK ||
+        (res = error_pipe_open(rt_error, diag)) != XRSC_OK)
         goto done;
     if (opt->out_dir && (res = hs_make_dirs(opt->out_dir, "--out", diag)) != XRSC_OK)
         goto done;
@@ -380,8 +433,8 @@ xrsc_result hs_xr_replay_run(const hs_replay_options *opt, hs_replay_stats *out_
         goto done;
     st->load_s = now_s() - t_start;
 
-    if ((res = run_session(opt, session, r, outs, views, plink, frames, w, h, st, diag)) !=
-        XRSC_OK)
+    res = run_session(opt, session, r, outs, views, plink, frames, w, h, st, diag);
+    if ((res = error_pipe_read(rt_error, res, diag)) != XRSC_OK)
         goto done;
     if (st->frames > frames)
         st->frames = frames;
@@ -410,6 +463,7 @@ done:
     if (xr_errors > 0)
         U_LOG_W("OpenXR reported %u error messages", xr_errors);
     xrsc_xr_destroy(&xr);
+    error_pipe_close(rt_error);
     hs_preview_link_close(&plink);
     hs_pose_stream_destroy(&stream);
     if (imported[0])

@@ -75,7 +75,11 @@ static void usage(FILE *f)
 "  --viewpoint V       camera:N (the scene's N-th camera, from 0) | x,y,z[:yaw] (metres;\n"
 "                      degrees about +Y, 0 looks down -Z) | inside (the bounds' centre):\n"
 "                      where the stream's first pose is placed (not with --frame)\n"
-"  --frames N          render N frames (0 = until the stream ends) [0]\n"
+"  --frames N          render N frames (0 = until the stream ends) [0]; frames past the\n"
+"                      stream's end hold its last pose, with a warning\n"
+"                      (XRSC_WARN_FRAMES_PAST_END) naming how many\n"
+"  --hold-last         hold the last pose past the stream's end without that warning\n"
+"  --max-pose-bytes N  refuse pose files larger than N bytes (suffix K, M or G) [1G]\n"
 "\n"
 "Rendering:\n"
 "  --method M          spp | primary | samplecache | taa | hashcache | hybrid | isrt\n"
@@ -174,9 +178,11 @@ HS_LIGHT_USAGE
 "  --quiet             errors only: no progress, summary, warnings or runtime info lines\n"
 "  Each run writes run.json into --out (command line, settings, device, version, start\n"
 "  time UTC, status and summary) and run.conf (its settings in --config format). Every\n"
-"  file is written under a temporary name and renamed, so none is ever truncated.\n"
-"  Ctrl-C (SIGINT) or SIGTERM finishes the frame in flight, writes the files and the\n"
-"  summary and exits 130 (SIGINT) or 143 (SIGTERM); a second Ctrl-C ends at once.\n"
+"  file is written under a temporary name and renamed, a frame's files together, so none\n"
+"  is ever truncated and no frame is half there. The first failed write stops the run\n"
+"  (status failed, exit 1). Ctrl-C (SIGINT), SIGTERM or SIGHUP finishes the frame in\n"
+"  flight, writes the files and the summary and exits 130, 143 or 129 (status\n"
+"  interrupted); a second Ctrl-C ends at once, run.json still saying interrupted.\n"
 "\n"
 "Command line:\n"
 "  --opt=value         the same as --opt value (every command)\n"
@@ -220,6 +226,7 @@ static const char *const value_options[] = {
     "--blend-estimate", "--taa", "--taa-alpha",
     "--isrt-m", "--hc-table", "--hc-lod", "--hc-voxel-scale", "--hc-max-age",
     "--hc-voxel-jitter", "--viewpoint",
+    "--max-pose-bytes",
 };
 
 /* Positive float option; returns 0 or the exit code of bad_arg. */
@@ -435,7 +442,8 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
 static const char *const not_settings[] = {"--quiet", "--overwrite"};
 
 /* Runs the replay with its record: the output folder checked (--overwrite), run.json and
- * run.conf written before and after, SIGINT/SIGTERM as a clean stop. Returns the exit status:
+ * run.conf written before, run.json after (hs_run.h), SIGINT/SIGTERM/SIGHUP as a clean stop
+ * and a second one as the end at once. Returns the exit status:
  * 0, 1 (failed), 2 (the folder holds a run), 128 + signal (stopped). */
 static int run_recorded(hs_replay_options *opt, bool direct, bool overwrite, bool quiet,
                         hs_run_info *run)
@@ -445,7 +453,7 @@ static int run_recorded(hs_replay_options *opt, bool direct, bool overwrite, boo
     if (opt->out_dir) {
         xrsc_result pr = hs_run_prepare_out(opt->out_dir, overwrite, &diag);
         if (pr == XRSC_OK)
-            pr = hs_run_write_record(run, NULL, "running", 0, &diag);
+            pr = hs_run_write_record(run, NULL, "running", 0, NULL, &diag);
         if (pr != XRSC_OK) {
             fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
             return pr == XRSC_ERROR_INVALID_ARGUMENT ? HS_EXIT_BAD_ARGS : 1;
@@ -464,10 +472,13 @@ static int run_recorded(hs_replay_options *opt, bool direct, bool overwrite, boo
     if (opt->out_dir) {
         xrsc_diag rd = {0};
         const char *status = res != XRSC_OK ? "failed" : st.stopped_by ? "interrupted" : "completed";
-        if (hs_run_write_record(run, &st, status, rc, &rd) != XRSC_OK) {
+        if (hs_run_write_record(run, &st, status, rc, res != XRSC_OK ? msg : NULL, &rd) !=
+                XRSC_OK &&
+            res == XRSC_OK) { /* a failed run's one error is the one above */
             fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&rd, msg, sizeof(msg)));
             rc = rc ? rc : 1;
         }
+        hs_run_disarm();
     }
     if (!quiet && res == XRSC_OK) {
         char sig[32];
@@ -501,6 +512,8 @@ static int parse_flag(const char *a, main_args *m)
         opt->no_anchor = true;
     else if (!strcmp(a, "--frame"))
         opt->frame_bounds = true;
+    else if (!strcmp(a, "--hold-last"))
+        opt->hold_last = true;
     else if (!strcmp(a, "--direct"))
         m->direct = true;
     else if (!strcmp(a, "--preview") || !strcmp(a, "--preview-autoclose")) {
@@ -553,6 +566,9 @@ static int parse_input_option(const char *a, const char *v, main_args *m)
         xrsc_diag d = {0};
         if (hs_viewpoint_parse(v, &opt->viewpoint, &d) != XRSC_OK)
             return bad_arg(a, v, d.message);
+    } else if (!strcmp(a, "--max-pose-bytes")) {
+        if (!hs_parse_bytes(v, &opt->max_pose_bytes))
+            return bad_arg(a, v, "expected a byte count >= 1, e.g. 1G or 500M");
     } else {
         return HS_ARG_NOT_MINE;
     }
@@ -779,6 +795,7 @@ static int run_with_record(main_args *m, const hs_args *args, hs_run_info *run)
         {"--scene", opt->scene_path},   {"--poses", opt->poses_path},
         {"--pose-format", "auto"},      {"--start", "0"},
         {"--frames", "0"},              {"--fov", "headset"},
+        {"--max-pose-bytes", "1G"},
         {"--method", xrsc_method_name(opt->renderer.method)},
         {"--blend", xrsc_blend_name(opt->renderer.blend)},
         {"--blend-r", "0"},             {"--blend-estimate", "samples"},

@@ -10,6 +10,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #define PI_D 3.14159265358979323846
@@ -622,6 +623,44 @@ static void test_files(void)
                  XRSC_ERROR_INVALID_ARGUMENT);
 }
 
+/** Peak resident memory of this process so far, in KiB (getrusage). */
+static long peak_rss_kib(void)
+{
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss : 0;
+}
+
+/* Issue 23: a large file is read line by line and its header first: a 256 MiB file whose first
+ * line is no header is refused at line 1 without being read into memory (the peak resident
+ * size grows by far less than the file); --max-pose-bytes refuses a file over its limit. */
+#define HEADER_FIRST_FILE_BYTES (256ll << 20)
+#define HEADER_FIRST_MAX_GROWTH_KIB (32l << 10)
+static void test_header_first_streaming(void)
+{
+    const char *big = t_temp_file("bad_header.xrpose", "not a pose stream\n");
+    CHECK_EQ_INT(truncate(big, (off_t)HEADER_FIRST_FILE_BYTES), 0);
+    hs_pose_stream *s = NULL;
+    xrsc_diag diag = {0};
+    long before = peak_rss_kib();
+    CHECK_EQ_INT(hs_pose_stream_load(big, HS_POSE_FORMAT_AUTO, &s, &diag), XRSC_ERROR_BAD_HEADER);
+    CHECK_EQ_INT(diag.line, 1);
+    CHECK_EQ_INT(hs_pose_stream_load(big, HS_POSE_FORMAT_PRED6DOF, &s, &diag),
+                 XRSC_ERROR_BAD_HEADER);
+    CHECK_EQ_INT(diag.line, 1);
+    long grown = peak_rss_kib() - before;
+    CHECK_MSG(grown < HEADER_FIRST_MAX_GROWTH_KIB, "reading grew the process by %ld KiB", grown);
+    unlink(big);
+    /* The limit of hs_pose_stream_load_with (xrsc --max-pose-bytes). */
+    const char *orbit = t_source_path("poses/orbit_cornell.xrpose");
+    hs_pose_load_options lo = {.max_bytes = 1000};
+    CHECK_EQ_INT(hs_pose_stream_load_with(orbit, &lo, &s, &diag), XRSC_ERROR_FILE_TOO_LARGE);
+    CHECK(s == NULL);
+    lo.max_bytes = 0; /* the default */
+    CHECK_EQ_INT(hs_pose_stream_load_with(orbit, &lo, &s, &diag), XRSC_OK);
+    CHECK(s && s->count == 180);
+    hs_pose_stream_destroy(&s);
+}
+
 int main(void)
 {
     RUN(test_round_trip);
@@ -635,5 +674,6 @@ int main(void)
     RUN(test_bad_input);
     RUN(test_good_edge_cases);
     RUN(test_files);
+    RUN(test_header_first_streaming);
     return t_finish();
 }

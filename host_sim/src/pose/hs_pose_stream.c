@@ -57,12 +57,15 @@ static const char *const hs_pred6dof_names[8] = {"timestamp", "x",  "y",  "z",
                                                  "qx",        "qy", "qz", "qw"};
 static const char *const hs_360video_names[6] = {"timestamp", "viewpoint", "w", "x", "y", "z"};
 
-/** Parser state over one in-memory buffer (which need not be NUL-terminated). */
+/** Parser state over one in-memory buffer (which need not be NUL-terminated), or over a file
+ *  read line by line into buf. */
 typedef struct hs_parser {
     const char *name;
     const char *data;
     size_t size;
     size_t pos;
+    FILE *file; /**< non-NULL: lines come from here (data unused) */
+    char *buf;  /**< HS_POSE_MAX_LINE_CHARS: the file's current line */
     int line; /**< 1-based number of the line last returned by next_line */
     xrsc_diag *diag;
     hs_pose_stream *stream;
@@ -80,9 +83,39 @@ typedef struct hs_field {
 
 /* ---- lines and fields ------------------------------------------------------------------- */
 
+/** A file's next line into p->buf (longer lines cut; a UTF-8 byte order mark dropped). */
+static bool next_file_line(hs_parser *p, const char **out_begin, size_t *out_len)
+{
+    size_t n = 0;
+    int c = EOF;
+    bool any = false;
+    while ((c = getc_unlocked(p->file)) != EOF) {
+        any = true;
+        if (c == '\n')
+            break;
+        if (n < HS_POSE_MAX_LINE_CHARS)
+            p->buf[n++] = (char)c;
+    }
+    if (!any)
+        return false;
+    const char *begin = p->buf;
+    if (p->line == 0 && n >= 3 && !memcmp(begin, "\xEF\xBB\xBF", 3)) {
+        begin += 3;
+        n -= 3;
+    }
+    if (n > 0 && begin[n - 1] == '\r')
+        n--;
+    p->line++;
+    *out_begin = begin;
+    *out_len = n;
+    return true;
+}
+
 /** Returns false at end of data. Strips a trailing '\r'. */
 static bool next_line(hs_parser *p, const char **out_begin, size_t *out_len)
 {
+    if (p->file)
+        return next_file_line(p, out_begin, out_len);
     if (p->pos >= p->size)
         return false;
     const char *begin = p->data + p->pos;
@@ -911,15 +944,27 @@ static xrsc_result parse_librnr(hs_parser *p)
     return r;
 }
 
-/** The first line that is neither blank nor a comment decides the format. */
-static hs_pose_format detect_format(const char *data, size_t size)
+/** What the first lines of a source hold (detect_format). */
+typedef enum hs_head_kind {
+    HS_HEAD_BLANK,    /**< nothing but whitespace */
+    HS_HEAD_COMMENTS, /**< comments, no content line */
+    HS_HEAD_CONTENT,  /**< a content line (q->line is its number) */
+} hs_head_kind;
+
+/** The first line that is neither blank nor a comment decides the format; reads no further. */
+static hs_pose_format detect_format(hs_parser *q, hs_head_kind *kind)
 {
-    hs_parser p = {.data = data, .size = size};
     const char *line;
     size_t len;
-    while (next_line(&p, &line, &len)) {
-        if (is_blank_or_comment(line, len))
+    *kind = HS_HEAD_BLANK;
+    while (next_line(q, &line, &len)) {
+        if (is_blank_or_comment(line, len)) {
+            trim(&line, &len);
+            if (len > 0)
+                *kind = HS_HEAD_COMMENTS;
             continue;
+        }
+        *kind = HS_HEAD_CONTENT;
         trim(&line, &len);
         size_t magic = strlen(HS_CANONICAL_MAGIC);
         if (len >= magic && memcmp(line, HS_CANONICAL_MAGIC, magic) == 0 &&
@@ -1208,58 +1253,50 @@ xrsc_result hs_pose_stream_parse_columns(const char *name, const char *data, siz
     return parse_any(name, data, size, HS_POSE_FORMAT_COLUMNS, columns, out, diag);
 }
 
-static xrsc_result parse_any(const char *name, const char *data, size_t size,
-                             hs_pose_format format, const hs_pose_columns *columns,
-                             hs_pose_stream **out, xrsc_diag *diag)
+/* The format of src (AUTO: detected from its first content line, reading no further; a file
+ * is then rewound), else the error that says why there is none. */
+static xrsc_result source_format(const hs_parser *src, hs_pose_format *format, xrsc_diag *diag)
 {
-    if (!name)
-        name = "(memory)";
-    if (!out || (!data && size > 0))
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, name, 0, "", "NULL argument");
-    *out = NULL;
-    if (size > HS_POSE_MAX_FILE_BYTES)
-        return u_diag_set(diag, XRSC_ERROR_FILE_TOO_LARGE, name, 0, "",
-                          "%zu bytes, more than the limit of %llu", size,
-                          (unsigned long long)HS_POSE_MAX_FILE_BYTES);
-    /* A UTF-8 byte order mark is ignored. */
-    static const char bom[3] = {'\xEF', '\xBB', '\xBF'};
-    if (size >= 3 && memcmp(data, bom, 3) == 0) {
-        data += 3;
-        size -= 3;
-    }
-    bool content = false;
-    for (size_t i = 0; i < size && !content; i++)
-        content = !is_space(data[i]) && data[i] != '\n';
-    if (!content)
-        return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, name, 0, "", "empty file");
+    if (*format != HS_POSE_FORMAT_AUTO)
+        return XRSC_OK;
+    hs_parser q = *src;
+    hs_head_kind kind;
+    *format = detect_format(&q, &kind);
+    if (kind == HS_HEAD_BLANK)
+        return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, src->name, 0, "", "empty file");
+    if (kind == HS_HEAD_COMMENTS)
+        return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, src->name, 0, "",
+                          "only comments, no header and no samples");
+    if (*format == HS_POSE_FORMAT_AUTO)
+        return u_diag_set(diag, XRSC_ERROR_BAD_HEADER, src->name, q.line, "header",
+                          "unknown format: expected '%s %d', '%s', '%s' or librnr "
+                          "records ('<t_ns> <s|v|b|f> <path> ...'); for another CSV or "
+                          "TSV export name its columns with --pose-columns "
+                          "(poses/README.md)",
+                          HS_CANONICAL_MAGIC, HS_CANONICAL_VERSION, HS_PRED6DOF_HEADER,
+                          HS_360VIDEO_HEADER);
+    if (src->file && fseek(src->file, 0, SEEK_SET) != 0)
+        return u_diag_set(diag, XRSC_ERROR_IO, src->name, 0, "", "cannot seek: %s",
+                          strerror(errno));
+    return XRSC_OK;
+}
 
-    if (format == HS_POSE_FORMAT_AUTO) {
-        format = detect_format(data, size);
-        if (format == HS_POSE_FORMAT_AUTO) {
-            hs_parser q = {.data = data, .size = size};
-            const char *line = NULL;
-            size_t len = 0;
-            while (next_line(&q, &line, &len) && is_blank_or_comment(line, len)) {
-            }
-            if (is_blank_or_comment(line, len)) /* only comments */
-                return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, name, 0, "",
-                                  "only comments, no header and no samples");
-            return u_diag_set(diag, XRSC_ERROR_BAD_HEADER, name, q.line, "header",
-                              "unknown format: expected '%s %d', '%s', '%s' or librnr "
-                              "records ('<t_ns> <s|v|b|f> <path> ...'); for another CSV or "
-                              "TSV export name its columns with --pose-columns "
-                              "(poses/README.md)",
-                              HS_CANONICAL_MAGIC, HS_CANONICAL_VERSION, HS_PRED6DOF_HEADER,
-                              HS_360VIDEO_HEADER);
-        }
-    }
-
+/* Parses every line of src (a buffer, or a file at its start) in format. */
+static xrsc_result parse_source(const hs_parser *src, hs_pose_format format,
+                                const hs_pose_columns *columns, hs_pose_stream **out,
+                                xrsc_diag *diag)
+{
+    const char *name = src->name;
+    xrsc_result r = source_format(src, &format, diag);
+    if (r != XRSC_OK)
+        return r;
     hs_pose_stream *s = calloc(1, sizeof(*s));
     if (!s)
         return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, name, 0, "", "out of memory");
     s->format = format;
-    hs_parser p = {.name = name, .data = data, .size = size, .diag = diag, .stream = s};
-    xrsc_result r;
+    hs_parser p = *src;
+    p.diag = diag;
+    p.stream = s;
     switch (format) {
     case HS_POSE_FORMAT_XRSC:
         r = parse_canonical(&p);
@@ -1284,6 +1321,8 @@ static xrsc_result parse_any(const char *name, const char *data, size_t size,
                        (int)format);
         break;
     }
+    if (r == XRSC_OK && src->file && ferror(src->file))
+        r = u_diag_set(diag, XRSC_ERROR_IO, name, p.line, "", "read failed: %s", strerror(errno));
     if (r == XRSC_OK && s->count == 0)
         r = u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, name, 0, "", "no samples");
     if (r != XRSC_OK) {
@@ -1297,14 +1336,39 @@ static xrsc_result parse_any(const char *name, const char *data, size_t size,
     return XRSC_OK;
 }
 
-static xrsc_result load_any(const char *path, hs_pose_format format,
-                            const hs_pose_columns *columns, hs_pose_stream **out,
-                            xrsc_diag *diag);
+static xrsc_result parse_any(const char *name, const char *data, size_t size,
+                             hs_pose_format format, const hs_pose_columns *columns,
+                             hs_pose_stream **out, xrsc_diag *diag)
+{
+    if (!name)
+        name = "(memory)";
+    if (!out || (!data && size > 0))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, name, 0, "", "NULL argument");
+    *out = NULL;
+    if (size > HS_POSE_MAX_FILE_BYTES)
+        return u_diag_set(diag, XRSC_ERROR_FILE_TOO_LARGE, name, 0, "",
+                          "%zu bytes, more than the limit of %llu", size,
+                          (unsigned long long)HS_POSE_MAX_FILE_BYTES);
+    /* A UTF-8 byte order mark is ignored. */
+    static const char bom[3] = {'\xEF', '\xBB', '\xBF'};
+    if (size >= 3 && memcmp(data, bom, 3) == 0) {
+        data += 3;
+        size -= 3;
+    }
+    bool content = false;
+    for (size_t i = 0; i < size && !content; i++)
+        content = !is_space(data[i]) && data[i] != '\n';
+    if (!content)
+        return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, name, 0, "", "empty file");
+    const hs_parser src = {.name = name, .data = data, .size = size};
+    return parse_source(&src, format, columns, out, diag);
+}
 
 xrsc_result hs_pose_stream_load(const char *path, hs_pose_format format, hs_pose_stream **out,
                                 xrsc_diag *diag)
 {
-    return load_any(path, format, NULL, out, diag);
+    const hs_pose_load_options opt = {.format = format};
+    return hs_pose_stream_load_with(path, &opt, out, diag);
 }
 
 xrsc_result hs_pose_stream_load_columns(const char *path, const hs_pose_columns *columns,
@@ -1316,57 +1380,63 @@ xrsc_result hs_pose_stream_load_columns(const char *path, const hs_pose_columns 
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0,
                           "--pose-columns", "no column list");
     }
-    return load_any(path, HS_POSE_FORMAT_COLUMNS, columns, out, diag);
+    const hs_pose_load_options opt = {.columns = columns};
+    return hs_pose_stream_load_with(path, &opt, out, diag);
 }
 
-static xrsc_result load_any(const char *path, hs_pose_format format,
-                            const hs_pose_columns *columns, hs_pose_stream **out,
-                            xrsc_diag *diag)
+/* Opens path as a regular file no larger than max_bytes (checked before anything is read). */
+static xrsc_result open_checked(const char *path, uint64_t max_bytes, FILE **out, xrsc_diag *diag)
 {
-    if (out)
-        *out = NULL;
-    if (!path || !out)
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0, "",
-                          "NULL argument");
     FILE *f = fopen(path, "rb");
     if (!f)
         return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot open: %s", strerror(errno));
     struct stat st;
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+    xrsc_result r = XRSC_OK;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode))
+        r = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "is a folder, not a pose file");
+    else if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode))
+        r = u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "not a readable regular file");
+    else if ((unsigned long long)st.st_size > max_bytes)
+        r = u_diag_set(diag, XRSC_ERROR_FILE_TOO_LARGE, path, 0, "",
+                       "%lld bytes, more than the limit of %llu (--max-pose-bytes)",
+                       (long long)st.st_size, (unsigned long long)max_bytes);
+    else if (st.st_size == 0)
+        r = u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, path, 0, "", "empty file");
+    if (r != XRSC_OK) {
         fclose(f);
-        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "is a folder, not a pose file");
+        return r;
     }
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+    *out = f;
+    return XRSC_OK;
+}
+
+xrsc_result hs_pose_stream_load_with(const char *path, const hs_pose_load_options *opt,
+                                     hs_pose_stream **out, xrsc_diag *diag)
+{
+    if (out)
+        *out = NULL;
+    if (!path || !out || !opt)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0, "",
+                          "NULL argument");
+    if ((opt->columns && (opt->columns->count == 0 || opt->columns->count > HS_POSE_MAX_COLUMNS)) ||
+        (!opt->columns && opt->format == HS_POSE_FORMAT_COLUMNS))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path, 0, "--pose-columns",
+                          "no column list");
+    FILE *f = NULL;
+    xrsc_result r = open_checked(path, opt->max_bytes ? opt->max_bytes : HS_POSE_MAX_FILE_BYTES,
+                                 &f, diag);
+    if (r != XRSC_OK)
+        return r;
+    char *buf = malloc(HS_POSE_MAX_LINE_CHARS);
+    if (!buf) {
         fclose(f);
-        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "not a readable regular file");
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "line buffer");
     }
-    /* The size is checked before anything is read or allocated. */
-    if ((unsigned long long)st.st_size > HS_POSE_MAX_FILE_BYTES) {
-        fclose(f);
-        return u_diag_set(diag, XRSC_ERROR_FILE_TOO_LARGE, path, 0, "",
-                          "%lld bytes, more than the limit of %llu", (long long)st.st_size,
-                          (unsigned long long)HS_POSE_MAX_FILE_BYTES);
-    }
-    size_t size = (size_t)st.st_size;
-    if (size == 0) {
-        fclose(f);
-        return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, path, 0, "", "empty file");
-    }
-    char *data = malloc(size);
-    if (!data) {
-        fclose(f);
-        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "cannot read %zu bytes",
-                          size);
-    }
-    size_t got = fread(data, 1, size, f);
-    bool read_error = ferror(f) != 0;
+    const hs_parser src = {.name = path, .file = f, .buf = buf};
+    r = parse_source(&src, opt->columns ? HS_POSE_FORMAT_COLUMNS : opt->format, opt->columns,
+                     out, diag);
+    free(buf);
     fclose(f);
-    if (read_error || got != size) {
-        free(data);
-        return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "read %zu of %zu bytes", got, size);
-    }
-    xrsc_result r = parse_any(path, data, size, format, columns, out, diag);
-    free(data);
     return r;
 }
 

@@ -20,8 +20,12 @@
 extern "C" {
 #endif
 
-/** Files larger than this are rejected with XRSC_ERROR_FILE_TOO_LARGE. */
-#define HS_POSE_MAX_FILE_BYTES (256ull * 1024 * 1024)
+/** Files (and buffers) larger than this are rejected with XRSC_ERROR_FILE_TOO_LARGE, unless
+ *  hs_pose_load_options.max_bytes says otherwise (xrsc --max-pose-bytes). */
+#define HS_POSE_MAX_FILE_BYTES (1ull << 30)
+/** Longest line kept when a file is read line by line; the rest of a longer line is skipped
+ *  (no valid line comes near it: fields are at most 64 characters). */
+#define HS_POSE_MAX_LINE_CHARS 65536
 
 typedef enum hs_pose_format {
     HS_POSE_FORMAT_AUTO = 0, /**< by header line / extension */
@@ -130,6 +134,22 @@ const char *hs_pose_format_name(hs_pose_format format);
 /** The format named auto, xrsc, pred6dof, 360video or librnr (the --pose-format values);
  *  false for anything else (*out unchanged). */
 bool hs_pose_format_from_name(const char *name, hs_pose_format *out);
+
+/** How a file is loaded (zero: detected format, HS_POSE_MAX_FILE_BYTES). */
+typedef struct hs_pose_load_options {
+    hs_pose_format format;          /**< AUTO: detected from the first content line */
+    const hs_pose_columns *columns; /**< non-NULL: read by these columns (format ignored) */
+    uint64_t max_bytes;             /**< larger files: XRSC_ERROR_FILE_TOO_LARGE; 0: default */
+} hs_pose_load_options;
+
+/**
+ * Loads a stream from a file, read line by line (never whole into memory): its size is checked
+ * against the limit before anything is read, and its header (the first content line: the
+ * format detected, or the forced format's header) before any other line, so a file that is not
+ * a pose stream is refused after its first line however large it is.
+ */
+xrsc_result hs_pose_stream_load_with(const char *path, const hs_pose_load_options *opt,
+                                     hs_pose_stream **out, xrsc_diag *diag);
 
 /** Loads a stream; on error returns a negative result with file/line/field in diag. */
 xrsc_result hs_pose_stream_load(const char *path, hs_pose_format format, hs_pose_stream **out,

@@ -28,6 +28,7 @@
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
+#include "hs_file.h"
 #include "hs_image.h"
 #include "hs_pose_stream.h"
 #include "xrsc/xrsc_math.h"
@@ -74,8 +75,12 @@ typedef struct hsrt_config {
     char out_dir[1024]; /**< "" = write nothing */
     uint64_t frames;    /**< 0 = run until the application stops */
     uint64_t lose_after; /**< 0 = never; else the session is lost after this many frames */
+    uint64_t max_pose_bytes; /**< XRSC_RT_MAX_POSE_BYTES; 0 = HS_POSE_MAX_FILE_BYTES */
     hsrt_pace pace;
     bool write_eyes, write_sbs, write_linear;
+    /** XRSC_RT_ERROR_FD: write end of a pipe that gets the error which ended the session (a
+     *  frame that could not be written), one line; -1 = none (the error goes to stderr). */
+    int error_fd;
     float exposure;     /**< XRSC_RT_EXPOSURE: > 0 fixed, 0 = "auto" (hs_autoexposure) */
     char device[256];   /**< XRSC_RT_DEVICE, else XRSC_DEVICE: selector of u_device.h, "" = any */
     int64_t start_ns;   /**< XRSC_RT_START_S: stream time of the session's first display time */
@@ -205,7 +210,8 @@ struct hsrt_session {
     uint32_t waits_pending;    /**< xrWaitFrame calls not yet followed by xrBeginFrame */
     bool frame_begun;
     uint64_t frames_ended;
-    FILE *frames_csv;
+    hs_out_file frames_csv; /**< frames.csv, written as frames.csv.tmp until xrDestroySession */
+    bool write_failed;      /**< a frame or row could not be written: the session was lost */
     hsrt_preview *preview; /**< NULL unless XRSC_RT_PREVIEW=1 */
     hs_autoexposure autoexp; /**< cfg.exposure 0: automatic over the captured frames */
 };
@@ -359,8 +365,13 @@ void hsrt_eye_image_free(hsrt_eye_image *img);
  */
 float *hsrt_depth_to_metres(VkFormat format, const void *texels, uint32_t w, uint32_t h,
                             const XrCompositionLayerDepthInfoKHR *info);
-/** Writes frame_NNNNN_{left,right}.png/.pfm and _sbs.png as the configuration says. */
-bool hsrt_write_frame(const hsrt_config *cfg, uint64_t frame, hsrt_eye_image eyes[2]);
+/**
+ * Writes frame_NNNNN_{left,right}.png/.pfm and _sbs.png as the configuration says, as one set
+ * (hs_file.h: all renamed into place, or none). On the first failure the rest is not written
+ * and diag names the file and the errno text.
+ */
+xrsc_result hsrt_write_frame(const hsrt_config *cfg, uint64_t frame, hsrt_eye_image eyes[2],
+                             xrsc_diag *diag);
 
 /* ---- hsrt_preview.c ---- */
 /** Frames the preview keeps to step back through, by default and at most (XRSC_RT_PREVIEW_HISTORY). */

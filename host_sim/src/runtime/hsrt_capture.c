@@ -6,6 +6,7 @@
  */
 #include "hsrt.h"
 
+#include "hs_file.h"
 #include "hs_image.h"
 #include "u_diag.h"
 #include "u_half.h"
@@ -118,52 +119,67 @@ bool hsrt_convert(VkFormat format, const void *texels, uint32_t w, uint32_t h, f
     return true;
 }
 
-bool hsrt_write_frame(const hsrt_config *cfg, uint64_t frame, hsrt_eye_image eyes[2])
+/* Stages one eye's files into set. */
+static xrsc_result stage_eye(const hsrt_config *cfg, uint64_t frame, int e,
+                             const hsrt_eye_image *eye, hs_frame_set *set, xrsc_diag *diag)
 {
     static const char *const eye_name[2] = {"left", "right"};
-    char path[1200], msg[1024];
-    bool ok = true;
-    xrsc_diag diag;
-    for (int e = 0; e < 2; e++) {
-        if (cfg->write_eyes) {
-            snprintf(path, sizeof(path), "%s/frame_%05llu_%s.png", cfg->out_dir,
-                     (unsigned long long)frame, eye_name[e]);
-            memset(&diag, 0, sizeof(diag));
-            if (hs_write_png(path, eyes[e].rgb, eyes[e].w, eyes[e].h, &diag) != XRSC_OK) {
-                U_LOG_E("runtime: %s", xrsc_diag_format(&diag, msg, sizeof(msg)));
-                ok = false;
-            }
-        }
-        if (cfg->write_linear) {
-            snprintf(path, sizeof(path), "%s/frame_%05llu_%s.pfm", cfg->out_dir,
-                     (unsigned long long)frame, eye_name[e]);
-            memset(&diag, 0, sizeof(diag));
-            if (hs_write_pfm(path, eyes[e].rgba, eyes[e].w, eyes[e].h, &diag) != XRSC_OK) {
-                U_LOG_E("runtime: %s", xrsc_diag_format(&diag, msg, sizeof(msg)));
-                ok = false;
-            }
-        }
+    char path[HS_OUT_PATH_MAX];
+    xrsc_result res = XRSC_OK;
+    if (cfg->write_eyes) {
+        snprintf(path, sizeof(path), "%s/frame_%05llu_%s.png", cfg->out_dir,
+                 (unsigned long long)frame, eye_name[e]);
+        if ((res = hs_frame_set_add(set, path, diag)) != XRSC_OK ||
+            (res = hs_stage_png(path, eye->rgb, eye->w, eye->h, diag)) != XRSC_OK)
+            return res;
     }
-    if (cfg->write_sbs) {
-        if (eyes[0].w != eyes[1].w || eyes[0].h != eyes[1].h) {
-            U_LOG_W("runtime: frame %llu: the eyes differ in size, no side-by-side image",
-                    (unsigned long long)frame);
-            return ok;
-        }
-        uint8_t *sbs = malloc((size_t)eyes[0].w * 2 * eyes[0].h * 3);
-        if (!sbs)
-            return false;
-        hs_side_by_side(eyes[0].rgb, eyes[1].rgb, eyes[0].w, eyes[0].h, sbs);
-        snprintf(path, sizeof(path), "%s/frame_%05llu_sbs.png", cfg->out_dir,
-                 (unsigned long long)frame);
-        memset(&diag, 0, sizeof(diag));
-        if (hs_write_png(path, sbs, eyes[0].w * 2, eyes[0].h, &diag) != XRSC_OK) {
-            U_LOG_E("runtime: %s", xrsc_diag_format(&diag, msg, sizeof(msg)));
-            ok = false;
-        }
-        free(sbs);
+    if (cfg->write_linear) {
+        snprintf(path, sizeof(path), "%s/frame_%05llu_%s.pfm", cfg->out_dir,
+                 (unsigned long long)frame, eye_name[e]);
+        if ((res = hs_frame_set_add(set, path, diag)) != XRSC_OK ||
+            (res = hs_stage_pfm(path, eye->rgba, eye->w, eye->h, diag)) != XRSC_OK)
+            return res;
     }
-    return ok;
+    return res;
+}
+
+static xrsc_result stage_sbs(const hsrt_config *cfg, uint64_t frame, hsrt_eye_image eyes[2],
+                             hs_frame_set *set, xrsc_diag *diag)
+{
+    if (eyes[0].w != eyes[1].w || eyes[0].h != eyes[1].h) {
+        U_LOG_W("runtime: frame %llu: the eyes differ in size, no side-by-side image",
+                (unsigned long long)frame);
+        return XRSC_OK;
+    }
+    char path[HS_OUT_PATH_MAX];
+    snprintf(path, sizeof(path), "%s/frame_%05llu_sbs.png", cfg->out_dir,
+             (unsigned long long)frame);
+    xrsc_result res = hs_frame_set_add(set, path, diag);
+    if (res != XRSC_OK)
+        return res;
+    uint8_t *sbs = malloc((size_t)eyes[0].w * 2 * eyes[0].h * 3);
+    if (!sbs)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "", "side-by-side image");
+    hs_side_by_side(eyes[0].rgb, eyes[1].rgb, eyes[0].w, eyes[0].h, sbs);
+    res = hs_stage_png(path, sbs, eyes[0].w * 2, eyes[0].h, diag);
+    free(sbs);
+    return res;
+}
+
+xrsc_result hsrt_write_frame(const hsrt_config *cfg, uint64_t frame, hsrt_eye_image eyes[2],
+                             xrsc_diag *diag)
+{
+    hs_frame_set set = {0};
+    xrsc_result res = XRSC_OK;
+    for (int e = 0; e < 2 && res == XRSC_OK; e++)
+        res = stage_eye(cfg, frame, e, &eyes[e], &set, diag);
+    if (res == XRSC_OK && cfg->write_sbs)
+        res = stage_sbs(cfg, frame, eyes, &set, diag);
+    if (res != XRSC_OK) {
+        hs_frame_set_abort(&set);
+        return res;
+    }
+    return hs_frame_set_commit(&set, diag);
 }
 
 /* Depth within this fraction of the far end of the depth range is background (the plugin and

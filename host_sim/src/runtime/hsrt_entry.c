@@ -326,6 +326,10 @@ static XrResult config_stream(hsrt_config *cfg)
     if (v && *v && !parse_u64(v, &cfg->lose_after))
         return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
                          "XRSC_RT_LOSE_AFTER='%s' is not a frame count", v);
+    v = getenv("XRSC_RT_MAX_POSE_BYTES");
+    if (v && *v && !parse_u64(v, &cfg->max_pose_bytes))
+        return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
+                         "XRSC_RT_MAX_POSE_BYTES='%s' is not a byte count", v);
     v = getenv("XRSC_RT_PACE");
     if (!v || !*v || !strcmp(v, "realtime"))
         cfg->pace = HSRT_PACE_REALTIME;
@@ -346,6 +350,15 @@ static XrResult config_outputs(hsrt_config *cfg)
 {
     const char *v = getenv("XRSC_RT_OUT");
     snprintf(cfg->out_dir, sizeof(cfg->out_dir), "%s", v ? v : "");
+    uint64_t fd = 0;
+    cfg->error_fd = -1;
+    v = getenv("XRSC_RT_ERROR_FD");
+    if (v && *v) {
+        if (!parse_u64(v, &fd) || fd > INT32_MAX)
+            return hsrt_fail(XR_ERROR_INITIALIZATION_FAILED, "xrCreateInstance",
+                             "XRSC_RT_ERROR_FD='%s' is not a file descriptor", v);
+        cfg->error_fd = (int)fd;
+    }
     v = getenv("XRSC_RT_WRITE");
     if (!v || !*v) {
         cfg->write_eyes = cfg->write_sbs = true;
@@ -647,8 +660,8 @@ static XrResult XRAPI_CALL hsrt_xrCreateInstance(const XrInstanceCreateInfo *cre
         return r;
     }
     xrsc_diag diag = {0};
-    xrsc_result pr = hs_pose_stream_load(inst->cfg.poses_path, HS_POSE_FORMAT_AUTO, &inst->poses,
-                                         &diag);
+    const hs_pose_load_options lo = {.max_bytes = inst->cfg.max_pose_bytes};
+    xrsc_result pr = hs_pose_stream_load_with(inst->cfg.poses_path, &lo, &inst->poses, &diag);
     if (pr != XRSC_OK || !inst->poses || !inst->poses->count) {
         char msg[1024];
         xrsc_diag_format(&diag, msg, sizeof(msg));

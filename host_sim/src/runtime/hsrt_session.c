@@ -27,6 +27,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 static hsrt_session *session_from(XrSession handle)
 {
@@ -107,6 +108,9 @@ static bool space_pose(hsrt_session *s, const hsrt_space *sp, XrTime time, XrPos
 
 /* ---- session lifecycle ---- */
 
+/* frames.csv: written as frames.csv.tmp and renamed into place when the session is destroyed
+ * (hs_file.h), flushed row by row so that a process ended by a second signal keeps whole rows
+ * (hs_run.h). */
 static void csv_open(hsrt_session *s)
 {
     const hsrt_config *cfg = &s->instance->cfg;
@@ -116,14 +120,50 @@ static void csv_open(hsrt_session *s)
         U_LOG_E("runtime: cannot create XRSC_RT_OUT folder %s: %s", cfg->out_dir, strerror(errno));
         return;
     }
-    char path[1100];
+    char path[1100], msg[1400];
+    xrsc_diag diag = {0};
     snprintf(path, sizeof(path), "%s/frames.csv", cfg->out_dir);
-    s->frames_csv = fopen(path, "w");
-    if (!s->frames_csv) {
-        U_LOG_E("runtime: cannot write %s: %s", path, strerror(errno));
+    if (hs_out_open(&s->frames_csv, path, &diag) != XRSC_OK) {
+        U_LOG_E("runtime: %s", xrsc_diag_format(&diag, msg, sizeof(msg)));
         return;
     }
-    fprintf(s->frames_csv, "frame,display_time_ns,stream_time_ns,px,py,pz,qx,qy,qz,qw,layers\n");
+    fprintf(s->frames_csv.f,
+            "frame,display_time_ns,stream_time_ns,px,py,pz,qx,qy,qz,qw,layers\n");
+}
+
+/* Renames frames.csv into place (its rows are whole), or removes it when the session's writes
+ * failed and the rename fails too (the folder is gone: that error was reported). */
+static void csv_close(hsrt_session *s)
+{
+    xrsc_diag diag = {0};
+    char msg[1400];
+    if (hs_out_close(&s->frames_csv, true, &diag) != XRSC_OK && !s->write_failed)
+        U_LOG_E("runtime: %s", xrsc_diag_format(&diag, msg, sizeof(msg)));
+}
+
+/**
+ * The session cannot go on: a frame (or frames.csv) could not be written. The error goes to
+ * XRSC_RT_ERROR_FD as one line "CODE\tFILE\tFIELD\tMESSAGE" (the application reports it),
+ * else to stderr; the session is lost (LOSS_PENDING), so the application stops after this
+ * frame instead of rendering frames that cannot be kept.
+ */
+static void fail_session(hsrt_session *s, const xrsc_diag *diag)
+{
+    if (s->write_failed)
+        return;
+    s->write_failed = true;
+    int fd = s->instance->cfg.error_fd;
+    char line[1400];
+    if (fd >= 0) {
+        int n = snprintf(line, sizeof(line), "%d\t%s\t%s\t%s\n", (int)diag->code, diag->file,
+                         diag->field, diag->message);
+        if (n > 0 && write(fd, line, (size_t)n < sizeof(line) ? (size_t)n : sizeof(line) - 1) > 0)
+            fd = -2;
+    }
+    if (fd != -2)
+        U_LOG_E("runtime: %s", xrsc_diag_format(diag, line, sizeof(line)));
+    s->lost = true;
+    hsrt_push_state(s, XR_SESSION_STATE_LOSS_PENDING);
 }
 
 /** Opens the preview window (XRSC_RT_PREVIEW=1); default size: 1280 wide, the eyes' aspect. */
@@ -234,8 +274,7 @@ static XrResult XRAPI_CALL hsrt_xrDestroySession(XrSession session)
     }
     hsrt_preview_destroy(&s->preview);
     hsrt_vk_session_fini(s);
-    if (s->frames_csv)
-        fclose(s->frames_csv);
+    csv_close(s);
     /* Events of this session that were not polled would name a dead handle: drop them. */
     uint32_t kept = 0;
     XrEventDataBuffer tmp[HSRT_EVENT_QUEUE];
@@ -752,9 +791,10 @@ static void capture_frame(hsrt_session *s, const XrCompositionLayerProjection *l
 {
     hsrt_preview_frame f = {.frame = s->frames_ended};
     XrResult r = hsrt_vk_capture(s, layer, f.eyes, s->preview ? f.depth_m : NULL);
-    if (XR_SUCCEEDED(r) && write && !hsrt_write_frame(&s->instance->cfg, s->frames_ended, f.eyes))
-        U_LOG_E("runtime: xrEndFrame: frame %llu could not be written",
-                (unsigned long long)s->frames_ended);
+    xrsc_diag diag = {0};
+    if (XR_SUCCEEDED(r) && write &&
+        hsrt_write_frame(&s->instance->cfg, s->frames_ended, f.eyes, &diag) != XRSC_OK)
+        fail_session(s, &diag);
     if (XR_SUCCEEDED(r) && s->preview) {
         f.stream_time_ns = hsrt_stream_time(s, display_time);
         for (int v = 0; v < 2; v++) {
@@ -804,22 +844,28 @@ static XrResult XRAPI_CALL hsrt_xrEndFrame(XrSession session, const XrFrameEndIn
     bool write = cfg->out_dir[0] && (cfg->write_eyes || cfg->write_sbs || cfg->write_linear);
     if (proj && (write || s->preview))
         capture_frame(s, proj, frameEndInfo->displayTime, write);
-    if (s->frames_csv) {
+    if (s->frames_csv.f && !s->write_failed) {
         XrPosef h = hsrt_head_pose(s, frameEndInfo->displayTime);
-        fprintf(s->frames_csv, "%llu,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%u\n",
+        fprintf(s->frames_csv.f, "%llu,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%u\n",
                 (unsigned long long)s->frames_ended, (long long)frameEndInfo->displayTime,
                 (long long)(cfg->start_ns + frameEndInfo->displayTime - s->first_display_time),
                 (double)h.position.x, (double)h.position.y, (double)h.position.z,
                 (double)h.orientation.x, (double)h.orientation.y, (double)h.orientation.z,
                 (double)h.orientation.w, frameEndInfo->layerCount);
-        fflush(s->frames_csv);
+        if (fflush(s->frames_csv.f) != 0 || ferror(s->frames_csv.f)) {
+            xrsc_diag diag = {0};
+            u_diag_set(&diag, XRSC_ERROR_IO, s->frames_csv.path, 0, "", "cannot write %s: %s",
+                       s->frames_csv.tmp, hs_write_error_text(s->frames_csv.f, errno));
+            fail_session(s, &diag);
+        }
     }
     s->frames_ended++;
-    if (s->state == XR_SESSION_STATE_SYNCHRONIZED && !s->exit_requested) {
+    if (s->state == XR_SESSION_STATE_SYNCHRONIZED && !s->exit_requested && !s->lost) {
         hsrt_push_state(s, XR_SESSION_STATE_VISIBLE);
         hsrt_push_state(s, XR_SESSION_STATE_FOCUSED);
     }
-    if (cfg->lose_after && s->frames_ended == cfg->lose_after) {
+    if (s->lost) { /* a frame could not be written (fail_session): nothing more to change */
+    } else if (cfg->lose_after && s->frames_ended == cfg->lose_after) {
         U_LOG_W("runtime: XRSC_RT_LOSE_AFTER=%llu frames reached: the session is lost",
                 (unsigned long long)cfg->lose_after);
         s->lost = true;
@@ -1107,8 +1153,9 @@ static XrResult XRAPI_CALL hsrt_xrCreateAction(XrActionSet actionSet,
     snprintf(a->name, sizeof(a->name), "%s", createInfo->actionName);
     snprintf(a->localized_name, sizeof(a->localized_name), "%s", createInfo->localizedActionName);
     a->subaction_count = createInfo->countSubactionPaths;
-    memcpy(a->subaction_paths, createInfo->subactionPaths,
-           a->subaction_count * sizeof(a->subaction_paths[0]));
+    if (a->subaction_count) /* subactionPaths may be NULL when there are none */
+        memcpy(a->subaction_paths, createInfo->subactionPaths,
+               a->subaction_count * sizeof(a->subaction_paths[0]));
     a->next_in_set = set->actions;
     set->actions = a;
     *action = HSRT_XR(XrAction, a->handle);

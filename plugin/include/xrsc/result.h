@@ -41,7 +41,8 @@ extern "C" {
     X(XRSC_ERROR_XR, -22, "an OpenXR call failed")                                                 \
     X(XRSC_ERROR_XR_RUNTIME_UNAVAILABLE, -23, "no OpenXR runtime (see XR_RUNTIME_JSON)")           \
     X(XRSC_ERROR_XR_SESSION_LOST, -24, "the OpenXR runtime lost the session or instance")         \
-    XRSC_RESULT_LIST_LOADER(X)
+    XRSC_RESULT_LIST_LOADER(X)                                                                     \
+    XRSC_RESULT_LIST_RUN(X)
 
 /* Scene loader (issue 18): bad-file errors found before the bytes reach tinygltf, and
  * warnings (positive: the load succeeds) that a scene records in sc_scene.warning_ids. */
@@ -54,6 +55,10 @@ extern "C" {
     X(XRSC_WARN_GLTF_IMAGE_UNDECODABLE, 41, "glTF image cannot be decoded: neutral stand-in used") \
     X(XRSC_WARN_GLTF_PRIMITIVE_SKIPPED, 42, "glTF points or lines primitives skipped")             \
     X(XRSC_WARN_GLTF_EXTENSION_IGNORED, 43, "optional glTF extension ignored")
+
+/* A replay's run (issue 23): warnings are positive (the run goes on), printed with their ID. */
+#define XRSC_RESULT_LIST_RUN(X)                                                                    \
+    X(XRSC_WARN_FRAMES_PAST_END, 60, "--frames runs past the pose stream: its last pose is held")
 
 typedef enum xrsc_result {
 #define XRSC_X_ENUM(name, value, text) name = value,
