@@ -7,6 +7,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 t_state t_g;
@@ -14,13 +15,17 @@ t_state t_g;
 void t_run(const char *name, void (*fn)(void))
 {
     int before = t_g.failures;
+    /* CPU seconds of the case (all threads, lavapipe's included): what it costs on an idle
+     * machine whatever else runs beside it (issue 22); printed, never asserted */
+    clock_t c0 = clock();
     fn();
+    double cpu_s = (double)(clock() - c0) / CLOCKS_PER_SEC;
     if (t_g.failures == before) {
         t_g.cases_passed++;
-        fprintf(stderr, "[ ok ] %s\n", name);
+        fprintf(stderr, "[ ok ] %s (%.1f s CPU)\n", name, cpu_s);
     } else {
         t_g.cases_failed++;
-        fprintf(stderr, "[FAIL] %s\n", name);
+        fprintf(stderr, "[FAIL] %s (%.1f s CPU)\n", name, cpu_s);
     }
 }
 

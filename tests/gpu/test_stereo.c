@@ -12,7 +12,8 @@
  * defaults otherwise, after T_CACHE_FRAMES = 128 frames of the still stereo view (each pixel's
  * ~4 visibility samples shaded round robin, so every L_s has reached alpha's steady state; its
  * moments are Eq. 5-6 over those samples with their c_s). Printed for comparison, not asserted
- * beyond the per-pixel rules: the same on a 4-spp `spp` input (moments of 4 raw path samples).
+ * beyond the per-pixel rules: the same on T_SPP_INPUTS 4-spp `spp` inputs (moments of 4 raw
+ * path samples).
  * Every metric is the mean over both eyes and over T_INPUTS independent inputs (seeds), printed
  * with its standard error over the inputs, and each claimed comparison is printed as the paired
  * difference over the same inputs +- its standard error. All pixels are scored (relMSE: every
@@ -52,6 +53,10 @@
 #define T_H 64u
 #define T_SPP 4u          /* noisy input */
 #define T_INPUTS 16u      /* independent noisy inputs the glossy metrics are averaged over */
+/* `spp` inputs: their table is printed for comparison and only per-pixel rules are asserted on
+ * them, which hold input by input; 4 keep a standard error in the table (issue 22: 16 cost
+ * 12 renderers more for nothing asserted) */
+#define T_SPP_INPUTS 4u
 #define T_REF_SPP 256u    /* reference: T_REF_FRAMES x T_REF_SPP accumulated */
 #define T_REF_FRAMES 4u
 #define T_IPD_M 0.063f
@@ -591,9 +596,10 @@ static void oracle_rows(glossy_rig *g, const stereo_input *ins, uint32_t n, cons
 static void glossy_compare(glossy_rig *g, input_kind kind, bool claims)
 {
     size_t px = (size_t)T_W * T_H;
-    uint32_t n_in = env_u32("T_INPUTS", T_INPUTS);
+    uint32_t n_def = kind == INPUT_CACHE ? T_INPUTS : T_SPP_INPUTS;
+    uint32_t n_in = env_u32("T_INPUTS", n_def);
     if (n_in > T_INPUTS || n_in < 2)
-        n_in = T_INPUTS;
+        n_in = n_def;
     stereo_input ins[T_INPUTS] = {{0}};
     xrsc_renderer *r = NULL;
     for (uint32_t k = 0; k < n_in; k++) {

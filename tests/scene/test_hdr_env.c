@@ -268,6 +268,14 @@ static void test_bad_files(void)
     const char *norun = "#?RADIANCE\n\n-Y 1 +X 2\n\1\1\1\5\1\1\1\1";
     expect_error("run first", (const uint8_t *)norun, strlen(norun), XRSC_ERROR_TRUNCATED_LINE, 1,
                  "scanline");
+    /* CVE-2021-42715: a zero count in an adaptive-RLE scanline, and a scanline cut after its
+     * marker, make stb_image 2.27 (Debian's libstb-dev) loop forever; refused here (see
+     * sc_hdr.h for why this reader is not stbi_loadf) */
+    memcpy(g.data, b.data, b.n);
+    g.data[header_bytes + 4] = 0;
+    expect_error("zero count", g.data, g.n, XRSC_ERROR_TRUNCATED_LINE, 1, "scanline");
+    expect_error("cut after marker", b.data, header_bytes + 5, XRSC_ERROR_TRUNCATED_LINE, 1,
+                 "scanline");
     /* a missing file */
     sc_hdr_image img;
     xrsc_diag d = {0};

@@ -18,6 +18,14 @@
  * (EXPOSURE),
  * XRSC_ERROR_FILE_TOO_LARGE (sides or pixel count), XRSC_ERROR_TRUNCATED_LINE (data ends
  * or a run overruns its scanline), XRSC_ERROR_IO, XRSC_ERROR_OUT_OF_MEMORY.
+ *
+ * Why not stb_image's stbi_loadf (issue 22 asked for it): the stb_image in Debian's libstb-dev
+ * (2.27) loops forever on a zero count in an adaptive-RLE scanline or on a file cut inside one
+ * (CVE-2021-42715, fixed upstream in 2.28; tests/scene/test_hdr_env.c holds both files), reads
+ * missing pixel data as zeros instead of failing, refuses bottom-up (+Y) pictures and files
+ * without a FORMAT line, ignores EXPOSURE, does not know old-style runs, decodes without
+ * Radiance's +0.5 (mantissa + 0.5) and names no line. A guard that made it safe would walk every
+ * scanline as this reader does.
  */
 #pragma once
 
