@@ -23,6 +23,8 @@
 
 /** A closed box of side size_m centred at the origin (12 triangles, no normals: flat), with
  *  nodes for `cameras` perspective cameras at (0, 0, z_k), z_k = size_m * (k + 1). */
+/* A closed box, double-sided (a room or sky box is seen from inside; a single-sided box is
+ * culled there for camera rays, as glTF viewers cull back faces). */
 static const char *box_scene(const char *name, double size_m, int cameras)
 {
     float h = (float)(0.5 * size_m);
@@ -47,7 +49,9 @@ static const char *box_scene(const char *name, double size_m, int cameras)
              "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[%s]}],"
              "\"nodes\":[%s],\"cameras\":[{\"type\":\"perspective\",\"perspective\":"
              "{\"yfov\":1.0,\"znear\":0.01}}],"
-             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],"
+             "\"materials\":[{\"doubleSided\":true}],"
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1,"
+             "\"material\":0}]}],"
              "\"buffers\":[{\"byteLength\":168,\"uri\":\"%s\"}],"
              "\"bufferViews\":[{\"buffer\":0,\"byteLength\":96},"
              "{\"buffer\":0,\"byteOffset\":96,\"byteLength\":72}],"
