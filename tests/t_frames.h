@@ -11,6 +11,7 @@
 #include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 #define T_CAPTURED_MAX 16
 
@@ -37,4 +38,17 @@ static inline bool t_pose_near(XrPosef a, XrPosef b, double tol)
            fabs(a.orientation.y - b.orientation.y) <= tol &&
            fabs(a.orientation.z - b.orientation.z) <= tol &&
            fabs(a.orientation.w - b.orientation.w) <= tol;
+}
+
+/** A frame whose two eyes both sit at the identity pose (origin, looking down -Z) with the
+ *  default headset's per-eye FOVs: for tests of what one fixed view shows. */
+static inline void t_frame_identity(xrsc_frame *frame)
+{
+    xrsc_headset hs;
+    xrsc_headset_default(&hs);
+    memset(frame, 0, sizeof(*frame));
+    for (int e = 0; e < 2; e++) {
+        frame->views[e].pose = xrsc_pose_identity();
+        frame->views[e].fov = hs.fov[e];
+    }
 }

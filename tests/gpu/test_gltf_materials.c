@@ -15,6 +15,7 @@
 #include "hs_image.h"
 #include "t_context.h"
 #include "testing.h"
+#include "t_frames.h"
 #include "xrsc/xrsc.h"
 
 #include <math.h>
@@ -99,14 +100,8 @@ static bool render(const char *path, double mean[3], double *max_dev)
     r = xrsc_renderer_create(g_ctx, scene, &ro, &rend, &d);
     CHECK_MSG(r == XRSC_OK, "%s", xrsc_diag_format(&d, buf, sizeof buf));
     bool ok = r == XRSC_OK;
-    xrsc_headset hs;
-    xrsc_headset_default(&hs);
     xrsc_frame frame;
-    memset(&frame, 0, sizeof frame);
-    for (int e = 0; e < 2; e++) {
-        frame.views[e].pose = xrsc_pose_identity();
-        frame.views[e].fov = hs.fov[e];
-    }
+    t_frame_identity(&frame);
     float *c = malloc(T_SIZE * T_SIZE * 16);
     ok = ok && c && xrsc_renderer_render(rend, &frame) == XRSC_OK &&
          xrsc_renderer_read(rend, 0, XRSC_OUTPUT_COLOR, c, T_SIZE * T_SIZE * 16) == XRSC_OK;
