@@ -19,6 +19,9 @@ extern "C" {
 
 /** The exit code of a bad command line. */
 #define HS_EXIT_BAD_ARGS 2
+/** Exit status of a run that finished but that the Vulkan validation layer (`--validation`)
+ *  found errors in: the images exist, but a GPU may not render them the same. */
+#define HS_EXIT_VALIDATION 3
 
 /**
  * Prints "CMD: error: FLAG[ VALUE]: WHY (see CMD --help)" to stderr (value may be NULL) and

@@ -444,7 +444,7 @@ static const char *const not_settings[] = {"--quiet", "--overwrite"};
 /* Runs the replay with its record: the output folder checked (--overwrite), run.json and
  * run.conf written before, run.json after (hs_run.h), SIGINT/SIGTERM/SIGHUP as a clean stop
  * and a second one as the end at once. Returns the exit status:
- * 0, 1 (failed), 2 (the folder holds a run), 128 + signal (stopped). */
+ * 0, 1 (failed), 2 (the folder holds a run), 3 (validation errors), 128 + signal (stopped). */
 static int run_recorded(hs_replay_options *opt, bool direct, bool overwrite, bool quiet,
                         hs_run_info *run)
 {
@@ -467,6 +467,8 @@ static int run_recorded(hs_replay_options *opt, bool direct, bool overwrite, boo
     hs_replay_stats st;
     xrsc_result res = direct ? hs_replay_run(opt, &st, &diag) : hs_xr_replay_run(opt, &st, &diag);
     int rc = res != XRSC_OK ? 1 : st.stopped_by ? hs_run_exit_status(st.stopped_by) : 0;
+    if (rc == 0 && st.validation_errors > 0)
+        rc = HS_EXIT_VALIDATION;
     if (res != XRSC_OK)
         fprintf(stderr, "xrsc: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
     if (opt->out_dir) {
