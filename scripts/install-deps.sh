@@ -16,7 +16,9 @@ PKGS=(
   xvfb xauth gnuplot-nox mesa-vulkan-drivers
   libdraco-dev assimp-testmodels
   libmeshoptimizer-dev
+  slurm-wlm munge
 )
+# slurm-wlm, munge: the one-node Slurm that test_sweep_slurm starts (scripts/slurm/, issue 24).
 # libdraco-dev: KHR_draco_mesh_compression (optional at build time: CMake XRSC_DRACO);
 # libmeshoptimizer-dev: EXT_meshopt_compression (optional at build time: CMake XRSC_MESHOPT);
 # assimp-testmodels: third-party glTF 2.0 files for test_gltf_assimp (which skips without it).

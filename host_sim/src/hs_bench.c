@@ -96,10 +96,17 @@ bool hs_bench_is_scored(uint32_t k, uint32_t warmup, uint32_t score_every)
 }
 
 /* suffix: "" for the reference, "_floor" for the second one of --ref-floor. */
+#define REF_FILE_NAME "frame_%05u_%s%s.pfm"
+
 static void ref_path_s(const bench_run *b, uint32_t k, int eye, const char *suffix, char *out,
                        size_t cap)
 {
-    snprintf(out, cap, "%s/frame_%05u_%s%s.pfm", b->ref_dir, k, eye ? "right" : "left", suffix);
+    snprintf(out, cap, "%s/" REF_FILE_NAME, b->ref_dir, k, eye ? "right" : "left", suffix);
+}
+
+void hs_bench_ref_path(const char *out_dir, uint32_t k, int eye, char *out, size_t cap)
+{
+    snprintf(out, cap, "%s/ref/" REF_FILE_NAME, out_dir, k, eye ? "right" : "left", "");
 }
 
 /* Head pose at t of the anchored stream; eye views from the recorded views when the stream
@@ -140,10 +147,17 @@ static bool read_file_line(const char *path, char *out, size_t cap)
     return ok;
 }
 
+/* path + ".tmp.PID": the temporary name of a file before its rename, this process's own, so
+ * that processes sharing a folder (sweep units) never write into one another's file. */
+static void tmp_name(const char *path, char *out, size_t cap)
+{
+    snprintf(out, cap, "%s.tmp.%ld", path, (long)getpid());
+}
+
 static xrsc_result write_text_atomic(const char *path, const char *text, xrsc_diag *diag)
 {
     char tmp[HS_BENCH_PATH_MAX + 64];
-    snprintf(tmp, sizeof(tmp), "%s.tmp", path);
+    tmp_name(path, tmp, sizeof(tmp));
     FILE *f = fopen(tmp, "w");
     if (!f || fputs(text, f) < 0 || fclose(f) != 0 || rename(tmp, path) != 0)
         return u_diag_set(diag, XRSC_ERROR_IO, path, 0, "", "cannot write: %s", strerror(errno));
@@ -210,9 +224,9 @@ static xrsc_result render_reference(bench_run *b, xrsc_renderer *r, uint32_t k,
                       per * (todo - done - (p + 1.0) / passes));
     }
     for (int e = 0; e < 2 && res == XRSC_OK; e++) {
-        char path[HS_BENCH_PATH_MAX], tmp[HS_BENCH_PATH_MAX + 8];
+        char path[HS_BENCH_PATH_MAX], tmp[HS_BENCH_PATH_MAX + 32];
         ref_path_s(b, k, e, suffix, path, sizeof(path));
-        snprintf(tmp, sizeof(tmp), "%s.tmp", path);
+        tmp_name(path, tmp, sizeof(tmp));
         if ((res = xrsc_renderer_read(r, (uint32_t)e, XRSC_OUTPUT_COLOR, px,
                                       n * 4 * sizeof(float))) != XRSC_OK)
             u_diag_set(diag, res, "", 0, "", "reading reference of frame %u", k);
@@ -224,15 +238,21 @@ static xrsc_result render_reference(bench_run *b, xrsc_renderer *r, uint32_t k,
 }
 
 /* The reference cache: kept when it belongs to this configuration (config.txt), else
- * emptied, so that another configuration's references are never taken for this one's. */
+ * emptied, so that another configuration's references are never taken for this one's. A part
+ * of a sweep (opt->part) shares it with other processes: it never empties it, and another
+ * configuration's cache is an error. */
 static xrsc_result ref_cache_check(bench_run *b, xrsc_diag *diag)
 {
     char cfg_path[HS_BENCH_PATH_MAX + 16], old[sizeof(b->ref_config)];
     snprintf(cfg_path, sizeof(cfg_path), "%s/config.txt", b->ref_dir);
-    if (!b->opt->fresh && read_file_line(cfg_path, old, sizeof(old)) &&
-        strcmp(old, b->ref_config) == 0)
+    bool have = read_file_line(cfg_path, old, sizeof(old));
+    if (have && strcmp(old, b->ref_config) == 0 && !(b->opt->fresh && !b->opt->part))
         return XRSC_OK;
-    for (uint32_t k = 0; k < b->frames; k++)
+    if (have && b->opt->part) /* shared with other processes: never emptied */
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, cfg_path, 1, "--out",
+                          "the references there are of another configuration (%s), not %s",
+                          old, b->ref_config);
+    for (uint32_t k = 0; k < b->frames && !b->opt->part; k++)
         for (int e = 0; e < 2; e++)
             for (int s = 0; s < 2; s++) {
                 char path[HS_BENCH_PATH_MAX];
@@ -242,6 +262,14 @@ static xrsc_result ref_cache_check(bench_run *b, xrsc_diag *diag)
     char text[sizeof(b->ref_config) + 2];
     snprintf(text, sizeof(text), "%s\n", b->ref_config);
     return write_text_atomic(cfg_path, text, diag);
+}
+
+/* Frame k's reference is this run's to render or read: scored, and with --part ref the one
+ * frame asked for. */
+static bool ref_wanted(const bench_run *b, uint32_t k)
+{
+    return hs_bench_is_scored(k, b->warmup, b->score_every) &&
+           (b->opt->part != HS_BENCH_PART_REF || k == b->opt->part_frame);
 }
 
 /* Renders the references still missing (pass 0) and --ref-floor's second reference of the
@@ -265,9 +293,7 @@ static xrsc_result render_references(bench_run *b, bool refs_todo, bool floor_to
         if ((res = xrsc_renderer_create(b->ctx, b->scene, &ro, &r, diag)) != XRSC_OK)
             break;
         for (uint32_t k = 0; k < b->frames && res == XRSC_OK; k++) {
-            if (pass == 1 ? k != b->floor_frame
-                          : !hs_bench_is_scored(k, b->warmup, b->score_every) ||
-                                ref_load(b, k, NULL))
+            if (pass == 1 ? k != b->floor_frame : !ref_wanted(b, k) || ref_load(b, k, NULL))
                 continue;
             res = render_reference(b, r, k, pass ? "_floor" : "", px, t0, done, all, diag);
             done++;
@@ -320,8 +346,12 @@ static xrsc_result make_references(bench_run *b, xrsc_diag *diag)
         return res;
     uint32_t todo = 0, scored = 0;
     bool have_floor_frame = false;
+    if (opt->part == HS_BENCH_PART_REF && !ref_wanted(b, opt->part_frame))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--part",
+                          "frame %u is not a scored frame of %u frames (warm-up %u, every %u)",
+                          opt->part_frame, b->frames, b->warmup, b->score_every);
     for (uint32_t k = 0; k < b->frames; k++)
-        if (hs_bench_is_scored(k, b->warmup, b->score_every)) {
+        if (ref_wanted(b, k)) {
             if (!have_floor_frame) {
                 b->floor_frame = k;
                 have_floor_frame = true;
@@ -642,9 +672,12 @@ static xrsc_result run_setting(bench_run *b, const hs_bench_setting *s, uint32_t
                                xrsc_diag *diag)
 {
     const hs_bench_options *opt = b->opt;
-    char path[HS_BENCH_PATH_MAX], part[HS_BENCH_PATH_MAX + 8];
+    char path[HS_BENCH_PATH_MAX], part[HS_BENCH_PATH_MAX + 32];
     hs_bench_setting_csv_path(opt->out_dir, s->name, path, sizeof(path));
-    snprintf(part, sizeof(part), "%s.part", path);
+    if (opt->part)
+        snprintf(part, sizeof(part), "%s.part.%ld", path, (long)getpid());
+    else
+        snprintf(part, sizeof(part), "%s.part", path);
     char first_line[sizeof(b->config) + HS_BENCH_SPEC_MAX + 32];
     snprintf(first_line, sizeof(first_line), "# xrsc-bench %s | setting %s", b->config, s->spec);
     if (!opt->fresh) {
@@ -733,6 +766,21 @@ static void fov_text(const XrFovf *f, char *out, size_t cap)
              f->angleDown);
 }
 
+/* The frame count: --frames, else the stream from --start to its end. */
+static xrsc_result frame_count(bench_run *b, const hs_pose_stream *stream, double period_ns,
+                               xrsc_diag *diag)
+{
+    const hs_bench_options *opt = b->opt;
+    int64_t start_ns = (int64_t)(opt->start_s * NS_PER_S);
+    int64_t span_ns = hs_pose_stream_duration_ns(stream) - start_ns;
+    if (span_ns < 0)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->poses_path, 0, "--start",
+                          "the stream ends at %.3f s, before --start %.3f s",
+                          hs_pose_stream_duration_ns(stream) / NS_PER_S, opt->start_s);
+    b->frames = opt->frames ? opt->frames : (uint32_t)(span_ns / period_ns) + 1;
+    return XRSC_OK;
+}
+
 /* Every setting's frames: the frame count (--frames, else the stream from --start to its
  * end), the stream anchored (--anchor), the views of each frame on the simulated clock. */
 static xrsc_result bench_frames(bench_run *b, hs_pose_stream *stream,
@@ -742,12 +790,9 @@ static xrsc_result bench_frames(bench_run *b, hs_pose_stream *stream,
     double period_ns =
         NS_PER_S / (b->headset.refresh_hz > 0 ? b->headset.refresh_hz : DEFAULT_REFRESH_HZ);
     int64_t start_ns = (int64_t)(opt->start_s * NS_PER_S);
-    int64_t span_ns = hs_pose_stream_duration_ns(stream) - start_ns;
-    if (span_ns < 0)
-        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->poses_path, 0, "--start",
-                          "the stream ends at %.3f s, before --start %.3f s",
-                          hs_pose_stream_duration_ns(stream) / NS_PER_S, opt->start_s);
-    b->frames = opt->frames ? opt->frames : (uint32_t)(span_ns / period_ns) + 1;
+    xrsc_result res = frame_count(b, stream, period_ns, diag);
+    if (res != XRSC_OK)
+        return res;
     if (opt->anchor == HS_BENCH_ANCHOR_FIRST) {
         hs_pose_stream_anchor(stream, info->viewpoint);
     } else if (opt->anchor == HS_BENCH_ANCHOR_START && stream->count > 0) {
@@ -771,7 +816,7 @@ static xrsc_result bench_frames(bench_run *b, hs_pose_stream *stream,
 
 /* The configuration texts: what the references depend on (ref_config, ref/config.txt), and
  * what a setting's CSV depends on besides its spec (config, its first line). */
-static void bench_config(bench_run *b)
+static void bench_config(bench_run *b, const char *device)
 {
     const hs_bench_options *opt = b->opt;
     static const char *const anchor_name[] = {"start", "first", "none"};
@@ -790,7 +835,7 @@ static void bench_config(bench_run *b)
     /* columns=: CSVs written with other columns are rendered again, not reused. */
     snprintf(b->config, sizeof(b->config),
              "%s frames=%u warmup=%u score_every=%u device=%s columns=%u%s", b->ref_config,
-             b->frames, b->warmup, b->score_every, xrsc_context_device_name(b->ctx),
+             b->frames, b->warmup, b->score_every, device,
              HS_BENCH_COLUMN_COUNT, opt->timing_only ? " timing-only" : "");
 }
 
@@ -837,7 +882,7 @@ static xrsc_result bench_settings(bench_run *b, xrsc_diag *diag)
 {
     const hs_bench_options *opt = b->opt;
     xrsc_result res;
-    if ((res = make_references(b, diag)) != XRSC_OK)
+    if ((res = make_references(b, diag)) != XRSC_OK || opt->part == HS_BENCH_PART_REF)
         return res;
     xrsc_renderer_options dro = {.method = XRSC_METHOD_PRIMARY, .width = b->w, .height = b->h};
     if ((res = xrsc_renderer_create(b->ctx, b->scene, &dro, &b->depth_r, diag)) != XRSC_OK)
@@ -869,6 +914,101 @@ static void bench_free(bench_run *b)
     free(b->frame);
 }
 
+/* The device a setting's CSV was rendered on: its first line's "device=..." up to
+ * " columns=". False when the file is missing or has no such line. */
+static bool csv_device(const char *path, char *first, size_t cap, char *device, size_t dcap)
+{
+    if (!read_file_line(path, first, cap))
+        return false;
+    const char *d = strstr(first, " device="), *c = d ? strstr(d, " columns=") : NULL;
+    if (!c)
+        return false;
+    d += strlen(" device=");
+    snprintf(device, dcap, "%.*s", (int)(c - d), d);
+    return true;
+}
+
+/* Each setting's CSV is complete and of this configuration; the names of those that are
+ * not complete listed in diag. */
+static xrsc_result check_settings(bench_run *b, const char *device, xrsc_diag *diag)
+{
+    const hs_bench_options *opt = b->opt;
+    char missing[512] = "";
+    size_t used = 0;
+    for (uint32_t i = 0; i < opt->setting_count; i++) {
+        const hs_bench_setting *st = &opt->settings[i];
+        char path[HS_BENCH_PATH_MAX], first[sizeof(b->config) + HS_BENCH_SPEC_MAX + 32];
+        char want[sizeof(first)], dev[256];
+        hs_bench_setting_csv_path(opt->out_dir, st->name, path, sizeof(path));
+        snprintf(want, sizeof(want), "# xrsc-bench %s | setting %s", b->config, st->spec);
+        if (!csv_device(path, first, sizeof(first), dev, sizeof(dev))) {
+            int n = snprintf(missing + used, sizeof(missing) - used, "%s%s", used ? ", " : "",
+                             st->name);
+            used = n > 0 && used + (size_t)n < sizeof(missing) ? used + (size_t)n
+                                                                : sizeof(missing) - 1;
+        } else if (strcmp(first, want) != 0) {
+            return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path, 1, "--settings",
+                              "setting %s was rendered with another configuration (on %s; "
+                              "this report's device is %s)", st->name, dev, device);
+        }
+    }
+    if (used)
+        return u_diag_set(diag, XRSC_ERROR_IO, opt->out_dir, 0, "--part",
+                          "settings not complete in frames/: %s", missing);
+    return XRSC_OK;
+}
+
+/* --part report: no device, no rendering; the frame count from the stream, the device from
+ * the first complete setting's CSV, every setting checked (check_settings), then the report. */
+static xrsc_result report_only(bench_run *b, const hs_pose_stream *stream, FILE *summary,
+                               xrsc_diag *diag)
+{
+    const hs_bench_options *opt = b->opt;
+    double period_ns =
+        NS_PER_S / (b->headset.refresh_hz > 0 ? b->headset.refresh_hz : DEFAULT_REFRESH_HZ);
+    xrsc_result res = frame_count(b, stream, period_ns, diag);
+    char device[256] = "", path[HS_BENCH_PATH_MAX], first[sizeof(b->config) + HS_BENCH_SPEC_MAX + 32];
+    for (uint32_t i = 0; i < opt->setting_count && !device[0]; i++) {
+        hs_bench_setting_csv_path(opt->out_dir, opt->settings[i].name, path, sizeof(path));
+        csv_device(path, first, sizeof(first), device, sizeof(device));
+    }
+    if (res != XRSC_OK)
+        return res;
+    bench_config(b, device);
+    if ((res = check_settings(b, device, diag)) != XRSC_OK)
+        return res;
+    hs_bench_report_info ri = {
+        .frames = b->frames, .warmup = b->warmup, .score_every = b->score_every,
+        .ref_spp = b->ref_spp, .width = b->w, .height = b->h, .device = device,
+        .ref_floor_relmse = NAN,
+    };
+    return hs_bench_report(opt, &ri, summary, diag);
+}
+
+xrsc_result hs_bench_scored_frames(const hs_bench_options *opt, uint32_t *out, uint32_t cap,
+                                   uint32_t *count, xrsc_diag *diag)
+{
+    bench_run b;
+    bench_init(&b, opt);
+    *count = 0;
+    hs_pose_stream *stream = NULL;
+    xrsc_result res = hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag);
+    double period_ns =
+        NS_PER_S / (b.headset.refresh_hz > 0 ? b.headset.refresh_hz : DEFAULT_REFRESH_HZ);
+    if (res == XRSC_OK)
+        res = frame_count(&b, stream, period_ns, diag);
+    for (uint32_t k = 0; res == XRSC_OK && k < b.frames; k++)
+        if (hs_bench_is_scored(k, b.warmup, b.score_every)) {
+            if (*count == cap)
+                res = u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, opt->poses_path, 0,
+                                 "--frames", "more than %u scored frames", cap);
+            else
+                out[(*count)++] = k;
+        }
+    hs_pose_stream_destroy(&stream);
+    return res;
+}
+
 xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *diag)
 {
     if (!opt || !opt->scene_path || !opt->poses_path || !opt->out_dir || !opt->out_dir[0] ||
@@ -881,6 +1021,10 @@ xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *
     xrsc_result res;
     if ((res = hs_pose_stream_load(opt->poses_path, opt->pose_format, &stream, diag)) != XRSC_OK)
         goto done;
+    if (opt->part == HS_BENCH_PART_REPORT) {
+        res = report_only(&b, stream, summary, diag);
+        goto done;
+    }
     if ((res = xrsc_context_create(&opt->context, &b.ctx, diag)) != XRSC_OK)
         goto done;
     if ((res = xrsc_scene_load(b.ctx, opt->scene_path, &opt->scene, &b.scene, diag)) != XRSC_OK)
@@ -889,9 +1033,10 @@ xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *
     xrsc_scene_get_info(b.scene, &info);
     if ((res = bench_frames(&b, stream, &info, diag)) != XRSC_OK)
         goto done;
-    bench_config(&b);
+    bench_config(&b, xrsc_context_device_name(b.ctx));
     b.base_color = calloc(2 * (size_t)b.frames, sizeof(float *)); /* NULL: no base_energy */
-    if ((res = bench_dirs(&b, diag)) != XRSC_OK || (res = bench_settings(&b, diag)) != XRSC_OK)
+    if ((res = bench_dirs(&b, diag)) != XRSC_OK || (res = bench_settings(&b, diag)) != XRSC_OK ||
+        opt->part != HS_BENCH_PART_ALL)
         goto done;
     hs_bench_report_info ri = {
         .frames = b.frames, .warmup = b.warmup, .score_every = b.score_every, .ref_spp = b.ref_spp,

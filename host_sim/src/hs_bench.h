@@ -82,6 +82,15 @@ typedef enum hs_bench_anchor {
     HS_BENCH_ANCHOR_NONE,      /**< the stream's own coordinates */
 } hs_bench_anchor;
 
+/** Which part of a bench run to do (`xrsc sweep` runs a bench in parts, one per work unit). */
+typedef enum hs_bench_part {
+    HS_BENCH_PART_ALL = 0, /**< references, every setting, the report */
+    HS_BENCH_PART_REF,     /**< only the reference of frame part_frame (a scored frame) */
+    HS_BENCH_PART_RUN,     /**< the settings (references they lack rendered first), no report */
+    HS_BENCH_PART_REPORT,  /**< no rendering: the report from complete settings; a setting not
+                                complete is an error naming it (no Vulkan device is made) */
+} hs_bench_part;
+
 typedef struct hs_bench_options {
     const char *scene_path;
     const char *poses_path;
@@ -112,6 +121,11 @@ typedef struct hs_bench_options {
      *  metrics (scripts/gpu-check.sh at headset sizes). */
     bool timing_only;
     bool progress;        /**< progress lines on stderr */
+    /** A part of the run (sweeps). Any part but ALL shares out_dir with other processes: the
+     *  reference cache is never emptied (references of another configuration there are an
+     *  error), and files are written under names of this process before their rename. */
+    hs_bench_part part;
+    uint32_t part_frame; /**< HS_BENCH_PART_REF: the frame */
 } hs_bench_options;
 
 /**
@@ -125,6 +139,30 @@ xrsc_result hs_bench_run(const hs_bench_options *opt, FILE *summary, xrsc_diag *
  * arguments.
  */
 int hs_bench_main(int argc, char **argv);
+
+/**
+ * The frames opt would score (no device needed: the pose stream is read for the frame count):
+ * out[0..*count), at most cap of them (more is an error naming --frames).
+ */
+xrsc_result hs_bench_scored_frames(const hs_bench_options *opt, uint32_t *out, uint32_t cap,
+                                   uint32_t *count, xrsc_diag *diag);
+
+/** out_dir/ref/frame_NNNNN_{left,right}.pfm: the cached reference of frame k, eye 0 or 1. */
+void hs_bench_ref_path(const char *out_dir, uint32_t k, int eye, char *out, size_t cap);
+
+/** A parsed `xrsc bench` command line (options, settings, resolved paths). */
+typedef struct hs_bench_cmdline hs_bench_cmdline;
+
+/**
+ * Parses an `xrsc bench` command line (argv[0] is "bench"; --opt=value too) with the command's
+ * defaults, without running it. Returns 0 with *out set, 0 with *out NULL after printing
+ * --help, or the exit status of a bad command line (the error printed). Free with
+ * hs_bench_cmdline_free. `xrsc sweep` builds each work unit's bench this way.
+ */
+int hs_bench_cmdline_parse(int argc, char **argv, hs_bench_cmdline **out);
+/** The options of a parsed command line (settings included), to change before hs_bench_run. */
+hs_bench_options *hs_bench_cmdline_options(hs_bench_cmdline *c);
+void hs_bench_cmdline_free(hs_bench_cmdline *c);
 
 /**
  * `xrsc bench --suite stability [...]` (hs_bench_suite.c, issue 9): the failure cases, each

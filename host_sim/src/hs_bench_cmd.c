@@ -72,6 +72,10 @@ static void usage(FILE *f)
 "Suites:\n"
 "  --suite stability   the issue-9 failure cases for every method (xrsc bench --suite\n"
 "                      stability --help; bench/README.md)\n"
+"  --part P            one part of the run, for runs split over processes (xrsc sweep):\n"
+"                      ref:K (frame K's reference), run (the settings, no report) or\n"
+"                      report (no rendering: the report of complete settings, or an error\n"
+"                      naming those not complete); parts never empty OUT/ref   [all]\n"
 "\n"
 "Output:\n"
 "  --out DIR           output folder                            [out/bench]\n"
@@ -131,7 +135,7 @@ static char *read_text_file(const char *path)
 static const char *const value_options[] = {
     "--scene", "--poses", "--pose-format", "--anchor", "--start", "--frames",
     "--warmup", "--score-every", "--settings", "--baseline", "--resolution", "--ref-spp",
-    "--seed", "--env", "--ipd", "--refresh", "--device", "--out",
+    "--seed", "--env", "--ipd", "--refresh", "--device", "--out", "--part",
 };
 
 /* What the command line sets: the bench options, the settings' text, --warmup given. */
@@ -140,6 +144,7 @@ typedef struct bench_args {
     const char *settings_text;
     char *settings_file; /* --settings @FILE: its text (owned) */
     bool warmup_given;
+    hs_args args; /* --opt=value: argv points into it */
 } bench_args;
 
 /* Options without a value. */
@@ -164,6 +169,22 @@ static int parse_flag(const char *a, bench_args *ba)
         opt->context.validation = true;
     else
         return HS_ARG_NOT_MINE;
+    return HS_ARG_NEXT;
+}
+
+/* --part ref:K | run | report | all */
+static int parse_part(const char *a, const char *v, hs_bench_options *opt)
+{
+    if (!strncmp(v, "ref:", 4) && hs_parse_u32(v + 4, &opt->part_frame))
+        opt->part = HS_BENCH_PART_REF;
+    else if (!strcmp(v, "run"))
+        opt->part = HS_BENCH_PART_RUN;
+    else if (!strcmp(v, "report"))
+        opt->part = HS_BENCH_PART_REPORT;
+    else if (!strcmp(v, "all"))
+        opt->part = HS_BENCH_PART_ALL;
+    else
+        return bad_arg(a, v, "expected ref:FRAME, run, report or all");
     return HS_ARG_NEXT;
 }
 
@@ -212,6 +233,8 @@ static int parse_run_option(const char *a, const char *v, bench_args *ba)
         }
     } else if (!strcmp(a, "--baseline")) {
         opt->baseline = v;
+    } else if (!strcmp(a, "--part")) {
+        return parse_part(a, v, opt);
     } else {
         return HS_ARG_NOT_MINE;
     }
@@ -290,35 +313,28 @@ static int parse_args(int argc, char **argv, bench_args *ba)
     return HS_ARG_NEXT;
 }
 
-/* Parses the settings and runs the bench: the exit status. */
-static int run_bench(bench_args *ba)
+/* Parses the settings and resolves the input paths: HS_ARG_NEXT, else the exit status. */
+static int finish_bench(bench_args *ba, hs_bench_setting *settings, char *scene_buf,
+                        char *poses_buf, size_t cap)
 {
-    static hs_bench_setting settings[HS_BENCH_MAX_SETTINGS];
-    static char scene_buf[4096], poses_buf[4096];
     hs_bench_options *opt = &ba->opt;
     xrsc_diag diag = {0};
     char msg[1400];
     if (hs_bench_parse_settings(ba->settings_text, settings, HS_BENCH_MAX_SETTINGS,
                                 &opt->setting_count, &diag) != XRSC_OK) {
         fprintf(stderr, "xrsc bench: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
-        return 2;
+        return HS_EXIT_BAD_ARGS;
     }
     opt->settings = settings;
-    opt->scene_path = resolve(opt->scene_path, scene_buf, sizeof(scene_buf));
-    opt->poses_path = resolve(opt->poses_path, poses_buf, sizeof(poses_buf));
-    if (hs_bench_run(opt, stdout, &diag) != XRSC_OK) {
-        fprintf(stderr, "xrsc bench: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
-        return 1;
-    }
-    return 0;
+    opt->scene_path = resolve(opt->scene_path, scene_buf, cap);
+    opt->poses_path = resolve(opt->poses_path, poses_buf, cap);
+    return HS_ARG_NEXT;
 }
 
-int hs_bench_main(int argc, char **argv)
+/* The defaults of `xrsc bench`, before its command line. */
+static void bench_defaults(bench_args *ba)
 {
-    for (int i = 1; i < argc; i++)
-        if (!strcmp(argv[i], "--suite") || !strncmp(argv[i], "--suite=", 8))
-            return hs_bench_suite_main(argc, argv);
-    bench_args ba = {
+    *ba = (bench_args){
         .opt = {.scene_path = DEFAULT_SCENE,
                 .poses_path = DEFAULT_POSES,
                 .out_dir = DEFAULT_OUT,
@@ -332,15 +348,65 @@ int hs_bench_main(int argc, char **argv)
                 .anchor = HS_BENCH_ANCHOR_START},
         .settings_text = HS_BENCH_DEFAULT_SETTINGS,
     };
-    xrsc_headset_default(&ba.opt.headset);
-    hs_args args; /* --opt=value */
-    int r = hs_args_normalize(&args, "xrsc bench", value_options,
+    xrsc_headset_default(&ba->opt.headset);
+}
+
+struct hs_bench_cmdline {
+    bench_args ba;
+    hs_bench_setting settings[HS_BENCH_MAX_SETTINGS];
+    char scene_buf[4096], poses_buf[4096];
+};
+
+int hs_bench_cmdline_parse(int argc, char **argv, hs_bench_cmdline **out)
+{
+    *out = NULL;
+    hs_bench_cmdline *c = calloc(1, sizeof(*c));
+    if (!c) {
+        fprintf(stderr, "xrsc bench: error: out of memory\n");
+        return 1;
+    }
+    bench_defaults(&c->ba);
+    int r = hs_args_normalize(&c->ba.args, "xrsc bench", value_options,
                               sizeof(value_options) / sizeof(value_options[0]), &argc, &argv);
-    if (r)
-        return r;
-    r = parse_args(argc, argv, &ba);
+    if (r == 0)
+        r = parse_args(argc, argv, &c->ba);
     if (r == HS_ARG_NEXT)
-        r = run_bench(&ba);
-    free(ba.settings_file);
+        r = finish_bench(&c->ba, c->settings, c->scene_buf, c->poses_buf, sizeof(c->scene_buf));
+    if (r != HS_ARG_NEXT) { /* an error, or 0 after --help */
+        hs_bench_cmdline_free(c);
+        return r;
+    }
+    *out = c;
+    return 0;
+}
+
+hs_bench_options *hs_bench_cmdline_options(hs_bench_cmdline *c)
+{
+    return &c->ba.opt;
+}
+
+void hs_bench_cmdline_free(hs_bench_cmdline *c)
+{
+    if (c)
+        free(c->ba.settings_file);
+    free(c);
+}
+
+int hs_bench_main(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--suite") || !strncmp(argv[i], "--suite=", 8))
+            return hs_bench_suite_main(argc, argv);
+    hs_bench_cmdline *c = NULL;
+    int r = hs_bench_cmdline_parse(argc, argv, &c);
+    if (r || !c) /* an error, or --help */
+        return r;
+    xrsc_diag diag = {0};
+    char msg[1400];
+    if (hs_bench_run(&c->ba.opt, stdout, &diag) != XRSC_OK) {
+        fprintf(stderr, "xrsc bench: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
+        r = 1;
+    }
+    hs_bench_cmdline_free(c);
     return r;
 }

@@ -6,6 +6,7 @@
  */
 #include "hs_args.h"
 #include "hs_bench.h"
+#include "hs_sweep.h"
 #include "hs_compare_cmd.h"
 #include "hs_headset.h"
 #include "hs_light_args.h"
@@ -46,6 +47,7 @@ static void usage(FILE *f)
 "       xrsc compare A B [options]  (A/B images and metrics of two runs; xrsc compare --help)\n"
 "       xrsc bench [options]        (speed vs. accuracy of methods; xrsc bench --help)\n"
 "       xrsc poses stats [--fastest S] FILE   (pose stream speed; xrsc poses --help)\n"
+"       xrsc sweep plan|run|merge FILE   (a bench split into units; xrsc sweep --help)\n"
 "       xrsc version | --version   (program, Vulkan loader and OpenXR versions)\n"
 "\n"
 "Replays a recorded head-pose stream over a glTF 2.0 scene, ray traces both eyes with\n"
@@ -834,6 +836,8 @@ int main(int argc, char **argv)
         return hs_compare_main(argc - 1, argv + 1);
     if (argc > 1 && strcmp(argv[1], "bench") == 0)
         return hs_bench_main(argc - 1, argv + 1);
+    if (argc > 1 && strcmp(argv[1], "sweep") == 0)
+        return hs_sweep_main(argc - 1, argv + 1);
     if (argc > 1 && strcmp(argv[1], "poses") == 0)
         return hs_poses_main(argc - 1, argv + 1);
     main_args m = {
