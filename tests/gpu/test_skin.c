@@ -1,0 +1,204 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file test_skin.c
+ * @brief Skins and morph targets posed on the GPU (deform.comp) against the CPU reference
+ *        (sc_scene_posed_vertex), a morph target at weight 0.5, and the sample cache following
+ *        a skinned surface (validation with synchronization validation on).
+ */
+#include "test_samplecache_util.h"
+#include "xrsc_shared.h"
+
+#define T_FOX "scenes/khronos/Fox/glTF-Binary/Fox.glb"
+#define T_CESIUM_MAN "scenes/khronos/CesiumMan/glTF-Binary/CesiumMan.glb"
+/** Issue 21: GPU and CPU poses agree within this many metres (world space). */
+#define T_SKIN_TOL_M 1e-5
+
+/** A scene on a validated GPU context, without a method. */
+typedef struct t_gpu {
+    gpu_context *gpu;
+    sc_scene *cpu;
+    gpu_scene *gs;
+} t_gpu;
+
+static bool t_open(t_gpu *t, const char *path, const char *json)
+{
+    memset(t, 0, sizeof *t);
+    gpu_context_options go = {.validation = true};
+    xrsc_diag diag = {0};
+    xrsc_result r = gpu_context_create(&go, &t->gpu, &diag);
+    if (r == XRSC_OK)
+        r = json ? sc_scene_load_memory("morph.gltf", json, strlen(json), NULL, NULL, &t->cpu, &diag)
+                 : sc_scene_load(path, NULL, &t->cpu, &diag);
+    if (r == XRSC_OK)
+        r = gpu_scene_create(t->gpu, t->cpu, &t->gs, &diag);
+    CHECK_EQ_INT(r, XRSC_OK);
+    if (r != XRSC_OK)
+        tsc_print_diag(&diag);
+    return r == XRSC_OK;
+}
+
+static void t_close(t_gpu *t)
+{
+    if (t->gs)
+        gpu_scene_destroy(t->gpu, &t->gs);
+    sc_scene_destroy(&t->cpu);
+    if (t->gpu) {
+        CHECK_EQ_INT(t->gpu->validation_errors, 0);
+        gpu_context_destroy(&t->gpu);
+    }
+}
+
+/** Largest world-space distance between the GPU's posed vertices of instance i's mesh and the
+ *  CPU reference; *out_moved: largest distance of the reference from the rest pose. */
+static double max_pose_error(t_gpu *t, uint32_t i, double *out_moved)
+{
+    const sc_instance *in = &t->cpu->instances[i];
+    const sc_mesh *mesh = &t->cpu->meshes[in->mesh];
+    xs_vertex *v = malloc((size_t)mesh->vertex_count * sizeof(*v));
+    xrsc_diag diag = {0};
+    double worst = INFINITY;
+    *out_moved = 0.0;
+    if (v && gpu_scene_download_vertices(t->gpu, t->gs, mesh->first_vertex, mesh->vertex_count, v,
+                                         &diag) == XRSC_OK) {
+        worst = 0.0;
+        for (uint32_t k = 0; k < mesh->vertex_count; k++) {
+            float ref[3], gpu[3] = {v[k].position_u.x, v[k].position_u.y, v[k].position_u.z};
+            float wr[3], wg[3], wrest[3];
+            sc_scene_posed_vertex(t->cpu, in->mesh, mesh->first_vertex + k, ref, NULL);
+            /* world space, through the instance transform */
+            for (int r = 0; r < 3; r++) {
+                wr[r] = wg[r] = wrest[r] = in->world[12 + r];
+                for (int c = 0; c < 3; c++) {
+                    wr[r] += in->world[4 * c + r] * ref[c];
+                    wg[r] += in->world[4 * c + r] * gpu[c];
+                    wrest[r] += in->world[4 * c + r] *
+                                t->cpu->vertices[mesh->first_vertex + k].position[c];
+                }
+            }
+            double d = 0.0, m = 0.0;
+            for (int r = 0; r < 3; r++) {
+                d = fmax(d, fabs((double)wr[r] - wg[r]));
+                m = fmax(m, fabs((double)wr[r] - wrest[r]));
+            }
+            worst = fmax(worst, d);
+            *out_moved = fmax(*out_moved, m);
+        }
+    }
+    free(v);
+    return worst;
+}
+
+/** Every vertex of a skinned Khronos model at three times: GPU = CPU within 1e-5 m. */
+static void check_model(const char *rel)
+{
+    t_gpu t;
+    if (!t_open(&t, t_shared_path(rel), NULL)) {
+        t_close(&t);
+        return;
+    }
+    CHECK(t.cpu->deform_mesh_count >= 1);
+    CHECK(!sc_scene_warned(t.cpu, XRSC_WARN_GLTF_EXTENSION_IGNORED));
+    CHECK(gpu_scene_deform_mesh_count(t.gs) == t.cpu->deform_mesh_count);
+    const double times[3] = {0.25, 0.6, 1.1};
+    for (int k = 0; k < 3; k++) {
+        sc_scene_evaluate(t.cpu, times[k]);
+        xrsc_diag diag = {0};
+        CHECK_EQ_INT(gpu_scene_update_instances(t.gpu, t.gs, t.cpu, &diag), XRSC_OK);
+        for (uint32_t i = 0; i < t.cpu->instance_count; i++) {
+            if (t.cpu->meshes[t.cpu->instances[i].mesh].deform_node == SC_NO_DEFORM)
+                continue;
+            double moved = 0.0, err = max_pose_error(&t, i, &moved);
+            printf("  %s t=%.2f s instance %u: max |GPU - CPU| %.3g m, pose moved up to %.3f m\n",
+                   rel, times[k], i, err, moved);
+            CHECK_MSG(err <= T_SKIN_TOL_M, "GPU pose off by %g m", err);
+            CHECK_MSG(moved > 0.01, "the pose did not move (%g m)", moved);
+        }
+    }
+    t_close(&t);
+}
+
+static void test_fox(void) { check_model(T_FOX); }
+static void test_cesium_man(void) { check_model(T_CESIUM_MAN); }
+
+/** One triangle with one morph target that moves vertex 0 by +1 m in y; mesh weight w0 and a
+ *  LINEAR `weights` channel from 0 (t = 0) to 1 (t = 1). */
+static char *morph_gltf(float w0)
+{
+    struct {
+        float pos[9], dpos[9], times[2], weights[2];
+    } b = {{0, 0, 0, 1, 0, 0, 0, 0, 1}, {0, 1, 0, 0, 0, 0, 0, 0, 0}, {0, 1}, {0, 1}};
+    char *uri = t_data_uri(&b, sizeof b);
+    char *json = malloc(4096);
+    snprintf(json, 4096,
+             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+             "\"nodes\":[{\"mesh\":0}],"
+             "\"meshes\":[{\"weights\":[%g],\"primitives\":[{\"attributes\":{\"POSITION\":0},"
+             "\"targets\":[{\"POSITION\":1}]}]}],"
+             "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"%s\"}],"
+             "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},"
+             "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":36},"
+             "{\"buffer\":0,\"byteOffset\":72,\"byteLength\":8},"
+             "{\"buffer\":0,\"byteOffset\":80,\"byteLength\":8}],"
+             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
+             "\"min\":[0,0,0],\"max\":[1,0,1]},"
+             "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+             "{\"bufferView\":2,\"componentType\":5126,\"count\":2,\"type\":\"SCALAR\","
+             "\"min\":[0],\"max\":[1]},"
+             "{\"bufferView\":3,\"componentType\":5126,\"count\":2,\"type\":\"SCALAR\"}],"
+             "\"animations\":[%s]}",
+             w0, sizeof b, uri,
+             w0 < 0.0f ? "{\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":"
+                         "\"weights\"}}],\"samplers\":[{\"input\":2,\"output\":3}]}"
+                       : "");
+    free(uri);
+    return json;
+}
+
+/** Vertex 0's y on the GPU. */
+static double gpu_y0(t_gpu *t)
+{
+    xs_vertex v;
+    xrsc_diag diag = {0};
+    const sc_mesh *mesh = &t->cpu->meshes[0];
+    CHECK_EQ_INT(gpu_scene_download_vertices(t->gpu, t->gs, mesh->first_vertex, 1, &v, &diag),
+                 XRSC_OK);
+    return v.position_u.y;
+}
+
+static void test_morph_half(void)
+{
+    /* the mesh's default weight 0.5, no animation */
+    char *json = morph_gltf(0.5f);
+    t_gpu t;
+    if (t_open(&t, NULL, json)) {
+        CHECK_EQ_INT(t.cpu->deform_mesh_count, 1);
+        double y = gpu_y0(&t);
+        printf("  weight 0.5: vertex 0 at y = %.6f (rest 0, target +1)\n", y);
+        CHECK_NEAR(y, 0.5, 1e-6);
+    }
+    t_close(&t);
+    free(json);
+    /* an animated weights channel 0 -> 1 over 1 s: halfway at 0.5 s, a quarter at 0.25 s */
+    json = morph_gltf(-1.0f);
+    if (t_open(&t, NULL, json)) {
+        const double times[2] = {0.5, 0.25};
+        for (int k = 0; k < 2; k++) {
+            sc_scene_evaluate(t.cpu, times[k]);
+            xrsc_diag diag = {0};
+            CHECK_EQ_INT(gpu_scene_update_instances(t.gpu, t.gs, t.cpu, &diag), XRSC_OK);
+            double y = gpu_y0(&t);
+            printf("  animated weight at t=%.2f s: vertex 0 at y = %.6f\n", times[k], y);
+            CHECK_NEAR(y, times[k], 1e-6);
+        }
+    }
+    t_close(&t);
+    free(json);
+}
+
+int main(void)
+{
+    RUN(test_fox);
+    RUN(test_cesium_man);
+    RUN(test_morph_half);
+    return t_finish();
+}
