@@ -195,10 +195,122 @@ static void test_morph_half(void)
     free(json);
 }
 
+/* ---- the sample cache follows a skinned surface ---- */
+
+#define T_RP_W 48u
+#define T_RP_T0 0.3  /* s: the frames that fill the cache */
+#define T_RP_T1 0.5  /* s: the frame whose reprojection is checked */
+
+/** Both eyes at the scene's viewpoint (+-32 mm), a symmetric field of view tan 0.6. */
+static xrsc_frame rp_frame(const sc_scene *s, uint32_t k, double time_s)
+{
+    xrsc_frame f = {.frame_index = k, .display_time_ns = (int64_t)(time_s * 1e9)};
+    XrPosef head = tsc_viewpoint(s);
+    float a = (float)atan(0.6);
+    for (int e = 0; e < 2; e++) {
+        f.views[e].pose = head;
+        f.views[e].pose.position.x += e == 0 ? -0.032f : 0.032f;
+        f.views[e].fov = (XrFovf){-a, a, a, -a};
+    }
+    return f;
+}
+
+/** World position of first hit fh on the CPU reference pose (sc_scene_posed_vertex). */
+static void posed_hit_world(const sc_scene *s, const uint32_t fh[4], double out[3])
+{
+    const sc_instance *in = &s->instances[fh[3]];
+    const sc_mesh *mesh = &s->meshes[in->mesh];
+    double u = xs_sc_unpack_bary(fh[0]), v = xs_sc_unpack_bary(fh[1]);
+    double wt[3] = {1.0 - u - v, u, v};
+    out[0] = out[1] = out[2] = 0.0;
+    for (int c = 0; c < 3; c++) {
+        float p[3];
+        sc_scene_posed_vertex(s, in->mesh, s->indices[mesh->first_index + 3 * fh[2] + c], p, NULL);
+        for (int r = 0; r < 3; r++)
+            out[r] += wt[c] * ((double)in->world[r] * p[0] + (double)in->world[4 + r] * p[1] +
+                               (double)in->world[8 + r] * p[2] + (double)in->world[12 + r]);
+    }
+}
+
+/** Skinned-surface samples after reprojection, and how many project outside their pixel (by
+ *  more than TSC_PIXEL_MARGIN) on the CPU pose, i.e. off a fresh trace's surface point. */
+static void count_skinned(const mt_sc_snapshot *sn, const sc_scene *s, const tsc_view *v,
+                          uint32_t *out_n, uint32_t *out_off, double *out_max_px)
+{
+    for (uint32_t p = 0; p < sn->width * sn->height; p++)
+        for (uint32_t k = 0; k < sn->slots; k++) {
+            const uint32_t *fh = tsc_fh(sn, k, p);
+            if (!(tsc_occ(sn, p) >> k & 1u) || fh[3] >= s->instance_count ||
+                s->meshes[s->instances[fh[3]].mesh].deform_node == SC_NO_DEFORM)
+                continue;
+            double w[3], pos[2] = {-1e9, -1e9};
+            posed_hit_world(s, fh, w);
+            tsc_project(v, w, 1.0, pos);
+            /* distance from the pixel's centre, per axis */
+            double d = fmax(fabs(pos[0] - (p % sn->width + 0.5)), fabs(pos[1] - (p / sn->width + 0.5)));
+            *out_max_px = fmax(*out_max_px, d);
+            (*out_n)++;
+            *out_off += d > 0.5 + TSC_PIXEL_MARGIN;
+        }
+}
+
+/** Renders at T_RP_T0 twice, then at T_RP_T1 up to the reprojection; *out_off of *out_n
+ *  skinned samples land off their pixel. deform: the GPU poses the mesh (else frozen). */
+static void run_reprojection(bool deform, uint32_t *out_n, uint32_t *out_off, double *out_max)
+{
+    xrsc_samplecache_options o = {0};
+    tsc_rig rig;
+    *out_n = *out_off = 0;
+    *out_max = 0.0;
+    if (!tsc_open(&rig, t_shared_path(T_CESIUM_MAN), T_RP_W, T_RP_W, &o)) {
+        tsc_close(&rig);
+        return;
+    }
+    for (uint32_t k = 0; k < 2; k++) {
+        xrsc_frame f = rp_frame(rig.cpu, k, T_RP_T0);
+        tsc_set_time(&rig, T_RP_T0);
+        if (!tsc_render(rig.m, &f))
+            goto done;
+    }
+    gpu_scene_set_deform_enabled(rig.gs, deform);
+    xrsc_frame g = rp_frame(rig.cpu, 2, T_RP_T1);
+    tsc_set_time(&rig, T_RP_T1);
+    CHECK_EQ_INT(mt_samplecache_debug_stop_after(rig.m, MT_SC_PASS_REPROJECT, NULL), XRSC_OK);
+    if (!tsc_render(rig.m, &g))
+        goto done;
+    for (uint32_t e = 0; e < 2; e++) {
+        mt_sc_snapshot sn;
+        if (!tsc_snapshot(rig.m, e, &sn))
+            continue;
+        tsc_view v;
+        tsc_make_view(&g.views[e], T_RP_W, T_RP_W, &v);
+        count_skinned(&sn, rig.cpu, &v, out_n, out_off, out_max);
+        mt_sc_snapshot_free(&sn);
+    }
+done:
+    tsc_close(&rig);
+}
+
+static void test_reprojection_follows_skin(void)
+{
+    uint32_t n = 0, off = 0, n_frozen = 0, off_frozen = 0;
+    double max_px = 0.0, max_frozen = 0.0;
+    run_reprojection(true, &n, &off, &max_px);
+    run_reprojection(false, &n_frozen, &off_frozen, &max_frozen);
+    printf("  CesiumMan %.1f -> %.1f s: %u of %u skinned samples off their pixel (max %.3f px "
+           "from its centre); with GPU skinning off: %u of %u (max %.3f px)\n",
+           T_RP_T0, T_RP_T1, off, n, max_px, off_frozen, n_frozen, max_frozen);
+    CHECK_MSG(n > 50, "only %u skinned samples", n);
+    CHECK_MSG(off == 0, "%u skinned samples more than 0.5 px off", off);
+    /* the control: without the GPU pose the cache does not follow the figure */
+    CHECK_MSG(off_frozen > n_frozen / 10, "skinning off: only %u of %u off", off_frozen, n_frozen);
+}
+
 int main(void)
 {
     RUN(test_fox);
     RUN(test_cesium_man);
     RUN(test_morph_half);
+    RUN(test_reprojection_follows_skin);
     return t_finish();
 }
