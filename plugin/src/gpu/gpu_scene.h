@@ -67,7 +67,8 @@ xrsc_result gpu_scene_clear_motion(gpu_context *ctx, gpu_scene *gs, xrsc_diag *d
  * scene's pose; gpu_scene_cmd_deform then records pass GPU_PASS_SKIN (deform.comp poses the
  * deformed meshes into vertices[], keeping the last frame's positions, gpu_deform.h) and pass
  * GPU_PASS_BLAS_UPDATE (their BLAS refitted or rebuilt from vertices[]), with the barriers
- * between and after; returns false (records nothing) when no pose is pending. Record it before
+ * between and after; returns false when no pose is pending (a scene with deformed meshes
+ * still records both passes, empty, so every frame has the same passes). Record it before
  * gpu_scene_cmd_update, whose TLAS update takes the new BLAS bounds. Scenes without deformed
  * meshes record nothing and their BLAS are built as before (no ALLOW_UPDATE).
  * BLAS mode: GPU_BLAS_AUTO (zero, the default) refits until the pose drifted more than
