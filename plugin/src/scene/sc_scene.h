@@ -360,8 +360,12 @@ typedef struct sc_load_options {
  * KHR_texture_transform, KHR_materials_specular, _clearcoat, _sheen, _volume: see sc_material),
  * cameras (first perspective camera's node = viewpoint, its yfov and aspectRatio kept),
  * KHR_lights_punctual (the first directional light = sun; every other light, point and spot
- * with range and cone angles, in sc_scene.lights), node animation (T/R/S; LINEAR, STEP,
- * CUBICSPLINE). A scene whose `nodes` also lists non-root nodes draws the roots they reach
+ * with range and cone angles, in sc_scene.lights), node animation (T/R/S and morph weights;
+ * LINEAR, STEP, CUBICSPLINE), skins (JOINTS_n/WEIGHTS_n sets 0-3, inverseBindMatrices) and
+ * morph targets (POSITION/NORMAL/TANGENT deltas; node weights, else mesh weights, else 0),
+ * kept as sc_mesh deformation data and posed by ::sc_scene_evaluate (sc_skin.c; the GPU
+ * applies the pose, gpu_deform.h). A skinned or morphed mesh drawn by several nodes shows
+ * the first node's pose (named in the ignored-features warning). A scene whose `nodes` also lists non-root nodes draws the roots they reach
  * (each node once), with one warning. occlusionTexture is ignored without a warning: a path
  * tracer computes the occlusion it approximates.
  */
