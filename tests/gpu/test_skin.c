@@ -5,7 +5,9 @@
  *        (sc_scene_posed_vertex), a morph target at weight 0.5, and the sample cache following
  *        a skinned surface (validation with synchronization validation on).
  */
+#include "mt_method.h"
 #include "test_samplecache_util.h"
+#include "tf_taa.h"
 #include "xrsc_shared.h"
 
 #define T_FOX "scenes/khronos/Fox/glTF-Binary/Fox.glb"
@@ -306,11 +308,89 @@ static void test_reprojection_follows_skin(void)
     CHECK_MSG(off_frozen > n_frozen / 10, "skinning off: only %u of %u off", off_frozen, n_frozen);
 }
 
+/* ---- TAA's history follows a skinned surface (last frame's posed positions) ---- */
+
+static void taa_post(void *user, VkCommandBuffer cmd, gpu_timer *timer, const xs_frame *xf)
+{
+    tf_taa_cmd_record((tf_taa *)user, cmd, timer, xf);
+}
+
+/** Primary rays + TAA on CesiumMan: frames at T_RP_T0 (twice) then T_RP_T1. Over the figure's
+ *  pixels of eye 0: the fraction whose history was accepted and the mean |history - current|
+ *  of those (the primary method is noise-free, so a right reprojection finds the same texel). */
+static void run_taa(bool follow, double *out_blended, double *out_err)
+{
+    tsc_rig r = {.width = T_RP_W, .height = T_RP_W};
+    tf_taa *taa = NULL;
+    mt_post post = {0};
+    xrsc_diag diag = {0};
+    gpu_context_options go = {.validation = true};
+    xrsc_result res = gpu_context_create(&go, &r.gpu, &diag);
+    if (res == XRSC_OK) res = sc_scene_load(t_shared_path(T_CESIUM_MAN), NULL, &r.cpu, &diag);
+    if (res == XRSC_OK) res = gpu_scene_create(r.gpu, r.cpu, &r.gs, &diag);
+    mt_env env = {.gpu = r.gpu, .scene = r.gs, .cpu_scene = r.cpu, .width = T_RP_W,
+                  .height = T_RP_W, .post = &post};
+    if (res == XRSC_OK) res = mt_primary_create(&env, &r.m, &diag);
+    if (res == XRSC_OK) {
+        tf_settings set = {.mode = XRSC_TAA_ON, .debug = true, .no_deform_motion = !follow};
+        tf_images imgs = {mt_method_output_image(r.m, XRSC_OUTPUT_COLOR),
+                          mt_method_output_image(r.m, XRSC_OUTPUT_DEPTH),
+                          mt_method_output_image(r.m, XRSC_OUTPUT_HIT_ID)};
+        res = tf_taa_create(r.gpu, r.gs, r.cpu->instance_count, T_RP_W, T_RP_W, &set, &imgs, &taa,
+                            &diag);
+    }
+    CHECK_EQ_INT(res, XRSC_OK);
+    post = (mt_post){.record = taa_post, .user = taa};
+    const double times[3] = {T_RP_T0, T_RP_T0, T_RP_T1};
+    for (uint32_t k = 0; res == XRSC_OK && k < 3; k++) {
+        xrsc_frame f = rp_frame(r.cpu, k, times[k]);
+        tsc_set_time(&r, times[k]);
+        res = tsc_render(r.m, &f) ? XRSC_OK : XRSC_ERROR_VULKAN;
+    }
+    size_t n = (size_t)T_RP_W * T_RP_W;
+    float *aux = malloc(n * 16), *src = malloc(n * 16), *rep = malloc(n * 16);
+    uint32_t *hit = malloc(n * 16), figure = 0, blended = 0;
+    double err = 0.0;
+    if (res == XRSC_OK && aux && src && rep && hit &&
+        tf_taa_read(taa, 0, TF_IMAGE_AUX, aux, n * 16, &diag) == XRSC_OK &&
+        tf_taa_read(taa, 0, TF_IMAGE_SRC, src, n * 16, &diag) == XRSC_OK &&
+        tf_taa_read(taa, 0, TF_IMAGE_REPROJ, rep, n * 16, &diag) == XRSC_OK &&
+        mt_method_read(r.m, 0, XRSC_OUTPUT_HIT_ID, hit, n * 16, &diag) == XRSC_OK)
+        for (size_t p = 0; p < n; p++) {
+            if (hit[4 * p] >= r.cpu->instance_count ||
+                r.cpu->meshes[r.cpu->instances[hit[4 * p]].mesh].deform_node == SC_NO_DEFORM)
+                continue;
+            figure++;
+            if (aux[4 * p + 3] != XS_TF_STATUS_BLENDED) continue;
+            blended++;
+            for (int c = 0; c < 3; c++) err += fabs(rep[4 * p + c] - src[4 * p + c]) / 3.0;
+        }
+    *out_blended = figure ? (double)blended / figure : 0.0;
+    *out_err = blended ? err / blended : INFINITY;
+    CHECK_MSG(figure > 50, "only %u figure pixels", figure);
+    free(aux), free(src), free(rep), free(hit);
+    tf_taa_destroy(&taa);
+    tsc_close(&r);
+}
+
+static void test_taa_follows_skin(void)
+{
+    double blended = 0, err = 0, blended_rigid = 0, err_rigid = 0;
+    run_taa(true, &blended, &err);
+    run_taa(false, &blended_rigid, &err_rigid);
+    printf("  TAA on CesiumMan %.1f -> %.1f s: history kept on %.1f %% of the figure, mean "
+           "|history - current| %.4f; reprojected as rigid: %.1f %%, %.4f\n",
+           T_RP_T0, T_RP_T1, 100.0 * blended, err, 100.0 * blended_rigid, err_rigid);
+    CHECK(blended > blended_rigid);
+    CHECK(err < err_rigid);
+}
+
 int main(void)
 {
     RUN(test_fox);
     RUN(test_cesium_man);
     RUN(test_morph_half);
     RUN(test_reprojection_follows_skin);
+    RUN(test_taa_follows_skin);
     return t_finish();
 }

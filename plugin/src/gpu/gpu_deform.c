@@ -79,6 +79,24 @@ static xs_morph_delta *make_deltas(const sc_scene *scene)
     return x;
 }
 
+/** prev[] with every vertex's rest position: rigid vertices keep it (their motion is 0). */
+static xrsc_result create_prev(gpu_context *ctx, gpu_deform *d, const sc_scene *scene,
+                               xrsc_diag *diag)
+{
+    xs_vec4 *p = malloc((size_t)(scene->vertex_count ? scene->vertex_count : 1) * sizeof(*p));
+    if (!p)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+    for (uint32_t i = 0; i < scene->vertex_count; i++) {
+        const float *v = scene->vertices[i].position;
+        p[i] = (xs_vec4){v[0], v[1], v[2], 1.0f};
+    }
+    xrsc_result res = gpu_buffer_create_with_data(
+        ctx, p, (VkDeviceSize)(scene->vertex_count ? scene->vertex_count : 1) * sizeof(*p),
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, &d->prev, diag);
+    free(p);
+    return res;
+}
+
 /** Uploads the rest copy, influences, deltas; creates prev[] and the pose buffers. */
 static xrsc_result create_buffers(gpu_context *ctx, gpu_deform *d, const sc_scene *scene,
                                   xrsc_diag *diag)
@@ -104,8 +122,7 @@ static xrsc_result create_buffers(gpu_context *ctx, gpu_deform *d, const sc_scen
             ctx, deltas, (VkDeviceSize)(scene->delta_count ? scene->delta_count : 1) * sizeof(*deltas),
             ssbo, &d->deltas, diag);
     if (res == XRSC_OK)
-        res = gpu_buffer_create_with_data(ctx, NULL, (VkDeviceSize)scene->vertex_count * 16u,
-                                          ssbo | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, &d->prev, diag);
+        res = create_prev(ctx, d, scene, diag);
     if (res == XRSC_OK)
         res = gpu_buffer_create(ctx, (VkDeviceSize)(scene->pose_matrix_count + 1) * 64u, ssbo,
                                 GPU_MEMORY_UPLOAD, &d->matrices, diag);

@@ -6,7 +6,7 @@
  *
  * It owns the rest copy of the deformed meshes' vertices, their influences and morph deltas,
  * the host-visible pose (joint matrices, morph weights) and prev[], the last frame's posed
- * position of every scene vertex (object space; vertices of rigid meshes are not written).
+ * position of every scene vertex (object space; rigid meshes' vertices keep their positions).
  * gpu_scene owns one when the scene has deformed meshes and runs it before its BLAS update.
  */
 #pragma once

@@ -67,6 +67,8 @@ struct gpu_scene {
     /* skins and morph targets (gpu_deform.h): posed into vertices[], then their BLAS updated */
     gpu_deform *deform;           /**< NULL when no mesh deforms */
     bool deform_pending;          /**< a pose staged, not yet recorded */
+    bool prev_stale;              /**< prev[] holds the pose before the last step: a frame
+                                   *   without a new pose sets prev[] = the pose (no motion) */
     bool deform_off;              /**< tests: the pose is staged but never recorded */
     bool deform_rebuild;          /**< the pending BLAS update rebuilds (else refits) */
     gpu_blas_mode blas_mode;
@@ -988,8 +990,9 @@ bool gpu_scene_cmd_deform(gpu_context *ctx, gpu_scene *gs, VkCommandBuffer cmd, 
     bool pending = gs->deform_pending;
     gs->deform_pending = false;
     uint32_t pass = timer ? gpu_timer_cmd_begin(cmd, timer, GPU_PASS_SKIN) : 0;
-    if (pending)
-        gpu_deform_cmd(gs->deform, cmd, true);
+    if (pending || gs->prev_stale)
+        gpu_deform_cmd(gs->deform, cmd, pending);
+    gs->prev_stale = pending;
     if (timer)
         gpu_timer_cmd_end(cmd, timer, pass);
     pass = timer ? gpu_timer_cmd_begin(cmd, timer, GPU_PASS_BLAS_UPDATE) : 0;
@@ -1217,6 +1220,7 @@ xrsc_result gpu_scene_clear_motion(gpu_context *ctx, gpu_scene *gs, xrsc_diag *d
         if (res != XRSC_OK)
             return res;
         gpu_deform_cmd(gs->deform, cmd, false);
+        gs->prev_stale = false;
         if ((res = gpu_cmd_submit_wait(ctx, cmd, diag)) != XRSC_OK)
             return res;
     }
