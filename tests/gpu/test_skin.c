@@ -385,11 +385,79 @@ static void test_taa_follows_skin(void)
     CHECK(err < err_rigid);
 }
 
+/* ---- every JOINTS_n / WEIGHTS_n set; bad joints refused ---- */
+
+/** One triangle skinned by two sets: JOINTS_0 = joint 0 (identity) with weight 0.5, JOINTS_1 =
+ *  joint `j1` (translated +2 m in y) with 0.5, so the pose lifts it by 1 m. */
+static char *two_set_gltf(uint8_t j1)
+{
+    struct {
+        float pos[9];
+        uint8_t j0[12];
+        float w0[12];
+        uint8_t j1[12];
+        float w1[12];
+    } b = {{0, 0, 0, 1, 0, 0, 0, 0, 1}, {0}, {0.5f, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 0, 0, 0},
+           {j1, 0, 0, 0, j1, 0, 0, 0, j1, 0, 0, 0}, {0.5f, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 0, 0, 0}};
+    _Static_assert(sizeof b == 156, "packed test buffer");
+    char *uri = t_data_uri(&b, sizeof b);
+    char *json = malloc(4096);
+    snprintf(json, 4096,
+             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1,2]}],"
+             "\"nodes\":[{\"mesh\":0,\"skin\":0},{},{\"translation\":[0,2,0]}],"
+             "\"skins\":[{\"joints\":[1,2]}],"
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"JOINTS_0\":1,"
+             "\"WEIGHTS_0\":2,\"JOINTS_1\":3,\"WEIGHTS_1\":4}}]}],"
+             "\"buffers\":[{\"byteLength\":156,\"uri\":\"%s\"}],"
+             "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},"
+             "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":12},"
+             "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":48},"
+             "{\"buffer\":0,\"byteOffset\":96,\"byteLength\":12},"
+             "{\"buffer\":0,\"byteOffset\":108,\"byteLength\":48}],"
+             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
+             "\"min\":[0,0,0],\"max\":[1,0,1]},"
+             "{\"bufferView\":1,\"componentType\":5121,\"count\":3,\"type\":\"VEC4\"},"
+             "{\"bufferView\":2,\"componentType\":5126,\"count\":3,\"type\":\"VEC4\"},"
+             "{\"bufferView\":3,\"componentType\":5121,\"count\":3,\"type\":\"VEC4\"},"
+             "{\"bufferView\":4,\"componentType\":5126,\"count\":3,\"type\":\"VEC4\"}]}",
+             uri);
+    free(uri);
+    return json;
+}
+
+static void test_two_joint_sets(void)
+{
+    char *json = two_set_gltf(1);
+    t_gpu t;
+    if (t_open(&t, NULL, json)) {
+        CHECK_EQ_INT(t.cpu->meshes[0].skin_sets, 2);
+        float cpu[3];
+        sc_scene_posed_vertex(t.cpu, 0, t.cpu->meshes[0].first_vertex, cpu, NULL);
+        double y = gpu_y0(&t);
+        printf("  two sets (0.5 at rest, 0.5 lifted 2 m): vertex 0 at y = %.6f (CPU %.6f)\n", y,
+               cpu[1]);
+        CHECK_NEAR(y, 1.0, 1e-6);
+        CHECK_NEAR(cpu[1], 1.0, 1e-6);
+    }
+    t_close(&t);
+    free(json);
+    /* a joint index past the skin's two joints (with weight) is refused, naming the node */
+    json = two_set_gltf(5);
+    sc_scene *s = NULL;
+    xrsc_diag diag = {0};
+    CHECK_EQ_INT(sc_scene_load_memory("bad.gltf", json, strlen(json), NULL, NULL, &s, &diag),
+                 XRSC_ERROR_GLTF_INVALID);
+    CHECK(strstr(diag.field, "nodes[0].skin") != NULL);
+    CHECK(s == NULL);
+    free(json);
+}
+
 int main(void)
 {
     RUN(test_fox);
     RUN(test_cesium_man);
     RUN(test_morph_half);
+    RUN(test_two_joint_sets);
     RUN(test_reprojection_follows_skin);
     RUN(test_taa_follows_skin);
     return t_finish();
