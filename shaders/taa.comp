@@ -76,8 +76,6 @@ layout(set = 0, binding = XS_TF_BIND_PREV_POS, std430) readonly buffer XsTfPrevP
  *  whose prev positions equal their vertices). */
 vec3 deform_motion(uvec4 hid)
 {
-    if (tfp.deform == 0u)
-        return vec3(0.0);
     uint base = instances[hid.x].first_index + 3u * hid.y;
     vec2 b = uintBitsToFloat(hid.zw);
     vec3 w = vec3(1.0 - b.x - b.y, b.x, b.y), d = vec3(0.0);
@@ -157,7 +155,8 @@ vec4 reproject_eye_space(uvec2 px, uint eye, float depth, uint inst)
      * transpose of object_to_world's, so its transpose inverts the linear part */
     xs_instance in_ = instances[inst];
     vec3 p_obj = transpose(mat3(in_.normal_to_world)) * (p_world - in_.object_to_world[3].xyz);
-    p_obj += deform_motion(imageLoad(tf_hitid, ivec3(px, eye)));
+    if (tfp.deform != 0u)
+        p_obj += deform_motion(imageLoad(tf_hitid, ivec3(px, eye)));
     vec4 p_prev = tf_prev_xform[inst] * vec4(p_obj, 1.0);
     return vec4((prev_view * p_prev).xyz, 1.0);
 }

@@ -116,6 +116,10 @@ static void check_model(const char *rel)
             CHECK_MSG(moved > 0.01, "the pose did not move (%g m)", moved);
         }
     }
+    uint32_t rebuilds = 0, refits = 0;
+    gpu_scene_blas_update_counts(t.gs, &rebuilds, &refits);
+    printf("  %s: %u BLAS rebuilds, %u refits (drift rule)\n", rel, rebuilds, refits);
+    CHECK_EQ_INT(rebuilds + refits, 3);
     t_close(&t);
 }
 

@@ -20,7 +20,8 @@ struct gpu_deform {
     gpu_buffer matrices, weights; /**< host-visible: the pose */
     xs_deform_push *jobs;         /**< one per deformed mesh */
     uint32_t job_count;
-    float *radius;                /**< per job: rest bounding-sphere radius (about the box centre) */
+    float *radius;                /**< per job: half the rest bounding box's diagonal (its size) */
+    float *reach;                 /**< per job: the farthest rest vertex from the object origin */
     float *max_delta;             /**< per job: longest morph position delta */
     float *built_matrices, *built_weights; /**< the pose at the last BLAS build */
 };
@@ -139,10 +140,11 @@ static bool drift_init(gpu_deform *d, const sc_scene *scene)
 {
     uint32_t n = d->job_count ? d->job_count : 1;
     d->radius = calloc(n, sizeof(float));
+    d->reach = calloc(n, sizeof(float));
     d->max_delta = calloc(n, sizeof(float));
     d->built_matrices = calloc((size_t)scene->pose_matrix_count * 16 + 1, sizeof(float));
     d->built_weights = calloc((size_t)scene->pose_weight_count + 1, sizeof(float));
-    if (!d->radius || !d->max_delta || !d->built_matrices || !d->built_weights)
+    if (!d->radius || !d->reach || !d->max_delta || !d->built_matrices || !d->built_weights)
         return false;
     for (uint32_t j = 0; j < d->job_count; j++) {
         const xs_deform_push *job = &d->jobs[j];
@@ -152,6 +154,10 @@ static bool drift_init(gpu_deform *d, const sc_scene *scene)
                 float v = scene->vertices[job->first_vertex + i].position[c];
                 lo[c] = fminf(lo[c], v), hi[c] = fmaxf(hi[c], v);
             }
+        for (uint32_t i = 0; i < job->vertex_count; i++) {
+            const float *v = scene->vertices[job->first_vertex + i].position;
+            d->reach[j] = fmaxf(d->reach[j], sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+        }
         for (int c = 0; c < 3; c++) d->radius[j] += 0.25f * (hi[c] - lo[c]) * (hi[c] - lo[c]);
         d->radius[j] = sqrtf(d->radius[j]);
         for (uint32_t i = 0; i < job->target_count * job->vertex_count; i++) {
@@ -175,13 +181,13 @@ float gpu_deform_drift(const gpu_deform *d, const sc_scene *scene)
     for (uint32_t j = 0; j < d->job_count; j++) {
         const xs_deform_push *job = &d->jobs[j];
         float r = d->radius[j] > 0.0f ? d->radius[j] : 1.0f, worst = 0.0f, morph = 0.0f;
-        /* a point within r of the origin moves by at most |dt| + r * |dA| (entries summed) */
+        /* a point within `reach` of the origin moves by at most |dt| + reach ||dA||_F */
         for (uint32_t m = job->first_matrix; m < job->first_matrix + job->joint_count; m++) {
             const float *a = &scene->pose_matrices[16 * m], *b = &d->built_matrices[16 * m];
             float dlin = 0.0f, dt = 0.0f;
-            for (int e = 0; e < 12; e++) dlin += fabsf(a[e] - b[e]);
-            for (int e = 12; e < 15; e++) dt += fabsf(a[e] - b[e]);
-            worst = fmaxf(worst, dt + r * dlin);
+            for (int e = 0; e < 12; e++) dlin += (a[e] - b[e]) * (a[e] - b[e]);
+            for (int e = 12; e < 15; e++) dt += (a[e] - b[e]) * (a[e] - b[e]);
+            worst = fmaxf(worst, sqrtf(dt) + d->reach[j] * sqrtf(dlin));
         }
         for (uint32_t k = 0; k < job->target_count; k++)
             morph += fabsf(scene->pose_weights[job->first_weight + k] -
@@ -238,6 +244,7 @@ void gpu_deform_destroy(gpu_context *ctx, gpu_deform **pd)
     gpu_buffer_destroy(ctx, &d->weights);
     free(d->jobs);
     free(d->radius);
+    free(d->reach);
     free(d->max_delta);
     free(d->built_matrices);
     free(d->built_weights);

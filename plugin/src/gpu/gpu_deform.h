@@ -36,10 +36,10 @@ void gpu_deform_stage(gpu_context *ctx, gpu_deform *d, const sc_scene *scene);
  */
 void gpu_deform_cmd(gpu_deform *d, VkCommandBuffer cmd, bool keep_prev);
 /** How far the pose moved since the last gpu_deform_mark_built, relative to each mesh's size:
- *  max over meshes of (max over joints of |dt| + r |dA|, plus sum |dw_k| x the longest morph
- *  delta) / r, with r the mesh's rest bounding radius, dA and dt the change of a joint
- *  matrix's linear part (entries summed) and translation. A cheap bound of how far a vertex
- *  moved; 0 = the pose the BLAS was built for. */
+ *  max over meshes of (max over joints of |dt| + R ||dA||_F, plus sum |dw_k| x the longest
+ *  morph delta) / r, with dA and dt the change of a joint matrix's linear part and
+ *  translation, R the farthest rest vertex from the origin and r half the rest box's
+ *  diagonal. A cheap bound of how far a vertex moved; 0 = the pose the BLAS was built for. */
 float gpu_deform_drift(const gpu_deform *d, const sc_scene *scene);
 /** Records that the BLAS were (re)built for the scene's current pose. */
 void gpu_deform_mark_built(gpu_deform *d, const sc_scene *scene);

@@ -5,7 +5,9 @@
  *        TLAS with one instance per scene instance (updatable for animation).
  *
  * Conventions (the contract with the shaders, see xrsc_shared.h):
- * - vertices[]: sc_scene.vertices in order, as xs_vertex;
+ * - vertices[]: sc_scene.vertices in order, as xs_vertex; a deformed mesh's (skin, morph
+ *   targets) hold its current pose (object space of its instance), written on the GPU by
+ *   gpu_scene_cmd_deform;
  * - indices[]: ABSOLUTE vertex indices (as sc_scene stores them), so a shader reads
  *   vertices[indices[first_index + 3t + c]];
  * - instance i of sc_scene = TLAS instance i (instanceCustomIndex i, mask 0xFF, SBT offset 0,
