@@ -29,8 +29,9 @@ static bool t_open(t_gpu *t, const char *path, const char *json)
     xrsc_diag diag = {0};
     xrsc_result r = gpu_context_create(&go, &t->gpu, &diag);
     if (r == XRSC_OK)
-        r = json ? sc_scene_load_memory("morph.gltf", json, strlen(json), NULL, NULL, &t->cpu, &diag)
-                 : sc_scene_load(path, NULL, &t->cpu, &diag);
+        r = json
+                ? sc_scene_load_memory("morph.gltf", json, strlen(json), NULL, NULL, &t->cpu, &diag)
+                : sc_scene_load(path, NULL, &t->cpu, &diag);
     if (r == XRSC_OK)
         r = gpu_scene_create(t->gpu, t->cpu, &t->gs, &diag);
     CHECK_EQ_INT(r, XRSC_OK);
@@ -73,8 +74,8 @@ static double max_pose_error(t_gpu *t, uint32_t i, double *out_moved)
                 for (int c = 0; c < 3; c++) {
                     wr[r] += in->world[4 * c + r] * ref[c];
                     wg[r] += in->world[4 * c + r] * gpu[c];
-                    wrest[r] += in->world[4 * c + r] *
-                                t->cpu->vertices[mesh->first_vertex + k].position[c];
+                    wrest[r] +=
+                        in->world[4 * c + r] * t->cpu->vertices[mesh->first_vertex + k].position[c];
                 }
             }
             double d = 0.0, m = 0.0;
@@ -123,8 +124,14 @@ static void check_model(const char *rel)
     t_close(&t);
 }
 
-static void test_fox(void) { check_model(T_FOX); }
-static void test_cesium_man(void) { check_model(T_CESIUM_MAN); }
+static void test_fox(void)
+{
+    check_model(T_FOX);
+}
+static void test_cesium_man(void)
+{
+    check_model(T_CESIUM_MAN);
+}
 
 /** One triangle with one morph target that moves vertex 0 by +1 m in y; mesh weight w0 and a
  *  LINEAR `weights` channel from 0 (t = 0) to 1 (t = 1). */
@@ -135,27 +142,28 @@ static char *morph_gltf(float w0)
     } b = {{0, 0, 0, 1, 0, 0, 0, 0, 1}, {0, 1, 0, 0, 0, 0, 0, 0, 0}, {0, 1}, {0, 1}};
     char *uri = t_data_uri(&b, sizeof b);
     char *json = malloc(4096);
-    snprintf(json, 4096,
-             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
-             "\"nodes\":[{\"mesh\":0}],"
-             "\"meshes\":[{\"weights\":[%g],\"primitives\":[{\"attributes\":{\"POSITION\":0},"
-             "\"targets\":[{\"POSITION\":1}]}]}],"
-             "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"%s\"}],"
-             "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},"
-             "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":36},"
-             "{\"buffer\":0,\"byteOffset\":72,\"byteLength\":8},"
-             "{\"buffer\":0,\"byteOffset\":80,\"byteLength\":8}],"
-             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
-             "\"min\":[0,0,0],\"max\":[1,0,1]},"
-             "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
-             "{\"bufferView\":2,\"componentType\":5126,\"count\":2,\"type\":\"SCALAR\","
-             "\"min\":[0],\"max\":[1]},"
-             "{\"bufferView\":3,\"componentType\":5126,\"count\":2,\"type\":\"SCALAR\"}],"
-             "\"animations\":[%s]}",
-             w0, sizeof b, uri,
-             w0 < 0.0f ? "{\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":"
-                         "\"weights\"}}],\"samplers\":[{\"input\":2,\"output\":3}]}"
-                       : "");
+    snprintf(
+        json, 4096,
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+        "\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"weights\":[%g],\"primitives\":[{\"attributes\":{\"POSITION\":0},"
+        "\"targets\":[{\"POSITION\":1}]}]}],"
+        "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"%s\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},"
+        "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":36},"
+        "{\"buffer\":0,\"byteOffset\":72,\"byteLength\":8},"
+        "{\"buffer\":0,\"byteOffset\":80,\"byteLength\":8}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
+        "\"min\":[0,0,0],\"max\":[1,0,1]},"
+        "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+        "{\"bufferView\":2,\"componentType\":5126,\"count\":2,\"type\":\"SCALAR\","
+        "\"min\":[0],\"max\":[1]},"
+        "{\"bufferView\":3,\"componentType\":5126,\"count\":2,\"type\":\"SCALAR\"}],"
+        "\"animations\":[%s]}",
+        w0, sizeof b, uri,
+        w0 < 0.0f ? "{\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":"
+                    "\"weights\"}}],\"samplers\":[{\"input\":2,\"output\":3}]}"
+                  : "");
     free(uri);
     return json;
 }
@@ -204,8 +212,8 @@ static void test_morph_half(void)
 /* ---- the sample cache follows a skinned surface ---- */
 
 #define T_RP_W 48u
-#define T_RP_T0 0.3  /* s: the frames that fill the cache */
-#define T_RP_T1 0.5  /* s: the frame whose reprojection is checked */
+#define T_RP_T0 0.3 /* s: the frames that fill the cache */
+#define T_RP_T1 0.5 /* s: the frame whose reprojection is checked */
 
 /** Both eyes at the scene's viewpoint (+-32 mm), a symmetric field of view tan 0.6. */
 static xrsc_frame rp_frame(const sc_scene *s, uint32_t k, double time_s)
@@ -253,7 +261,8 @@ static void count_skinned(const mt_sc_snapshot *sn, const sc_scene *s, const tsc
             posed_hit_world(s, fh, w);
             tsc_project(v, w, 1.0, pos);
             /* distance from the pixel's centre, per axis */
-            double d = fmax(fabs(pos[0] - (p % sn->width + 0.5)), fabs(pos[1] - (p / sn->width + 0.5)));
+            double d =
+                fmax(fabs(pos[0] - (p % sn->width + 0.5)), fabs(pos[1] - (p / sn->width + 0.5)));
             *out_max_px = fmax(*out_max_px, d);
             (*out_n)++;
             *out_off += d > 0.5 + TSC_PIXEL_MARGIN;
@@ -330,11 +339,18 @@ static void run_taa(bool follow, double *out_blended, double *out_err)
     xrsc_diag diag = {0};
     gpu_context_options go = {.validation = true};
     xrsc_result res = gpu_context_create(&go, &r.gpu, &diag);
-    if (res == XRSC_OK) res = sc_scene_load(t_shared_path(T_CESIUM_MAN), NULL, &r.cpu, &diag);
-    if (res == XRSC_OK) res = gpu_scene_create(r.gpu, r.cpu, &r.gs, &diag);
-    mt_env env = {.gpu = r.gpu, .scene = r.gs, .cpu_scene = r.cpu, .width = T_RP_W,
-                  .height = T_RP_W, .post = &post};
-    if (res == XRSC_OK) res = mt_primary_create(&env, &r.m, &diag);
+    if (res == XRSC_OK)
+        res = sc_scene_load(t_shared_path(T_CESIUM_MAN), NULL, &r.cpu, &diag);
+    if (res == XRSC_OK)
+        res = gpu_scene_create(r.gpu, r.cpu, &r.gs, &diag);
+    mt_env env = {.gpu = r.gpu,
+                  .scene = r.gs,
+                  .cpu_scene = r.cpu,
+                  .width = T_RP_W,
+                  .height = T_RP_W,
+                  .post = &post};
+    if (res == XRSC_OK)
+        res = mt_primary_create(&env, &r.m, &diag);
     if (res == XRSC_OK) {
         tf_settings set = {.mode = XRSC_TAA_ON, .debug = true, .no_deform_motion = !follow};
         tf_images imgs = {mt_method_output_image(r.m, XRSC_OUTPUT_COLOR),
@@ -365,9 +381,11 @@ static void run_taa(bool follow, double *out_blended, double *out_err)
                 r.cpu->meshes[r.cpu->instances[hit[4 * p]].mesh].deform_node == SC_NO_DEFORM)
                 continue;
             figure++;
-            if (aux[4 * p + 3] != XS_TF_STATUS_BLENDED) continue;
+            if (aux[4 * p + 3] != XS_TF_STATUS_BLENDED)
+                continue;
             blended++;
-            for (int c = 0; c < 3; c++) err += fabs(rep[4 * p + c] - src[4 * p + c]) / 3.0;
+            for (int c = 0; c < 3; c++)
+                err += fabs(rep[4 * p + c] - src[4 * p + c]) / 3.0;
         }
     *out_blended = figure ? (double)blended / figure : 0.0;
     *out_err = blended ? err / blended : INFINITY;
@@ -401,30 +419,34 @@ static char *two_set_gltf(uint8_t j1)
         float w0[12];
         uint8_t j1[12];
         float w1[12];
-    } b = {{0, 0, 0, 1, 0, 0, 0, 0, 1}, {0}, {0.5f, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 0, 0, 0},
-           {j1, 0, 0, 0, j1, 0, 0, 0, j1, 0, 0, 0}, {0.5f, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 0, 0, 0}};
+    } b = {{0, 0, 0, 1, 0, 0, 0, 0, 1},
+           {0},
+           {0.5f, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 0, 0, 0},
+           {j1, 0, 0, 0, j1, 0, 0, 0, j1, 0, 0, 0},
+           {0.5f, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 0, 0, 0}};
     _Static_assert(sizeof b == 156, "packed test buffer");
     char *uri = t_data_uri(&b, sizeof b);
     char *json = malloc(4096);
-    snprintf(json, 4096,
-             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1,2]}],"
-             "\"nodes\":[{\"mesh\":0,\"skin\":0},{},{\"translation\":[0,2,0]}],"
-             "\"skins\":[{\"joints\":[1,2]}],"
-             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"JOINTS_0\":1,"
-             "\"WEIGHTS_0\":2,\"JOINTS_1\":3,\"WEIGHTS_1\":4}}]}],"
-             "\"buffers\":[{\"byteLength\":156,\"uri\":\"%s\"}],"
-             "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},"
-             "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":12},"
-             "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":48},"
-             "{\"buffer\":0,\"byteOffset\":96,\"byteLength\":12},"
-             "{\"buffer\":0,\"byteOffset\":108,\"byteLength\":48}],"
-             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
-             "\"min\":[0,0,0],\"max\":[1,0,1]},"
-             "{\"bufferView\":1,\"componentType\":5121,\"count\":3,\"type\":\"VEC4\"},"
-             "{\"bufferView\":2,\"componentType\":5126,\"count\":3,\"type\":\"VEC4\"},"
-             "{\"bufferView\":3,\"componentType\":5121,\"count\":3,\"type\":\"VEC4\"},"
-             "{\"bufferView\":4,\"componentType\":5126,\"count\":3,\"type\":\"VEC4\"}]}",
-             uri);
+    snprintf(
+        json, 4096,
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1,2]}],"
+        "\"nodes\":[{\"mesh\":0,\"skin\":0},{},{\"translation\":[0,2,0]}],"
+        "\"skins\":[{\"joints\":[1,2]}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"JOINTS_0\":1,"
+        "\"WEIGHTS_0\":2,\"JOINTS_1\":3,\"WEIGHTS_1\":4}}]}],"
+        "\"buffers\":[{\"byteLength\":156,\"uri\":\"%s\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},"
+        "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":12},"
+        "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":48},"
+        "{\"buffer\":0,\"byteOffset\":96,\"byteLength\":12},"
+        "{\"buffer\":0,\"byteOffset\":108,\"byteLength\":48}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
+        "\"min\":[0,0,0],\"max\":[1,0,1]},"
+        "{\"bufferView\":1,\"componentType\":5121,\"count\":3,\"type\":\"VEC4\"},"
+        "{\"bufferView\":2,\"componentType\":5126,\"count\":3,\"type\":\"VEC4\"},"
+        "{\"bufferView\":3,\"componentType\":5121,\"count\":3,\"type\":\"VEC4\"},"
+        "{\"bufferView\":4,\"componentType\":5126,\"count\":3,\"type\":\"VEC4\"}]}",
+        uri);
     free(uri);
     return json;
 }

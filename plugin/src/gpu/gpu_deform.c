@@ -20,9 +20,9 @@ struct gpu_deform {
     gpu_buffer matrices, weights; /**< host-visible: the pose */
     xs_deform_push *jobs;         /**< one per deformed mesh */
     uint32_t job_count;
-    float *radius;                /**< per job: half the rest bounding box's diagonal (its size) */
-    float *reach;                 /**< per job: the farthest rest vertex from the object origin */
-    float *max_delta;             /**< per job: longest morph position delta */
+    float *radius;    /**< per job: half the rest bounding box's diagonal (its size) */
+    float *reach;     /**< per job: the farthest rest vertex from the object origin */
+    float *max_delta; /**< per job: longest morph position delta */
     float *built_matrices, *built_weights; /**< the pose at the last BLAS build */
 };
 
@@ -41,7 +41,8 @@ static xs_vertex *make_jobs(gpu_deform *d, const sc_scene *scene, uint32_t *out_
 {
     uint32_t nrest = 0;
     for (uint32_t m = 0; m < scene->mesh_count; m++)
-        if (scene->meshes[m].deform_node != SC_NO_DEFORM) nrest += scene->meshes[m].vertex_count;
+        if (scene->meshes[m].deform_node != SC_NO_DEFORM)
+            nrest += scene->meshes[m].vertex_count;
     d->jobs = calloc(scene->deform_mesh_count ? scene->deform_mesh_count : 1, sizeof(*d->jobs));
     xs_vertex *rest = malloc((nrest ? nrest : 1) * sizeof(*rest));
     if (!d->jobs || !rest) {
@@ -51,16 +52,27 @@ static xs_vertex *make_jobs(gpu_deform *d, const sc_scene *scene, uint32_t *out_
     uint32_t at = 0;
     for (uint32_t m = 0; m < scene->mesh_count; m++) {
         const sc_mesh *mesh = &scene->meshes[m];
-        if (mesh->deform_node == SC_NO_DEFORM) continue;
-        d->jobs[d->job_count++] = (xs_deform_push){
-            mesh->first_vertex, mesh->vertex_count, at, mesh->first_influence, mesh->skin_sets,
-            mesh->first_pose_matrix, mesh->first_delta, mesh->target_count,
-            mesh->first_pose_weight, 0, mesh->skin_joint_count, 0};
+        if (mesh->deform_node == SC_NO_DEFORM)
+            continue;
+        d->jobs[d->job_count++] = (xs_deform_push){mesh->first_vertex,
+                                                   mesh->vertex_count,
+                                                   at,
+                                                   mesh->first_influence,
+                                                   mesh->skin_sets,
+                                                   mesh->first_pose_matrix,
+                                                   mesh->first_delta,
+                                                   mesh->target_count,
+                                                   mesh->first_pose_weight,
+                                                   0,
+                                                   mesh->skin_joint_count,
+                                                   0};
         for (uint32_t i = 0; i < mesh->vertex_count; i++, at++) {
             const sc_vertex *s = &scene->vertices[mesh->first_vertex + i];
-            rest[at].position_u = (xs_vec4){s->position[0], s->position[1], s->position[2], s->uv[0]};
+            rest[at].position_u =
+                (xs_vec4){s->position[0], s->position[1], s->position[2], s->uv[0]};
             rest[at].normal_v = (xs_vec4){s->normal[0], s->normal[1], s->normal[2], s->uv[1]};
-            rest[at].tangent = (xs_vec4){s->tangent[0], s->tangent[1], s->tangent[2], s->tangent[3]};
+            rest[at].tangent =
+                (xs_vec4){s->tangent[0], s->tangent[1], s->tangent[2], s->tangent[3]};
         }
     }
     *out_rest_count = nrest;
@@ -110,8 +122,8 @@ static xrsc_result create_buffers(gpu_context *ctx, gpu_deform *d, const sc_scen
     if (!rest || !deltas)
         res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
     if (res == XRSC_OK)
-        res = gpu_buffer_create_with_data(ctx, rest, (VkDeviceSize)(nrest ? nrest : 1) * sizeof(*rest),
-                                          ssbo, &d->rest, diag);
+        res = gpu_buffer_create_with_data(
+            ctx, rest, (VkDeviceSize)(nrest ? nrest : 1) * sizeof(*rest), ssbo, &d->rest, diag);
     if (res == XRSC_OK)
         res = gpu_buffer_create_with_data(
             ctx, scene->influence_count ? (const void *)scene->influences : NULL,
@@ -120,8 +132,9 @@ static xrsc_result create_buffers(gpu_context *ctx, gpu_deform *d, const sc_scen
             ssbo, &d->influences, diag);
     if (res == XRSC_OK)
         res = gpu_buffer_create_with_data(
-            ctx, deltas, (VkDeviceSize)(scene->delta_count ? scene->delta_count : 1) * sizeof(*deltas),
-            ssbo, &d->deltas, diag);
+            ctx, deltas,
+            (VkDeviceSize)(scene->delta_count ? scene->delta_count : 1) * sizeof(*deltas), ssbo,
+            &d->deltas, diag);
     if (res == XRSC_OK)
         res = create_prev(ctx, d, scene, diag);
     if (res == XRSC_OK)
@@ -158,11 +171,13 @@ static bool drift_init(gpu_deform *d, const sc_scene *scene)
             const float *v = scene->vertices[job->first_vertex + i].position;
             d->reach[j] = fmaxf(d->reach[j], sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
         }
-        for (int c = 0; c < 3; c++) d->radius[j] += 0.25f * (hi[c] - lo[c]) * (hi[c] - lo[c]);
+        for (int c = 0; c < 3; c++)
+            d->radius[j] += 0.25f * (hi[c] - lo[c]) * (hi[c] - lo[c]);
         d->radius[j] = sqrtf(d->radius[j]);
         for (uint32_t i = 0; i < job->target_count * job->vertex_count; i++) {
             const float *dp = scene->deltas[job->first_delta + i].position;
-            d->max_delta[j] = fmaxf(d->max_delta[j], sqrtf(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]));
+            d->max_delta[j] =
+                fmaxf(d->max_delta[j], sqrtf(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]));
         }
     }
     gpu_deform_mark_built(d, scene);
@@ -171,7 +186,8 @@ static bool drift_init(gpu_deform *d, const sc_scene *scene)
 
 void gpu_deform_mark_built(gpu_deform *d, const sc_scene *scene)
 {
-    memcpy(d->built_matrices, scene->pose_matrices, (size_t)scene->pose_matrix_count * 16 * sizeof(float));
+    memcpy(d->built_matrices, scene->pose_matrices,
+           (size_t)scene->pose_matrix_count * 16 * sizeof(float));
     memcpy(d->built_weights, scene->pose_weights, (size_t)scene->pose_weight_count * sizeof(float));
 }
 
@@ -185,8 +201,10 @@ float gpu_deform_drift(const gpu_deform *d, const sc_scene *scene)
         for (uint32_t m = job->first_matrix; m < job->first_matrix + job->joint_count; m++) {
             const float *a = &scene->pose_matrices[16 * m], *b = &d->built_matrices[16 * m];
             float dlin = 0.0f, dt = 0.0f;
-            for (int e = 0; e < 12; e++) dlin += (a[e] - b[e]) * (a[e] - b[e]);
-            for (int e = 12; e < 15; e++) dt += (a[e] - b[e]) * (a[e] - b[e]);
+            for (int e = 0; e < 12; e++)
+                dlin += (a[e] - b[e]) * (a[e] - b[e]);
+            for (int e = 12; e < 15; e++)
+                dt += (a[e] - b[e]) * (a[e] - b[e]);
             worst = fmaxf(worst, sqrtf(dt) + d->reach[j] * sqrtf(dlin));
         }
         for (uint32_t k = 0; k < job->target_count; k++)
@@ -256,7 +274,8 @@ void gpu_deform_stage(gpu_context *ctx, gpu_deform *d, const sc_scene *scene)
 {
     memcpy(d->matrices.mapped, scene->pose_matrices,
            (size_t)scene->pose_matrix_count * 16 * sizeof(float));
-    memcpy(d->weights.mapped, scene->pose_weights, (size_t)scene->pose_weight_count * sizeof(float));
+    memcpy(d->weights.mapped, scene->pose_weights,
+           (size_t)scene->pose_weight_count * sizeof(float));
     gpu_buffer_flush(ctx, &d->matrices);
     gpu_buffer_flush(ctx, &d->weights);
 }
@@ -264,9 +283,8 @@ void gpu_deform_stage(gpu_context *ctx, gpu_deform *d, const sc_scene *scene)
 static void barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkAccessFlags src,
                     VkPipelineStageFlags dst_stage, VkAccessFlags dst)
 {
-    VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                          .srcAccessMask = src,
-                          .dstAccessMask = dst};
+    VkMemoryBarrier mb = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .srcAccessMask = src, .dstAccessMask = dst};
     vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &mb, 0, NULL, 0, NULL);
 }
 
@@ -290,4 +308,7 @@ void gpu_deform_cmd(gpu_deform *d, VkCommandBuffer cmd, bool keep_prev)
             VK_ACCESS_SHADER_READ_BIT);
 }
 
-const gpu_buffer *gpu_deform_prev(const gpu_deform *d) { return &d->prev; }
+const gpu_buffer *gpu_deform_prev(const gpu_deform *d)
+{
+    return &d->prev;
+}

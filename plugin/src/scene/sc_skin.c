@@ -28,8 +28,10 @@ static void affine_inverse(const float m[16], float out[16])
                     c02 * r, (b * g - a * h) * r, (a * e - b * d) * r};
     memset(out, 0, 16 * sizeof(float));
     for (int row = 0; row < 3; row++) {
-        for (int col = 0; col < 3; col++) out[col * 4 + row] = inv[row * 3 + col];
-        out[12 + row] = -(inv[row * 3] * m[12] + inv[row * 3 + 1] * m[13] + inv[row * 3 + 2] * m[14]);
+        for (int col = 0; col < 3; col++)
+            out[col * 4 + row] = inv[row * 3 + col];
+        out[12 + row] =
+            -(inv[row * 3] * m[12] + inv[row * 3 + 1] * m[13] + inv[row * 3 + 2] * m[14]);
     }
     out[15] = 1.0f;
 }
@@ -38,7 +40,8 @@ void sc_scene_pose(sc_scene *s)
 {
     for (uint32_t m = 0; m < s->mesh_count; m++) {
         const sc_mesh *mesh = &s->meshes[m];
-        if (mesh->deform_node == SC_NO_DEFORM) continue;
+        if (mesh->deform_node == SC_NO_DEFORM)
+            continue;
         const sc_node *n = &s->nodes[mesh->deform_node];
         if (mesh->skin_joint_count) {
             const sc_skin *sk = &s->skins[n->skin];
@@ -47,7 +50,8 @@ void sc_scene_pose(sc_scene *s)
             for (uint32_t j = 0; j < mesh->skin_joint_count; j++) {
                 uint32_t at = sk->first_joint + j;
                 sc_mat4_mul(s->nodes[s->skin_joints[at]].world, &s->inverse_binds[16 * at], joint);
-                sc_mat4_mul(to_object, joint, &s->pose_matrices[16 * (mesh->first_pose_matrix + j)]);
+                sc_mat4_mul(to_object, joint,
+                            &s->pose_matrices[16 * (mesh->first_pose_matrix + j)]);
             }
         }
         for (uint32_t k = 0; k < mesh->target_count; k++)
@@ -68,22 +72,27 @@ void sc_scene_posed_vertex(const sc_scene *s, uint32_t mi, uint32_t v, float out
     for (uint32_t k = 0; k < mesh->target_count; k++) {
         float w = s->pose_weights[mesh->first_pose_weight + k];
         const sc_morph_delta *d = &s->deltas[mesh->first_delta + k * mesh->vertex_count + local];
-        for (int c = 0; c < 3; c++) p[c] += w * d->position[c], n[c] += w * d->normal[c];
+        for (int c = 0; c < 3; c++)
+            p[c] += w * d->position[c], n[c] += w * d->normal[c];
     }
     /* The joint matrices are blended first, then applied, as deform.comp does. */
     float m[16] = {0};
-    if (mesh->skin_sets == 0) sc_mat4_identity(m);
+    if (mesh->skin_sets == 0)
+        sc_mat4_identity(m);
     for (uint32_t set = 0; set < mesh->skin_sets; set++) {
         const sc_skin_influence *in =
             &s->influences[mesh->first_influence + set * mesh->vertex_count + local];
         for (int i = 0; i < 4; i++) {
-            if (in->weights[i] == 0.0f) continue;
+            if (in->weights[i] == 0.0f)
+                continue;
             const float *J = &s->pose_matrices[16 * (mesh->first_pose_matrix + in->joints[i])];
-            for (int e = 0; e < 16; e++) m[e] += in->weights[i] * J[e];
+            for (int e = 0; e < 16; e++)
+                m[e] += in->weights[i] * J[e];
         }
     }
     for (int r = 0; r < 3; r++) {
         out_pos[r] = m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
-        if (out_normal) out_normal[r] = m[r] * n[0] + m[4 + r] * n[1] + m[8 + r] * n[2];
+        if (out_normal)
+            out_normal[r] = m[r] * n[0] + m[4 + r] * n[1] + m[8 + r] * n[2];
     }
 }
