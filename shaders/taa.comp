@@ -66,6 +66,25 @@ layout(set = 0, binding = XS_TF_BIND_NEXT_XFORM, std430) writeonly buffer XsTfNe
 {
     mat4 tf_next_xform[];
 };
+layout(set = 0, binding = XS_TF_BIND_PREV_POS, std430) readonly buffer XsTfPrevPos
+{
+    vec4 tf_prev_pos[];
+};
+
+/** A skinned or morphed surface's motion in object space at the pixel's hit (hit ids: instance,
+ *  primitive, barycentrics): last frame's posed point minus this frame's (0 for rigid meshes,
+ *  whose prev positions equal their vertices). */
+vec3 deform_motion(uvec4 hid)
+{
+    uint base = instances[hid.x].first_index + 3u * hid.y;
+    vec2 b = uintBitsToFloat(hid.zw);
+    vec3 w = vec3(1.0 - b.x - b.y, b.x, b.y), d = vec3(0.0);
+    for (uint c = 0u; c < 3u; c++) {
+        uint vi = indices[base + c];
+        d += w[c] * (tf_prev_pos[vi].xyz - vertices[vi].position_u.xyz);
+    }
+    return d;
+}
 
 vec3 rgb_to_ycocg(vec3 c)
 {
@@ -136,6 +155,8 @@ vec4 reproject_eye_space(uvec2 px, uint eye, float depth, uint inst)
      * transpose of object_to_world's, so its transpose inverts the linear part */
     xs_instance in_ = instances[inst];
     vec3 p_obj = transpose(mat3(in_.normal_to_world)) * (p_world - in_.object_to_world[3].xyz);
+    if (tfp.deform != 0u)
+        p_obj += deform_motion(imageLoad(tf_hitid, ivec3(px, eye)));
     vec4 p_prev = tf_prev_xform[inst] * vec4(p_obj, 1.0);
     return vec4((prev_view * p_prev).xyz, 1.0);
 }

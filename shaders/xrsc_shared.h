@@ -255,4 +255,55 @@ _Static_assert(sizeof(xs_light) == 64, "xs_light layout");
 _Static_assert(offsetof(xs_light, type) == 48, "xs_light layout");
 #endif
 
+/* ---- deformation pass (deform.comp, gpu_deform.c): skins and morph targets posed on the GPU
+ * each frame into the scene's vertices[] (which the BLAS of a deformed mesh is built from) ---- */
+#define XS_DEFORM_BIND_VERTICES 0   /* buffer xs_vertex[]: the scene's vertices; posed ones written */
+#define XS_DEFORM_BIND_REST 1       /* readonly xs_vertex[]: rest vertices of the deformed meshes */
+#define XS_DEFORM_BIND_INFLUENCES 2 /* readonly xs_skin_influence[] (sc_scene.influences) */
+#define XS_DEFORM_BIND_DELTAS 3     /* readonly xs_morph_delta[] (sc_scene.deltas) */
+#define XS_DEFORM_BIND_MATRICES 4   /* readonly mat4[]: joint matrices (sc_scene.pose_matrices) */
+#define XS_DEFORM_BIND_WEIGHTS 5    /* readonly float[]: morph weights (sc_scene.pose_weights) */
+#define XS_DEFORM_BIND_PREV 6       /* buffer vec4[]: last frame's posed object-space position of
+                                     * every scene vertex (xyz; static vertices: never written) */
+#define XS_DEFORM_GROUP_SIZE 64
+
+/* Four skin influences of one vertex (one JOINTS_n/WEIGHTS_n set; joints index the skin). */
+XS_STRUCT(xs_skin_influence)
+{
+    xs_uvec4 joints;
+    xs_vec4 weights;
+} XS_END(xs_skin_influence);
+
+/* One morph target's displacement of one vertex (w unused). */
+XS_STRUCT(xs_morph_delta)
+{
+    xs_vec4 position;
+    xs_vec4 normal;
+    xs_vec4 tangent;
+} XS_END(xs_morph_delta);
+
+/* Push constants of one dispatch of deform.comp: one deformed mesh (sc_mesh fields). */
+XS_STRUCT(xs_deform_push)
+{
+    xs_uint first_vertex;    /* in vertices[] */
+    xs_uint vertex_count;
+    xs_uint rest_base;       /* its first vertex in the rest copy */
+    xs_uint first_influence; /* set k of vertex v: first_influence + k * vertex_count + v */
+    xs_uint skin_sets;       /* 0: no skin */
+    xs_uint first_matrix;
+    xs_uint first_delta;     /* target k of vertex v: first_delta + k * vertex_count + v */
+    xs_uint target_count;
+    xs_uint first_weight;
+    xs_uint keep_prev;       /* 1: prev = the position before this pass (a frame step); 0: no
+                              * motion (prev = the new pose) */
+    xs_uint joint_count;     /* matrices from first_matrix */
+    xs_uint pad0;
+} XS_END(xs_deform_push);
+
+#ifndef XRSC_GLSL
+_Static_assert(sizeof(xs_skin_influence) == 32, "xs_skin_influence layout");
+_Static_assert(sizeof(xs_morph_delta) == 48, "xs_morph_delta layout");
+_Static_assert(sizeof(xs_deform_push) == 48, "xs_deform_push layout");
+#endif
+
 #endif /* XRSC_SHARED_H */

@@ -32,6 +32,8 @@
 #define XS_TF_BIND_REPROJ 25     /* rgba32f, debug only: reprojected history (rgb), tap weight (a) */
 #define XS_TF_BIND_PREV_XFORM 26 /* readonly buffer mat4[]: object_to_world of the last frame */
 #define XS_TF_BIND_NEXT_XFORM 27 /* buffer mat4[]: this frame's, copied to PREV_XFORM after */
+#define XS_TF_BIND_PREV_POS 28   /* readonly buffer vec4[]: last frame's posed object-space
+                                  * position per scene vertex (gpu_deform.h), when deform = 1 */
 
 #define XS_TF_GROUP 8u /* local size x and y of taa.comp */
 
@@ -75,7 +77,8 @@ XS_STRUCT(xs_tf_params)
     xs_float min_weight;
     xs_uint instance_count; /* entries of the transform buffers */
     xs_uint debug;          /* 1: write XS_TF_BIND_REPROJ */
-    xs_uint pad0, pad1;
+    xs_uint deform;         /* 1: PREV_POS follows skinned/morphed surfaces (issue 21) */
+    xs_uint pad1;
 } XS_END(xs_tf_params);
 
 #ifndef XRSC_GLSL

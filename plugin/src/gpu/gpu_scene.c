@@ -5,6 +5,7 @@
  */
 #include "gpu_scene.h"
 
+#include "gpu_deform.h"
 #include "gpu_timer.h"
 #include "u_diag.h"
 #include "xrsc_shared.h"
@@ -62,6 +63,21 @@ struct gpu_scene {
     xs_instance *host_instances; /**< CPU copy of instances[] */
     uint32_t emitter_count;
     double blas_ms, tlas_ms;
+
+    /* skins and morph targets (gpu_deform.h): posed into vertices[], then their BLAS updated */
+    gpu_deform *deform;           /**< NULL when no mesh deforms */
+    bool deform_pending;          /**< a pose staged, not yet recorded */
+    bool prev_stale;              /**< prev[] holds the pose before the last step: a frame
+                                   *   without a new pose sets prev[] = the pose (no motion) */
+    bool deform_off;              /**< tests: the pose is staged but never recorded */
+    bool deform_rebuild;          /**< the pending BLAS update rebuilds (else refits) */
+    gpu_blas_mode blas_mode;
+    uint32_t deform_mesh_count;
+    sc_mesh *deform_meshes;       /**< copy of each deformed mesh (its BLAS inputs) */
+    uint32_t *deform_blas;        /**< its BLAS (mesh index) */
+    gpu_buffer deform_scratch;    /**< per deformed BLAS: max(build, update) scratch */
+    VkDeviceSize *deform_scratch_offsets;
+    uint32_t blas_rebuilds, blas_refits;
 };
 
 static VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
@@ -134,8 +150,11 @@ static xrsc_result upload_vertices(gpu_context *ctx, gpu_scene *gs, const sc_sce
                                    xrsc_diag *diag)
 {
     VkDeviceSize bytes = (VkDeviceSize)scene->vertex_count * sizeof(xs_vertex);
+    /* TRANSFER_SRC: tests read the posed vertices back (gpu_scene_download_vertices) */
     xrsc_result res = gpu_buffer_create_with_data(ctx, NULL, bytes,
-                                                  GPU_SCENE_INPUT_USAGE, &gs->vertices, diag);
+                                                  GPU_SCENE_INPUT_USAGE |
+                                                      VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                                  &gs->vertices, diag);
     const uint32_t per_chunk = (uint32_t)(GPU_UPLOAD_CHUNK_BYTES / sizeof(xs_vertex));
     xs_vertex *v = res == XRSC_OK ? malloc((size_t)per_chunk * sizeof(*v)) : NULL;
     if (res == XRSC_OK && !v)
@@ -690,7 +709,11 @@ static void blas_geometry(const gpu_scene *gs, const sc_mesh *mesh,
     *info = (VkAccelerationStructureBuildGeometryInfoKHR){
         .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR,
         .type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
-        .flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR,
+        /* a deformed mesh's BLAS is refitted as it moves (gpu_scene_cmd_deform) */
+        .flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR |
+                 (mesh->deform_node != SC_NO_DEFORM
+                      ? VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR
+                      : 0),
         .mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR,
         .geometryCount = 1,
         .pGeometries = geom,
@@ -848,6 +871,163 @@ done:
     return res;
 }
 
+/* ---- skins and morph targets: GPU pose, then a BLAS refit or rebuild ---- */
+
+static VkDeviceSize scratch_alignment(const gpu_context *ctx)
+{
+    VkDeviceSize a = ctx->as_properties.minAccelerationStructureScratchOffsetAlignment;
+    return a ? a : 256;
+}
+
+/** The deformation pass, and the load-time pose written before the first BLAS build. */
+static xrsc_result deform_create(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                 xrsc_diag *diag)
+{
+    xrsc_result res = gpu_deform_create(ctx, scene, &gs->vertices, &gs->deform, diag);
+    if (res != XRSC_OK || !gs->deform)
+        return res;
+    VkCommandBuffer cmd;
+    if ((res = gpu_cmd_begin(ctx, &cmd, diag)) != XRSC_OK)
+        return res;
+    gpu_deform_cmd(gs->deform, cmd, false);
+    return gpu_cmd_submit_wait(ctx, cmd, diag);
+}
+
+/** The deformed meshes' BLAS inputs and one scratch with a range per BLAS. */
+static xrsc_result deform_scratch_create(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene,
+                                         xrsc_diag *diag)
+{
+    if (!gs->deform)
+        return XRSC_OK;
+    uint32_t n = scene->deform_mesh_count;
+    gs->deform_meshes = calloc(n, sizeof(sc_mesh));
+    gs->deform_blas = calloc(n, sizeof(uint32_t));
+    gs->deform_scratch_offsets = calloc(n, sizeof(VkDeviceSize));
+    if (!gs->deform_meshes || !gs->deform_blas || !gs->deform_scratch_offsets)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, scene->path, 0, "", "out of memory");
+    VkDeviceSize align = scratch_alignment(ctx), total = 0;
+    for (uint32_t m = 0; m < scene->mesh_count && gs->deform_mesh_count < n; m++) {
+        const sc_mesh *mesh = &scene->meshes[m];
+        if (mesh->deform_node == SC_NO_DEFORM)
+            continue;
+        VkAccelerationStructureGeometryKHR geom;
+        VkAccelerationStructureBuildGeometryInfoKHR info;
+        blas_geometry(gs, mesh, &geom, &info);
+        uint32_t prims = mesh->index_count / 3;
+        VkAccelerationStructureBuildSizesInfoKHR sizes = {
+            .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+        ctx->vk.GetAccelerationStructureBuildSizesKHR(
+            ctx->device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &prims, &sizes);
+        VkDeviceSize need = sizes.buildScratchSize > sizes.updateScratchSize
+                                ? sizes.buildScratchSize
+                                : sizes.updateScratchSize;
+        gs->deform_meshes[gs->deform_mesh_count] = *mesh;
+        gs->deform_blas[gs->deform_mesh_count] = m;
+        gs->deform_scratch_offsets[gs->deform_mesh_count++] = total;
+        total += align_up(need, align);
+    }
+    return gpu_buffer_create(ctx, total + align,
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                 VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                             GPU_MEMORY_DEVICE, &gs->deform_scratch, diag);
+}
+
+/** Stages the scene's pose and chooses refit or rebuild (gpu_blas_mode, the pose's drift). */
+static void stage_deform(gpu_context *ctx, gpu_scene *gs, const sc_scene *scene)
+{
+    if (!gs->deform || gs->deform_off)
+        return;
+    gpu_deform_stage(ctx, gs->deform, scene);
+    gs->deform_rebuild = gs->blas_mode == GPU_BLAS_REBUILD ||
+                         (gs->blas_mode == GPU_BLAS_AUTO &&
+                          gpu_deform_drift(gs->deform, scene) > GPU_BLAS_REBUILD_DRIFT);
+    if (gs->deform_rebuild)
+        gpu_deform_mark_built(gs->deform, scene);
+    gs->deform_pending = true;
+}
+
+/** Refits (UPDATE from itself) or rebuilds each deformed mesh's BLAS from vertices[]. */
+static void cmd_blas_update(gpu_context *ctx, gpu_scene *gs, VkCommandBuffer cmd, bool rebuild)
+{
+    /* earlier reads of these BLAS (shaders, the TLAS build) before they are rewritten */
+    VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                          .srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR,
+                          .dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR |
+                                           VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR};
+    vkCmdPipelineBarrier(cmd,
+                         VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR |
+                             VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                         VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, 0, 1, &mb, 0,
+                         NULL, 0, NULL);
+    VkDeviceAddress base = align_up(gs->deform_scratch.address, scratch_alignment(ctx));
+    for (uint32_t k = 0; k < gs->deform_mesh_count; k++) {
+        VkAccelerationStructureGeometryKHR geom;
+        VkAccelerationStructureBuildGeometryInfoKHR info;
+        blas_geometry(gs, &gs->deform_meshes[k], &geom, &info);
+        VkAccelerationStructureKHR as = gs->blas[gs->deform_blas[k]].handle;
+        info.mode = rebuild ? VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR
+                            : VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR;
+        info.srcAccelerationStructure = rebuild ? VK_NULL_HANDLE : as;
+        info.dstAccelerationStructure = as;
+        info.scratchData.deviceAddress = base + gs->deform_scratch_offsets[k];
+        VkAccelerationStructureBuildRangeInfoKHR range = {
+            .primitiveCount = gs->deform_meshes[k].index_count / 3};
+        const VkAccelerationStructureBuildRangeInfoKHR *range_ptr = &range;
+        ctx->vk.CmdBuildAccelerationStructuresKHR(cmd, 1, &info, &range_ptr);
+    }
+    if (rebuild)
+        gs->blas_rebuilds++;
+    else
+        gs->blas_refits++;
+}
+
+bool gpu_scene_cmd_deform(gpu_context *ctx, gpu_scene *gs, VkCommandBuffer cmd, gpu_timer *timer)
+{
+    if (!gs->deform)
+        return false;
+    /* A scene with deformed meshes always has both passes (empty when no pose is pending), so
+     * every frame lists the same passes (the bench's per-pass columns). */
+    bool pending = gs->deform_pending;
+    gs->deform_pending = false;
+    uint32_t pass = timer ? gpu_timer_cmd_begin(cmd, timer, GPU_PASS_SKIN) : 0;
+    if (pending || gs->prev_stale)
+        gpu_deform_cmd(gs->deform, cmd, pending);
+    gs->prev_stale = pending;
+    if (timer)
+        gpu_timer_cmd_end(cmd, timer, pass);
+    pass = timer ? gpu_timer_cmd_begin(cmd, timer, GPU_PASS_BLAS_UPDATE) : 0;
+    if (pending)
+        cmd_blas_update(ctx, gs, cmd, gs->deform_rebuild);
+    if (timer)
+        gpu_timer_cmd_end(cmd, timer, pass);
+    if (pending)
+        cmd_as_barrier(cmd);
+    return pending;
+}
+
+void gpu_scene_set_blas_mode(gpu_scene *gs, gpu_blas_mode mode) { gs->blas_mode = mode; }
+void gpu_scene_set_deform_enabled(gpu_scene *gs, bool enabled) { gs->deform_off = !enabled; }
+uint32_t gpu_scene_deform_mesh_count(const gpu_scene *gs) { return gs->deform_mesh_count; }
+
+void gpu_scene_blas_update_counts(const gpu_scene *gs, uint32_t *out_rebuilds,
+                                  uint32_t *out_refits)
+{
+    *out_rebuilds = gs->blas_rebuilds;
+    *out_refits = gs->blas_refits;
+}
+
+const gpu_buffer *gpu_scene_prev_positions(const gpu_scene *gs)
+{
+    return gs->deform ? gpu_deform_prev(gs->deform) : NULL;
+}
+
+xrsc_result gpu_scene_download_vertices(gpu_context *ctx, const gpu_scene *gs, uint32_t first,
+                                        uint32_t count, void *dst, xrsc_diag *diag)
+{
+    return gpu_buffer_download(ctx, &gs->vertices, (VkDeviceSize)first * sizeof(xs_vertex), dst,
+                               (VkDeviceSize)count * sizeof(xs_vertex), diag);
+}
+
 xrsc_result gpu_scene_create(gpu_context *ctx, const sc_scene *scene, gpu_scene **out,
                              xrsc_diag *diag)
 {
@@ -885,7 +1065,13 @@ xrsc_result gpu_scene_create(gpu_context *ctx, const sc_scene *scene, gpu_scene 
                             &gs->instances_staging, diag);
     if (res != XRSC_OK)
         goto fail;
+    res = deform_create(ctx, gs, scene, diag);
+    if (res != XRSC_OK)
+        goto fail;
     res = build_accels(ctx, gs, scene, diag);
+    if (res != XRSC_OK)
+        goto fail;
+    res = deform_scratch_create(ctx, gs, scene, diag);
     if (res != XRSC_OK)
         goto fail;
     U_LOG_D("%s: %u meshes, %u instances, %u emitters, BLAS %.3f ms, TLAS %.3f ms", scene->path,
@@ -906,6 +1092,11 @@ void gpu_scene_destroy(gpu_context *ctx, gpu_scene **pgs)
         vkDeviceWaitIdle(ctx->device);
     accel_destroy(ctx, &gs->tlas);
     gpu_buffer_destroy(ctx, &gs->tlas_scratch);
+    gpu_deform_destroy(ctx, &gs->deform);
+    gpu_buffer_destroy(ctx, &gs->deform_scratch);
+    free(gs->deform_meshes);
+    free(gs->deform_blas);
+    free(gs->deform_scratch_offsets);
     gpu_buffer_destroy(ctx, &gs->tlas_instances);
     gpu_buffer_destroy(ctx, &gs->instances_staging);
     if (gs->blas)
@@ -943,6 +1134,7 @@ xrsc_result gpu_scene_stage_instances(gpu_context *ctx, gpu_scene *gs, const sc_
         fill_lights(scene, gs->lights.mapped);
         gpu_buffer_flush(ctx, &gs->lights);
     }
+    stage_deform(ctx, gs, scene);
     if (gs->instance_count == 0)
         return XRSC_OK;
     fill_host_instances(gs, scene, true);
@@ -1015,12 +1207,23 @@ xrsc_result gpu_scene_update_instances(gpu_context *ctx, gpu_scene *gs, const sc
     res = gpu_cmd_begin(ctx, &cmd, diag);
     if (res != XRSC_OK)
         return res;
+    gpu_scene_cmd_deform(ctx, gs, cmd, NULL);
     gpu_scene_cmd_update(ctx, gs, cmd);
     return gpu_cmd_submit_wait(ctx, cmd, diag);
 }
 
 xrsc_result gpu_scene_clear_motion(gpu_context *ctx, gpu_scene *gs, xrsc_diag *diag)
 {
+    if (gs->deform) { /* prev[] = the current pose */
+        VkCommandBuffer cmd;
+        xrsc_result res = gpu_cmd_begin(ctx, &cmd, diag);
+        if (res != XRSC_OK)
+            return res;
+        gpu_deform_cmd(gs->deform, cmd, false);
+        gs->prev_stale = false;
+        if ((res = gpu_cmd_submit_wait(ctx, cmd, diag)) != XRSC_OK)
+            return res;
+    }
     for (uint32_t i = 0; i < gs->instance_count; i++)
         gs->host_instances[i].prev_object_to_world = gs->host_instances[i].object_to_world;
     return gpu_buffer_upload(ctx, &gs->instances, 0, gs->host_instances,

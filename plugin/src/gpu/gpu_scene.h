@@ -5,7 +5,9 @@
  *        TLAS with one instance per scene instance (updatable for animation).
  *
  * Conventions (the contract with the shaders, see xrsc_shared.h):
- * - vertices[]: sc_scene.vertices in order, as xs_vertex;
+ * - vertices[]: sc_scene.vertices in order, as xs_vertex; a deformed mesh's (skin, morph
+ *   targets) hold its current pose (object space of its instance), written on the GPU by
+ *   gpu_scene_cmd_deform;
  * - indices[]: ABSOLUTE vertex indices (as sc_scene stores them), so a shader reads
  *   vertices[indices[first_index + 3t + c]];
  * - instance i of sc_scene = TLAS instance i (instanceCustomIndex i, mask 0xFF, SBT offset 0,
@@ -27,6 +29,7 @@
 #pragma once
 
 #include "gpu_pipeline.h"
+#include "gpu_timer.h"
 #include "sc_scene.h"
 
 #ifdef __cplusplus
@@ -60,6 +63,39 @@ xrsc_result gpu_scene_update_instances(gpu_context *ctx, gpu_scene *gs, const sc
                                        xrsc_diag *diag);
 /** Sets prev_object_to_world = object_to_world for every instance (no motion). */
 xrsc_result gpu_scene_clear_motion(gpu_context *ctx, gpu_scene *gs, xrsc_diag *diag);
+
+/**
+ * Skins and morph targets (sc_mesh deformation): gpu_scene_stage_instances also stages the
+ * scene's pose; gpu_scene_cmd_deform then records pass GPU_PASS_SKIN (deform.comp poses the
+ * deformed meshes into vertices[], keeping the last frame's positions, gpu_deform.h) and pass
+ * GPU_PASS_BLAS_UPDATE (their BLAS refitted or rebuilt from vertices[]), with the barriers
+ * between and after; returns false when no pose is pending (a scene with deformed meshes
+ * still records both passes, empty, so every frame has the same passes). Record it before
+ * gpu_scene_cmd_update, whose TLAS update takes the new BLAS bounds. Scenes without deformed
+ * meshes record nothing and their BLAS are built as before (no ALLOW_UPDATE).
+ * BLAS mode: GPU_BLAS_AUTO (zero, the default) refits until the pose drifted more than
+ * GPU_BLAS_REBUILD_DRIFT (gpu_deform_drift: displacement bound / mesh radius) from the pose
+ * of the last build, then rebuilds; REFIT and REBUILD force one (for measurements).
+ */
+typedef enum gpu_blas_mode { GPU_BLAS_AUTO = 0, GPU_BLAS_REFIT, GPU_BLAS_REBUILD } gpu_blas_mode;
+#define GPU_BLAS_REBUILD_DRIFT 0.5f
+#define GPU_PASS_SKIN "skin"
+#define GPU_PASS_BLAS_UPDATE "blas"
+/** timer may be NULL (no passes timed). */
+bool gpu_scene_cmd_deform(gpu_context *ctx, gpu_scene *gs, VkCommandBuffer cmd, gpu_timer *timer);
+void gpu_scene_set_blas_mode(gpu_scene *gs, gpu_blas_mode mode);
+/** Tests: false stops posing on the GPU (vertices[] and the BLAS keep the last pose). */
+void gpu_scene_set_deform_enabled(gpu_scene *gs, bool enabled);
+uint32_t gpu_scene_deform_mesh_count(const gpu_scene *gs);
+/** BLAS updates recorded so far: rebuilds and refits. */
+void gpu_scene_blas_update_counts(const gpu_scene *gs, uint32_t *out_rebuilds,
+                                  uint32_t *out_refits);
+/** Last frame's posed object-space position per scene vertex (vec4), NULL without deformed
+ *  meshes (see gpu_deform.h). */
+const gpu_buffer *gpu_scene_prev_positions(const gpu_scene *gs);
+/** Reads count xs_vertex of vertices[] from first into dst (tests; waits). */
+xrsc_result gpu_scene_download_vertices(gpu_context *ctx, const gpu_scene *gs, uint32_t first,
+                                        uint32_t count, void *dst, xrsc_diag *diag);
 
 /** Writes the scene bindings of set 0 (TLAS, vertices, indices, instances, materials,
  *  emitters, environment map, lights, textures) into d. */

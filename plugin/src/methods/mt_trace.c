@@ -155,9 +155,13 @@ static void cmd_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkA
     vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &mb, 0, NULL, 0, NULL);
 }
 
-/** Records pass MT_PASS_TLAS: the scene's pending instance update (gpu_scene_cmd_update). */
+/** Records passes GPU_PASS_SKIN and GPU_PASS_BLAS_UPDATE (the scene's pending pose, only for
+ *  scenes with skins or morph targets) and MT_PASS_TLAS: the scene's pending instance update
+ *  (gpu_scene_cmd_update). */
 static void cmd_scene_update(mt_trace *t, VkCommandBuffer cmd)
 {
+    /* skinned and morphed meshes first: the TLAS update takes their new BLAS bounds */
+    gpu_scene_cmd_deform(t->env.gpu, t->env.scene, cmd, &t->timer);
     uint32_t pass = gpu_timer_cmd_begin(cmd, &t->timer, MT_PASS_TLAS);
     gpu_scene_cmd_update(t->env.gpu, t->env.scene, cmd);
     gpu_timer_cmd_end(cmd, &t->timer, pass);

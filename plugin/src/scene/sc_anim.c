@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file sc_anim.c
- * @brief Node animation (glTF 2.0 §3.11: LINEAR, STEP, CUBICSPLINE) and world transforms.
+ * @brief Node animation (glTF 2.0 §3.11: LINEAR, STEP, CUBICSPLINE; T/R/S and morph weights)
+ *        and world transforms.
  */
 #include "sc_scene.h"
 #include "sc_xform.h"
@@ -20,10 +21,10 @@ static uint32_t find_segment(const float *times, uint32_t n, float t)
     return lo;
 }
 
-/** Value of channel ch at time t into out (3 or 4 floats). */
+/** Value of channel ch at time t into out (ch->components floats). */
 static void sample_channel(const sc_anim_channel *ch, float t, float *out)
 {
-    uint32_t nc = ch->path == SC_ANIM_ROTATION ? 4 : 3;
+    uint32_t nc = ch->components;
     uint32_t n = ch->key_count;
     bool cubic = ch->interp == SC_INTERP_CUBICSPLINE;
     /* CUBICSPLINE stores (in-tangent, value, out-tangent) per key (glTF §3.11.2). */
@@ -72,6 +73,10 @@ void sc_scene_evaluate(sc_scene *scene, double time_s)
     for (uint32_t c = 0; c < scene->channel_count; c++) {
         const sc_anim_channel *ch = &scene->channels[c];
         sc_node *node = &scene->nodes[ch->node];
+        if (ch->path == SC_ANIM_WEIGHTS) {
+            sample_channel(ch, (float)t, &scene->node_weights[node->first_weight]);
+            continue;
+        }
         float *dst = ch->path == SC_ANIM_TRANSLATION ? node->translation
                      : ch->path == SC_ANIM_ROTATION  ? node->rotation
                                                      : node->scale;
@@ -90,4 +95,5 @@ void sc_scene_evaluate(sc_scene *scene, double time_s)
         if (in->has_local) sc_mat4_mul(scene->nodes[in->node].world, in->local, in->world);
         else memcpy(in->world, scene->nodes[in->node].world, sizeof in->world);
     }
+    sc_scene_pose(scene);
 }

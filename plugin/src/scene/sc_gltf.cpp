@@ -633,6 +633,66 @@ void fill_instancing(const tinygltf::Node &n, sc_gltf_node *o)
 }
 
 /** Fills doc from the loaded model. Returns XRSC_OK or an error for malformed node data. */
+/** Accessor of attribute `key` of a primitive or morph target, -1 when absent. */
+int32_t attribute(const std::map<std::string, int> &attrs, const std::string &key)
+{
+    auto a = attrs.find(key);
+    return a != attrs.end() ? a->second : -1;
+}
+
+/** Skins, JOINTS_n / WEIGHTS_n, morph targets and morph weights (after meshes and nodes are
+ *  filled, in the same order). False when out of memory. */
+bool fill_deform(const tinygltf::Model &m, sc_gltf_doc *doc)
+{
+    size_t nt = 0, nw = 0, nj = 0, p = 0;
+    for (const tinygltf::Mesh &mesh : m.meshes) {
+        nw += mesh.weights.size();
+        for (const tinygltf::Primitive &pr : mesh.primitives) nt += pr.targets.size();
+    }
+    for (const tinygltf::Node &n : m.nodes) nw += n.weights.size();
+    for (const tinygltf::Skin &sk : m.skins) nj += sk.joints.size();
+    doc->targets = alloc_array<sc_gltf_target>(nt);
+    doc->weights = alloc_array<float>(nw);
+    doc->skins = alloc_array<sc_gltf_skin>(m.skins.size());
+    doc->skin_joints = alloc_array<int32_t>(nj);
+    if ((nt && !doc->targets) || (nw && !doc->weights) || (nj && !doc->skin_joints) ||
+        (m.skins.size() && !doc->skins))
+        return false;
+    for (size_t i = 0; i < m.meshes.size(); i++) {
+        sc_gltf_mesh *om = &doc->meshes[i];
+        om->first_weight = doc->weight_count;
+        om->weight_count = (uint32_t)m.meshes[i].weights.size();
+        for (double w : m.meshes[i].weights) doc->weights[doc->weight_count++] = clamp_float(w);
+        for (const tinygltf::Primitive &pr : m.meshes[i].primitives) {
+            sc_gltf_primitive *o = &doc->primitives[p++];
+            for (int k = 0; k < SC_GLTF_MAX_JOINT_SETS; k++) {
+                o->joints[k] = attribute(pr.attributes, "JOINTS_" + std::to_string(k));
+                o->weights[k] = attribute(pr.attributes, "WEIGHTS_" + std::to_string(k));
+            }
+            if (attribute(pr.attributes, "JOINTS_" + std::to_string(SC_GLTF_MAX_JOINT_SETS)) >= 0)
+                sc_gltf_note(doc, "JOINTS_n beyond JOINTS_3");
+            o->first_target = doc->target_count;
+            o->target_count = (uint32_t)pr.targets.size();
+            for (const auto &t : pr.targets)
+                doc->targets[doc->target_count++] = {attribute(t, "POSITION"),
+                                                      attribute(t, "NORMAL"),
+                                                      attribute(t, "TANGENT")};
+        }
+    }
+    for (size_t i = 0; i < m.nodes.size(); i++) {
+        doc->nodes[i].first_weight = doc->weight_count;
+        doc->nodes[i].weight_count = (uint32_t)m.nodes[i].weights.size();
+        for (double w : m.nodes[i].weights) doc->weights[doc->weight_count++] = clamp_float(w);
+    }
+    doc->skin_count = (uint32_t)m.skins.size();
+    for (size_t i = 0; i < m.skins.size(); i++) {
+        doc->skins[i] = {m.skins[i].inverseBindMatrices, doc->skin_joint_count,
+                         (uint32_t)m.skins[i].joints.size()};
+        for (int j : m.skins[i].joints) doc->skin_joints[doc->skin_joint_count++] = j;
+    }
+    return true;
+}
+
 xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_gltf_doc *doc,
                      xrsc_diag *diag)
 {
@@ -640,7 +700,6 @@ xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_glt
     tinygltf::Model &m = di.model;
     for (const std::string &ext : m.extensionsUsed)
         if (!is_supported_extension(ext)) sc_gltf_note_extension(doc, ext.c_str());
-    if (!m.skins.empty()) sc_gltf_note(doc, "skins");
 
     // The file's buffers, then one per meshopt-decoded view.
     size_t nbuf = m.buffers.size() + di.decoded.size();
@@ -712,7 +771,6 @@ xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_glt
             if (a != pr.attributes.end()) o->tangent = a->second;
             a = pr.attributes.find("TEXCOORD_0");
             if (a != pr.attributes.end()) o->texcoord0 = a->second;
-            if (!pr.targets.empty()) sc_gltf_note(doc, "morph targets");
         }
     }
 
@@ -982,7 +1040,8 @@ xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_glt
                (child_total && !doc->children) || (m.nodes.size() && !doc->nodes) ||
                (chan_total && !doc->channels) || (root_total && !doc->roots) ||
                (m.scenes.size() && !doc->scenes);
-    if (oom) return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, name, 0, "", "out of memory");
+    if (oom || !fill_deform(m, doc))
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, name, 0, "", "out of memory");
     return XRSC_OK;
 }
 
@@ -1249,6 +1308,10 @@ extern "C" void sc_gltf_doc_destroy(sc_gltf_doc **pdoc)
     free(doc->channels);
     free(doc->scenes);
     free(doc->roots);
+    free(doc->targets);
+    free(doc->weights);
+    free(doc->skins);
+    free(doc->skin_joints);
     free(doc);
     *pdoc = nullptr;
 }

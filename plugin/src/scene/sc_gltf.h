@@ -66,14 +66,33 @@ typedef struct sc_gltf_accessor {
     size_t sparse_values_offset;
 } sc_gltf_accessor;
 
+/** JOINTS_n / WEIGHTS_n sets read per primitive (each gives 4 influences per vertex). */
+#define SC_GLTF_MAX_JOINT_SETS 4
+
 typedef struct sc_gltf_primitive {
     int32_t mode; /**< glTF mode (default 4 filled in) */
     int32_t position, normal, tangent, texcoord0, indices, material; /**< accessor/material or -1 */
+    /** JOINTS_n and WEIGHTS_n accessors (-1 when absent), n < SC_GLTF_MAX_JOINT_SETS. */
+    int32_t joints[SC_GLTF_MAX_JOINT_SETS], weights[SC_GLTF_MAX_JOINT_SETS];
+    uint32_t first_target, target_count; /**< morph targets: range in sc_gltf_doc.targets */
 } sc_gltf_primitive;
+
+/** One morph target of a primitive: its POSITION / NORMAL / TANGENT delta accessors or -1. */
+typedef struct sc_gltf_target {
+    int32_t position, normal, tangent;
+} sc_gltf_target;
 
 typedef struct sc_gltf_mesh {
     uint32_t first_primitive, primitive_count;
+    uint32_t first_weight, weight_count; /**< mesh.weights: range in sc_gltf_doc.weights */
 } sc_gltf_mesh;
+
+/** glTF skin: joints (node indices) in sc_gltf_doc.skin_joints; inverseBindMatrices accessor
+ *  or -1 (identity). */
+typedef struct sc_gltf_skin {
+    int32_t inverse_bind_matrices;
+    uint32_t first_joint, joint_count;
+} sc_gltf_skin;
 
 typedef struct sc_gltf_texref {
     int32_t texture;   /**< index in textures, -1 when none */
@@ -164,6 +183,7 @@ typedef struct sc_gltf_node {
     char name[64];
     int32_t mesh, camera, light, skin;
     bool has_weights; /**< morph target weights */
+    uint32_t first_weight, weight_count; /**< node.weights: range in sc_gltf_doc.weights */
     bool has_matrix;
     float matrix[16]; /**< column-major, when has_matrix */
     float translation[3], rotation[4], scale[3];
@@ -220,6 +240,10 @@ typedef struct sc_gltf_doc {
     sc_gltf_scene *scenes;       uint32_t scene_count;
     int32_t *roots;              uint32_t roots_count;
     int32_t default_scene; /**< -1 when the file names none */
+    sc_gltf_target *targets;     uint32_t target_count;
+    float *weights;              uint32_t weight_count; /**< mesh and node morph weights */
+    sc_gltf_skin *skins;         uint32_t skin_count;
+    int32_t *skin_joints;        uint32_t skin_joint_count;
     /** Comma-separated names of ignored features, each once (see ::sc_gltf_note). */
     char unsupported[1024];
     /** Comma-separated optional extensions that are ignored, each once: one warning each. */

@@ -88,6 +88,7 @@ typedef struct sc_build {
     const sc_load_options *opt;
     sc_scene *s;
     sc_vec vertices, indices, meshes, textures, instances, emitters;
+    sc_vec influences, deltas; /**< sc_skin_influence, sc_morph_delta (sc_mesh) */
     sc_vec camera_nodes;      /**< int32_t: perspective camera nodes in walk order */
     uint32_t *prim_mesh;      /**< doc primitive → sc mesh, SC_SKIPPED when skipped */
     int32_t *tex_map;         /**< doc texture * 2 + srgb → sc texture, -1 unused */
@@ -695,7 +696,97 @@ static xrsc_result add_mesh(sc_build *b, const sc_gltf_primitive *pr, uint32_t g
     mesh->first_index = o->first_index;
     mesh->index_count = (uint32_t)o->icount;
     mesh->material = pr->material >= 0 ? (uint32_t)pr->material : b->doc->material_count;
+    mesh->deform_node = SC_NO_DEFORM;
     b->prim_mesh[gp] = (uint32_t)(b->meshes.count - 1);
+    return XRSC_OK;
+}
+
+/* ---------------------------------------------------------------- skins, morph targets -- */
+
+/** The file vertex that vertex i of the primitive came from (without NORMAL the triangles
+ *  are unwelded: fill_flat_vertices). */
+static size_t source_vertex(const sc_prim_data *pd, size_t i)
+{
+    return pd->nrm ? i : pd->idx ? (size_t)pd->idx[i] : i;
+}
+
+/** Reads a per-vertex accessor (comps per element) and checks its count against POSITION. */
+static xrsc_result read_per_vertex(sc_build *b, int32_t idx, uint32_t comps, const char *field,
+                                   const sc_prim_data *pd, double **out)
+{
+    size_t n = 0;
+    xrsc_result r = read_accessor(b, idx, comps, field, out, &n);
+    if (r == XRSC_OK && n != pd->vcount)
+        r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                       "%zu elements, POSITION has %zu", n, pd->vcount);
+    return r;
+}
+
+/** Every JOINTS_n / WEIGHTS_n pair of the primitive into b->influences (the last mesh). */
+static xrsc_result read_skin_sets(sc_build *b, uint32_t m, uint32_t p,
+                                  const sc_gltf_primitive *pr, const sc_prim_data *pd)
+{
+    sc_mesh *mesh = (sc_mesh *)b->meshes.data + b->meshes.count - 1;
+    char field[96];
+    mesh->first_influence = (uint32_t)b->influences.count;
+    for (int k = 0; k < SC_GLTF_MAX_JOINT_SETS; k++) {
+        if (pr->joints[k] < 0 || pr->weights[k] < 0) continue;
+        double *j = NULL, *w = NULL;
+        FIELD(field, "meshes[%u].primitives[%u].attributes.JOINTS_%d", m, p, k);
+        xrsc_result r = read_per_vertex(b, pr->joints[k], 4, field, pd, &j);
+        FIELD(field, "meshes[%u].primitives[%u].attributes.WEIGHTS_%d", m, p, k);
+        if (r == XRSC_OK) r = read_per_vertex(b, pr->weights[k], 4, field, pd, &w);
+        sc_skin_influence *in = r == XRSC_OK ? vec_push(&b->influences, mesh->vertex_count) : NULL;
+        if (r == XRSC_OK && !in)
+            r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+        for (uint32_t v = 0; r == XRSC_OK && v < mesh->vertex_count; v++) {
+            size_t src = source_vertex(pd, v);
+            for (int c = 0; c < 4; c++) {
+                double jv = j[src * 4 + c];
+                in[v].joints[c] = jv >= 0.0 && jv < (double)UINT32_MAX ? (uint32_t)jv : UINT32_MAX;
+                in[v].weights[c] = (float)w[src * 4 + c];
+            }
+        }
+        free(j);
+        free(w);
+        if (r != XRSC_OK) return r;
+        mesh->skin_sets++;
+    }
+    return XRSC_OK;
+}
+
+/** The primitive's morph targets (POSITION / NORMAL / TANGENT deltas) into b->deltas. */
+static xrsc_result read_targets(sc_build *b, uint32_t m, uint32_t p, const sc_gltf_primitive *pr,
+                                const sc_prim_data *pd)
+{
+    static const char *const names[3] = {"POSITION", "NORMAL", "TANGENT"};
+    const sc_gltf_doc *d = b->doc;
+    sc_mesh *mesh = (sc_mesh *)b->meshes.data + b->meshes.count - 1;
+    char field[112];
+    if (pr->first_target > d->target_count || pr->target_count > d->target_count - pr->first_target)
+        return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, "meshes",
+                          "internal: bad morph target range");
+    mesh->first_delta = (uint32_t)b->deltas.count;
+    for (uint32_t t = 0; t < pr->target_count; t++) {
+        const sc_gltf_target *gt = &d->targets[pr->first_target + t];
+        const int32_t acc[3] = {gt->position, gt->normal, gt->tangent};
+        if (!vec_push(&b->deltas, mesh->vertex_count))
+            return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+        sc_morph_delta *dl = (sc_morph_delta *)b->deltas.data + b->deltas.count - mesh->vertex_count;
+        for (int a = 0; a < 3; a++) {
+            if (acc[a] < 0) continue;
+            double *v = NULL;
+            FIELD(field, "meshes[%u].primitives[%u].targets[%u].%s", m, p, t, names[a]);
+            xrsc_result r = read_per_vertex(b, acc[a], 3, field, pd, &v);
+            if (r != XRSC_OK) return r;
+            for (uint32_t i = 0; i < mesh->vertex_count; i++) {
+                float *dst = a == 0 ? dl[i].position : a == 1 ? dl[i].normal : dl[i].tangent;
+                for (int c = 0; c < 3; c++) dst[c] = (float)v[source_vertex(pd, i) * 3 + c];
+            }
+            free(v);
+        }
+        mesh->target_count++;
+    }
     return XRSC_OK;
 }
 
@@ -739,6 +830,10 @@ static xrsc_result build_primitive(sc_build *b, uint32_t m, uint32_t p, uint32_t
     t->morton_ms += now_ms() - t0;
     if (r == XRSC_OK)
         r = add_mesh(b, pr, gp, &o);
+    if (r == XRSC_OK)
+        r = read_skin_sets(b, m, p, pr, &pd);
+    if (r == XRSC_OK)
+        r = read_targets(b, m, p, pr, &pd);
     prim_data_free(&pd);
     return r;
 }
@@ -1236,6 +1331,158 @@ static xrsc_result build_nodes(sc_build *b)
     return XRSC_OK;
 }
 
+/** The glTF skins: joint nodes and inverse bind matrices (identity when absent). */
+static xrsc_result build_skins(sc_build *b)
+{
+    const sc_gltf_doc *d = b->doc;
+    sc_scene *s = b->s;
+    char field[96];
+    s->skins = calloc(d->skin_count ? d->skin_count : 1, sizeof(sc_skin));
+    s->skin_joints = calloc(d->skin_joint_count ? d->skin_joint_count : 1, sizeof(uint32_t));
+    s->inverse_binds = calloc((d->skin_joint_count ? d->skin_joint_count : 1) * 16, sizeof(float));
+    if (!s->skins || !s->skin_joints || !s->inverse_binds)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    s->skin_count = d->skin_count;
+    s->skin_joint_total = d->skin_joint_count;
+    for (uint32_t k = 0; k < d->skin_count; k++) {
+        const sc_gltf_skin *g = &d->skins[k];
+        s->skins[k] = (sc_skin){g->first_joint, g->joint_count};
+        for (uint32_t j = 0; j < g->joint_count; j++) {
+            int32_t node = d->skin_joints[g->first_joint + j];
+            FIELD(field, "skins[%u].joints[%u]", k, j);
+            if (node < 0 || (uint32_t)node >= d->node_count)
+                return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                                  "node %d does not exist", node);
+            s->skin_joints[g->first_joint + j] = (uint32_t)node;
+            sc_mat4_identity(&s->inverse_binds[16 * (g->first_joint + j)]);
+        }
+        if (g->inverse_bind_matrices < 0) continue;
+        double *ibm = NULL;
+        size_t n = 0;
+        FIELD(field, "skins[%u].inverseBindMatrices", k);
+        xrsc_result r = read_accessor(b, g->inverse_bind_matrices, 16, field, &ibm, &n);
+        if (r == XRSC_OK && n < g->joint_count)
+            r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                           "%zu matrices for %u joints", n, g->joint_count);
+        for (size_t i = 0; r == XRSC_OK && i < 16 * (size_t)g->joint_count; i++)
+            s->inverse_binds[16 * (size_t)g->first_joint + i] = (float)ibm[i];
+        free(ibm);
+        if (r != XRSC_OK) return r;
+    }
+    return XRSC_OK;
+}
+
+/** Morph targets of document mesh `mesh` (the most over its primitives); 0 when invalid. */
+static uint32_t mesh_target_count(const sc_gltf_doc *d, int32_t mesh)
+{
+    uint32_t n = 0;
+    if (mesh < 0 || (uint32_t)mesh >= d->mesh_count) return 0;
+    const sc_gltf_mesh *gm = &d->meshes[mesh];
+    for (uint32_t p = 0; p < gm->primitive_count && gm->first_primitive + p < d->primitive_count; p++)
+        if (d->primitives[gm->first_primitive + p].target_count > n)
+            n = d->primitives[gm->first_primitive + p].target_count;
+    return n;
+}
+
+/** Each node's skin and morph weights: node.weights, else its mesh's weights, else 0. */
+static xrsc_result build_node_deform(sc_build *b)
+{
+    const sc_gltf_doc *d = b->doc;
+    sc_scene *s = b->s;
+    char field[96];
+    size_t total = 0;
+    for (uint32_t i = 0; i < d->node_count; i++) total += mesh_target_count(d, d->nodes[i].mesh);
+    s->node_weights = calloc(total ? total : 1, sizeof(float));
+    if (!s->node_weights)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    for (uint32_t i = 0; i < d->node_count; i++) {
+        const sc_gltf_node *g = &d->nodes[i];
+        sc_node *n = &s->nodes[i];
+        n->skin = -1;
+        if (g->skin >= 0 && g->mesh >= 0) {
+            FIELD(field, "nodes[%u].skin", i);
+            if ((uint32_t)g->skin >= d->skin_count)
+                return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                                  "skin %d does not exist", g->skin);
+            n->skin = g->skin;
+        }
+        uint32_t count = mesh_target_count(d, g->mesh);
+        n->first_weight = s->node_weight_count;
+        n->weight_count = count;
+        const sc_gltf_mesh *gm = count ? &d->meshes[g->mesh] : NULL;
+        uint32_t from = g->weight_count == count   ? g->first_weight
+                        : gm && gm->weight_count == count ? gm->first_weight
+                                                          : UINT32_MAX;
+        for (uint32_t k = 0; k < count; k++)
+            s->node_weights[n->first_weight + k] = from != UINT32_MAX ? d->weights[from + k] : 0.0f;
+        s->node_weight_count += count;
+    }
+    return XRSC_OK;
+}
+
+/** Marks node ni as the deforming node of the mesh of instance inst (the first node wins). */
+static void note_deform(sc_build *b, int32_t ni, sc_instance *inst)
+{
+    sc_mesh *mesh = (sc_mesh *)b->meshes.data + inst->mesh;
+    bool skinned = mesh->skin_sets && b->s->nodes[ni].skin >= 0;
+    if (!skinned && mesh->target_count == 0) return;
+    inst->animated = inst->animated || b->s->animation_duration_s > 0.0f;
+    if (mesh->deform_node == SC_NO_DEFORM)
+        mesh->deform_node = (uint32_t)ni;
+    else if (mesh->deform_node != (uint32_t)ni)
+        sc_gltf_note(b->doc, "a skinned or morphed mesh on several nodes (all show the first's "
+                             "pose)");
+}
+
+/** Checks the joints of mesh m's influences and places its pose in the pose arrays. */
+static xrsc_result finish_mesh_deform(sc_build *b, sc_mesh *mesh, uint32_t *nm, uint32_t *nw)
+{
+    sc_scene *s = b->s;
+    char field[96];
+    const sc_node *n = &s->nodes[mesh->deform_node];
+    if (n->skin < 0) mesh->skin_sets = 0;
+    mesh->skin_joint_count = mesh->skin_sets ? s->skins[n->skin].joint_count : 0;
+    sc_skin_influence *in = s->influences + mesh->first_influence;
+    for (size_t i = 0; i < (size_t)mesh->skin_sets * mesh->vertex_count; i++)
+        for (int c = 0; c < 4; c++) {
+            if (in[i].weights[c] == 0.0f) in[i].joints[c] = 0;
+            if (in[i].joints[c] < mesh->skin_joint_count) continue;
+            FIELD(field, "nodes[%u].skin", mesh->deform_node);
+            return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                              "a JOINTS_n value %u is not below the skin's %u joints",
+                              in[i].joints[c], mesh->skin_joint_count);
+        }
+    mesh->first_pose_matrix = *nm;
+    mesh->first_pose_weight = *nw;
+    *nm += mesh->skin_joint_count;
+    *nw += mesh->target_count;
+    return XRSC_OK;
+}
+
+/** After the instances: every deformed mesh's pose slots (sc_mesh, sc_scene.pose_*). */
+static xrsc_result finish_deform(sc_build *b)
+{
+    sc_scene *s = b->s;
+    uint32_t nm = 0, nw = 0;
+    for (uint32_t m = 0; m < s->mesh_count; m++) {
+        sc_mesh *mesh = &s->meshes[m];
+        if (mesh->deform_node == SC_NO_DEFORM) continue;
+        xrsc_result r = finish_mesh_deform(b, mesh, &nm, &nw);
+        if (r != XRSC_OK) return r;
+        if (mesh->skin_sets == 0 && mesh->target_count == 0)
+            mesh->deform_node = SC_NO_DEFORM;
+        else
+            s->deform_mesh_count++;
+    }
+    s->pose_matrices = calloc((size_t)(nm ? nm : 1) * 16, sizeof(float));
+    s->pose_weights = calloc(nw ? nw : 1, sizeof(float));
+    if (!s->pose_matrices || !s->pose_weights)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    s->pose_matrix_count = nm;
+    s->pose_weight_count = nw;
+    return XRSC_OK;
+}
+
 /* ---------------------------------------------------------------- animation ------------ */
 
 static xrsc_result build_channels(sc_build *b, bool *node_animated)
@@ -1253,9 +1500,10 @@ static xrsc_result build_channels(sc_build *b, bool *node_animated)
         if ((uint32_t)g->node >= d->node_count)
             return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                               "target node %d does not exist", g->node);
-        if (g->path == SC_GLTF_PATH_WEIGHTS || g->path == SC_GLTF_PATH_OTHER) {
-            sc_gltf_note(d, g->path == SC_GLTF_PATH_WEIGHTS ? "morph target animation"
-                                                            : "animation paths other than T/R/S");
+        bool weights = g->path == SC_GLTF_PATH_WEIGHTS;
+        if (g->path == SC_GLTF_PATH_OTHER || (weights && s->nodes[g->node].weight_count == 0)) {
+            sc_gltf_note(d, weights ? "weights animation of a node without morph targets"
+                                    : "animation paths other than T/R/S/weights");
             continue;
         }
         if (g->input < 0 || g->interp == SC_GLTF_INTERP_OTHER) {
@@ -1263,14 +1511,18 @@ static xrsc_result build_channels(sc_build *b, bool *node_animated)
             return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                               "sampler is missing or has an unknown interpolation");
         }
-        uint32_t nc = g->path == SC_GLTF_PATH_ROTATION ? 4 : 3;
+        uint32_t nc = weights ? s->nodes[g->node].weight_count
+                      : g->path == SC_GLTF_PATH_ROTATION ? 4 : 3;
+        /* weights outputs are SCALAR, nc per key (glTF §3.11.2) */
+        uint32_t acc_comps = weights ? 1 : nc;
+        size_t per_elem = weights ? nc : 1;
         double *times = NULL, *vals = NULL;
         size_t tcount = 0, vcount = 0;
         FIELD(field, "animations[%u].samplers.input", g->animation);
         xrsc_result r = read_accessor(b, g->input, 1, field, &times, &tcount);
         FIELD(field, "animations[%u].samplers.output", g->animation);
-        if (r == XRSC_OK) r = read_accessor(b, g->output, nc, field, &vals, &vcount);
-        size_t per_key = g->interp == SC_GLTF_INTERP_CUBICSPLINE ? 3 : 1;
+        if (r == XRSC_OK) r = read_accessor(b, g->output, acc_comps, field, &vals, &vcount);
+        size_t per_key = (g->interp == SC_GLTF_INTERP_CUBICSPLINE ? 3 : 1) * per_elem;
         if (r == XRSC_OK && (tcount == 0 || vcount != tcount * per_key))
             r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                            "%zu output values for %zu keys (%zu per key expected)", vcount, tcount,
@@ -1284,7 +1536,7 @@ static xrsc_result build_channels(sc_build *b, bool *node_animated)
         sc_anim_channel *ch = &s->channels[s->channel_count];
         if (r == XRSC_OK) {
             ch->times = malloc(tcount * sizeof(float));
-            ch->values = malloc(vcount * nc * sizeof(float));
+            ch->values = malloc(vcount * acc_comps * sizeof(float));
             s->channel_count++; /* counted now so that destroy frees partial arrays */
             if (!ch->times || !ch->values)
                 r = u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
@@ -1293,18 +1545,20 @@ static xrsc_result build_channels(sc_build *b, bool *node_animated)
             ch->node = (uint32_t)g->node;
             ch->path = g->path == SC_GLTF_PATH_TRANSLATION ? SC_ANIM_TRANSLATION
                        : g->path == SC_GLTF_PATH_ROTATION  ? SC_ANIM_ROTATION
+                       : weights                           ? SC_ANIM_WEIGHTS
                                                            : SC_ANIM_SCALE;
+            ch->components = nc;
             ch->interp = g->interp == SC_GLTF_INTERP_LINEAR ? SC_INTERP_LINEAR
                          : g->interp == SC_GLTF_INTERP_STEP ? SC_INTERP_STEP
                                                             : SC_INTERP_CUBICSPLINE;
             ch->key_count = (uint32_t)tcount;
             for (size_t k = 0; k < tcount; k++) ch->times[k] = (float)times[k];
-            for (size_t k = 0; k < vcount * nc; k++) ch->values[k] = (float)vals[k];
+            for (size_t k = 0; k < vcount * acc_comps; k++) ch->values[k] = (float)vals[k];
             if (ch->times[tcount - 1] > s->animation_duration_s)
                 s->animation_duration_s = ch->times[tcount - 1];
             node_animated[g->node] = true;
             /* An animated node uses TRS (the spec forbids animating matrix nodes). */
-            s->nodes[g->node].has_matrix = false;
+            if (!weights) s->nodes[g->node].has_matrix = false;
         }
         free(times);
         free(vals);
@@ -1434,6 +1688,7 @@ static xrsc_result add_node_instances(sc_walk *w, int32_t ni, const sc_gltf_mesh
             inst->animated = w->anim_below[ni];
             inst->has_local = gpu;
             if (gpu) memcpy(inst->local, local + 16 * c, sizeof inst->local);
+            note_deform(b, ni, inst);
         }
     }
     free(local);
@@ -1969,6 +2224,7 @@ static xrsc_result build_scene(sc_build *b)
                 "%u points/lines primitive(s) skipped (xrsc ray traces triangles only)",
                 b->skipped_prims);
 
+    if ((r = build_skins(b)) != XRSC_OK || (r = build_node_deform(b)) != XRSC_OK) return r;
     bool *node_animated = calloc(d->node_count ? d->node_count : 1, sizeof(bool));
     if (!node_animated)
         return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
@@ -1989,6 +2245,10 @@ static xrsc_result build_scene(sc_build *b)
     b->instances.data = NULL;
     b->vertices.count = b->indices.count = b->meshes.count = b->textures.count = 0;
     b->instances.count = 0;
+    s->influences = b->influences.data, s->influence_count = (uint32_t)b->influences.count;
+    s->deltas = b->deltas.data, s->delta_count = (uint32_t)b->deltas.count;
+    b->influences.data = b->deltas.data = NULL;
+    if ((r = finish_deform(b)) != XRSC_OK) return r;
 
     for (uint32_t i = 0; i < s->instance_count; i++)
         s->triangle_count += s->meshes[s->instances[i].mesh].index_count / 3;
@@ -2066,6 +2326,8 @@ static xrsc_result load_memory(const char *name, const void *data, size_t size,
     b.instances.item = sizeof(sc_instance);
     b.emitters.item = sizeof(sc_emitter);
     b.camera_nodes.item = sizeof(int32_t);
+    b.influences.item = sizeof(sc_skin_influence);
+    b.deltas.item = sizeof(sc_morph_delta);
 
     double t0 = now_ms();
     xrsc_result r = sc_gltf_parse(name, data, size, base_dir, &b.doc, diag);
@@ -2098,6 +2360,8 @@ static xrsc_result load_memory(const char *name, const void *data, size_t size,
     free(b.instances.data);
     free(b.emitters.data);
     free(b.camera_nodes.data);
+    free(b.influences.data);
+    free(b.deltas.data);
     free(b.prim_mesh);
     free(b.tex_map);
     free(b.image_warned);
@@ -2190,6 +2454,14 @@ void sc_scene_destroy(sc_scene **pscene)
     free(s->lights);
     free(s->cameras);
     free(s->channels);
+    free(s->skins);
+    free(s->skin_joints);
+    free(s->inverse_binds);
+    free(s->influences);
+    free(s->deltas);
+    free(s->node_weights);
+    free(s->pose_matrices);
+    free(s->pose_weights);
     sc_env_map_free(&s->env_map);
     free(s);
     *pscene = NULL;

@@ -47,7 +47,39 @@ typedef struct sc_mesh {
                                           *   already added). Triangles are in Morton order
                                           *   (see ::sc_morton_sort_triangles). */
     uint32_t material;                   /**< index in sc_scene.materials (a default is added) */
+    /** Deformation (skin and/or morph targets, see sc_skin.c): deform_node is the node whose
+     *  skin and morph weights pose the mesh (SC_NO_DEFORM: a rigid mesh, all fields below 0).
+     *  skin_sets: JOINTS_n/WEIGHTS_n sets; set k of vertex v (0-based in the mesh) is
+     *  sc_scene.influences[first_influence + k * vertex_count + v]. target_count morph
+     *  targets; target k of vertex v is sc_scene.deltas[first_delta + k * vertex_count + v].
+     *  Each frame's pose (::sc_scene_evaluate): skin_joint_count joint matrices from
+     *  sc_scene.pose_matrices[16 * first_pose_matrix] and target_count weights from
+     *  sc_scene.pose_weights[first_pose_weight]. */
+    uint32_t deform_node;
+    uint32_t skin_sets, first_influence, skin_joint_count, first_pose_matrix;
+    uint32_t target_count, first_delta, first_pose_weight;
 } sc_mesh;
+
+/** sc_mesh.deform_node of a rigid mesh. */
+#define SC_NO_DEFORM UINT32_MAX
+
+/** Four skin influences of one vertex (one JOINTS_n/WEIGHTS_n set); joints index the skin's
+ *  joint list. */
+typedef struct sc_skin_influence {
+    uint32_t joints[4];
+    float weights[4];
+} sc_skin_influence;
+
+/** One morph target's displacement of one vertex (glTF `targets`; absent attributes 0). */
+typedef struct sc_morph_delta {
+    float position[3], normal[3], tangent[3];
+} sc_morph_delta;
+
+/** A glTF skin: joint j is node sc_scene.skin_joints[first_joint + j] with the inverse bind
+ *  matrix sc_scene.inverse_binds[16 * (first_joint + j)] (column-major). */
+typedef struct sc_skin {
+    uint32_t first_joint, joint_count;
+} sc_skin;
 
 /** Texture slots of a material, in the order of sc_material.uv_transform. */
 enum { SC_TEX_BASE, SC_TEX_METAL_ROUGH, SC_TEX_EMISSION, SC_TEX_NORMAL, SC_TEX_SLOTS };
@@ -128,6 +160,10 @@ typedef struct sc_node {
     bool has_matrix;         /**< the file gave a matrix (not animated): used instead of TRS */
     float matrix[16];        /**< column-major local matrix when has_matrix (TRS = its
                               *   decomposition) */
+    int32_t skin;            /**< index in sc_scene.skins, -1 when none */
+    /** Morph weights (node.weights, else its mesh's, else 0; animated by `weights` channels):
+     *  sc_scene.node_weights[first_weight .. + weight_count]. */
+    uint32_t first_weight, weight_count;
 } sc_node;
 
 typedef struct sc_instance {
@@ -149,7 +185,12 @@ typedef struct sc_emitter {
     float power;                  /**< luminance(emission) x world area at load time */
 } sc_emitter;
 
-typedef enum sc_anim_path { SC_ANIM_TRANSLATION, SC_ANIM_ROTATION, SC_ANIM_SCALE } sc_anim_path;
+typedef enum sc_anim_path {
+    SC_ANIM_TRANSLATION,
+    SC_ANIM_ROTATION,
+    SC_ANIM_SCALE,
+    SC_ANIM_WEIGHTS, /**< the node's morph weights (sc_node.weight_count values per key) */
+} sc_anim_path;
 typedef enum sc_anim_interp { SC_INTERP_LINEAR, SC_INTERP_STEP, SC_INTERP_CUBICSPLINE } sc_anim_interp;
 
 typedef struct sc_anim_channel {
@@ -158,7 +199,9 @@ typedef struct sc_anim_channel {
     sc_anim_interp interp;
     uint32_t key_count;
     float *times;  /**< seconds, key_count entries, increasing */
-    float *values; /**< key_count x (3 or 4) floats (x3 again for CUBICSPLINE: in, value, out) */
+    float *values; /**< key_count x (3, 4 or weight count) floats (x3 again for CUBICSPLINE:
+                    *   in, value, out) */
+    uint32_t components; /**< values per key and element: 3, 4, or the node's weight count */
 } sc_anim_channel;
 
 typedef struct sc_sun {
@@ -247,6 +290,19 @@ typedef struct sc_scene {
     uint32_t warning_id_count;
     sc_load_timing load_timing;
     uint32_t *node_order; /**< internal: node indices, parents before children */
+    /* ---- skins and morph targets (sc_mesh deformation fields) ---- */
+    sc_skin *skins;                uint32_t skin_count;
+    uint32_t *skin_joints;         uint32_t skin_joint_total; /**< node indices */
+    float *inverse_binds;          /**< 16 floats per skin_joints entry */
+    sc_skin_influence *influences; uint32_t influence_count;
+    sc_morph_delta *deltas;        uint32_t delta_count;
+    float *node_weights;           uint32_t node_weight_count;
+    /** The current pose (::sc_scene_evaluate): per deformed mesh its joint matrices
+     *  inverse(world of deform_node) x world of joint x inverse bind (column-major, so that
+     *  the posed object-space vertex is sum_i w_i M_i v) and its morph weights. */
+    float *pose_matrices;          uint32_t pose_matrix_count;
+    float *pose_weights;           uint32_t pose_weight_count;
+    uint32_t deform_mesh_count;    /**< meshes with deform_node != SC_NO_DEFORM */
 } sc_scene;
 
 /**
@@ -304,8 +360,12 @@ typedef struct sc_load_options {
  * KHR_texture_transform, KHR_materials_specular, _clearcoat, _sheen, _volume: see sc_material),
  * cameras (first perspective camera's node = viewpoint, its yfov and aspectRatio kept),
  * KHR_lights_punctual (the first directional light = sun; every other light, point and spot
- * with range and cone angles, in sc_scene.lights), node animation (T/R/S; LINEAR, STEP,
- * CUBICSPLINE). A scene whose `nodes` also lists non-root nodes draws the roots they reach
+ * with range and cone angles, in sc_scene.lights), node animation (T/R/S and morph weights;
+ * LINEAR, STEP, CUBICSPLINE), skins (JOINTS_n/WEIGHTS_n sets 0-3, inverseBindMatrices) and
+ * morph targets (POSITION/NORMAL/TANGENT deltas; node weights, else mesh weights, else 0),
+ * kept as sc_mesh deformation data and posed by ::sc_scene_evaluate (sc_skin.c; the GPU
+ * applies the pose, gpu_deform.h). A skinned or morphed mesh drawn by several nodes shows
+ * the first node's pose (named in the ignored-features warning). A scene whose `nodes` also lists non-root nodes draws the roots they reach
  * (each node once), with one warning. occlusionTexture is ignored without a warning: a path
  * tracer computes the occlusion it approximates.
  */
@@ -329,6 +389,18 @@ void sc_scene_destroy(sc_scene **scene);
  * nodes[].world and instances[].world. Called once at load with time 0.
  */
 void sc_scene_evaluate(sc_scene *scene, double time_s);
+
+/** Fills sc_scene.pose_matrices and pose_weights from the nodes' world transforms and
+ *  weights (sc_scene_evaluate calls it). */
+void sc_scene_pose(sc_scene *scene);
+/**
+ * The CPU reference of the GPU's deformation (deform.comp): vertex v (absolute index in
+ * sc_scene.vertices, of deformed mesh `mesh`) under the current pose, object space of the
+ * mesh's instance: morph targets first (p + sum w_k dp_k), then the skin
+ * (sum_i w_i M_i p over every set, weights as in the file). out_normal may be NULL.
+ */
+void sc_scene_posed_vertex(const sc_scene *scene, uint32_t mesh, uint32_t v, float out_pos[3],
+                           float out_normal[3]);
 
 /**
  * Reorders the triangles of one mesh along a Morton (Z-order) curve of their centroids,

@@ -19,7 +19,7 @@ _Static_assert(XS_TF_BIND_PARAMS > XS_BIND_RAY_COUNTER, "TAA bindings follow set
 /** Bytes of one instance transform in the transform buffers (a mat4). */
 #define TF_XFORM_BYTES 64u
 
-enum { TF_OWN_BINDING_COUNT = 12 };
+enum { TF_OWN_BINDING_COUNT = 13 };
 static const gpu_binding tf_own_bindings[TF_OWN_BINDING_COUNT] = {
     {XS_TF_BIND_PARAMS, GPU_BINDING_UNIFORM_BUFFER, 1},
     {XS_TF_BIND_SRC, GPU_BINDING_STORAGE_IMAGE, 1},
@@ -33,6 +33,7 @@ static const gpu_binding tf_own_bindings[TF_OWN_BINDING_COUNT] = {
     {XS_TF_BIND_REPROJ, GPU_BINDING_STORAGE_IMAGE, 1},
     {XS_TF_BIND_PREV_XFORM, GPU_BINDING_STORAGE_BUFFER, 1},
     {XS_TF_BIND_NEXT_XFORM, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_TF_BIND_PREV_POS, GPU_BINDING_STORAGE_BUFFER, 1},
 };
 
 struct tf_taa {
@@ -43,6 +44,8 @@ struct tf_taa {
     gpu_buffer params;    /**< xs_tf_params, host-visible */
     gpu_buffer frame_ubo; /**< xs_frame of the frame being filtered, host-visible */
     gpu_buffer prev_xform, next_xform;
+    gpu_buffer no_prev_pos; /**< bound as XS_TF_BIND_PREV_POS when no mesh deforms */
+    bool deform;            /**< the scene has deformed meshes (their last-frame positions) */
     gpu_image src, history, prev_geo, next_geo, aux, reproj;
     tf_images imgs; /**< borrowed */
     bool have_history;
@@ -65,6 +68,7 @@ void tf_taa_destroy(tf_taa **taap)
         gpu_buffer_destroy(t->ctx, &t->params);
         gpu_buffer_destroy(t->ctx, &t->frame_ubo);
         gpu_buffer_destroy(t->ctx, &t->prev_xform);
+        gpu_buffer_destroy(t->ctx, &t->no_prev_pos);
         gpu_buffer_destroy(t->ctx, &t->next_xform);
         gpu_image *imgs[] = {&t->src, &t->history, &t->prev_geo, &t->next_geo, &t->aux, &t->reproj};
         for (size_t i = 0; i < sizeof(imgs) / sizeof(imgs[0]); i++)
@@ -115,7 +119,9 @@ static xrsc_result create_resources(tf_taa *t, xrsc_diag *diag)
             XRSC_OK ||
         (res = gpu_image_create_storage(ctx, VK_FORMAT_R32G32_UINT, w, h, 2, &t->next_geo, diag)) !=
             XRSC_OK ||
-        (res = gpu_image_create_storage(ctx, rgba, w, h, 2, &t->aux, diag)) != XRSC_OK)
+        (res = gpu_image_create_storage(ctx, rgba, w, h, 2, &t->aux, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEMORY_DEVICE,
+                                 &t->no_prev_pos, diag)) != XRSC_OK)
         return res;
     /* without debug the reprojected history is never written: a stub keeps the set complete */
     return gpu_image_create_storage(ctx, rgba, t->set.debug ? w : 1u, t->set.debug ? h : 1u, 2,
@@ -141,6 +147,9 @@ static void write_descriptors(tf_taa *t, gpu_scene *scene)
     gpu_descriptors_write_storage_image(ctx, d, XS_TF_BIND_REPROJ, &t->reproj);
     gpu_descriptors_write_buffer(ctx, d, XS_TF_BIND_PREV_XFORM, &t->prev_xform);
     gpu_descriptors_write_buffer(ctx, d, XS_TF_BIND_NEXT_XFORM, &t->next_xform);
+    const gpu_buffer *prev_pos = gpu_scene_prev_positions(scene);
+    t->deform = prev_pos != NULL && !t->set.no_deform_motion;
+    gpu_descriptors_write_buffer(ctx, d, XS_TF_BIND_PREV_POS, prev_pos ? prev_pos : &t->no_prev_pos);
 }
 
 xrsc_result tf_taa_create(gpu_context *ctx, gpu_scene *scene, uint32_t instance_count,
@@ -213,6 +222,7 @@ static void upload_constants(tf_taa *t, const xs_frame *xf)
         .min_weight = XS_TF_MIN_WEIGHT,
         .instance_count = t->instance_count,
         .debug = t->set.debug ? 1u : 0u,
+        .deform = t->deform ? 1u : 0u,
     };
     memcpy(p.prev_eyes, t->prev_eyes, sizeof(p.prev_eyes));
     memcpy(t->params.mapped, &p, sizeof(p));

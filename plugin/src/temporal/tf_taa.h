@@ -41,6 +41,9 @@ typedef struct tf_settings {
     xrsc_taa_mode mode;
     float alpha;
     bool debug;
+    /** Tests: reproject skinned and morphed surfaces as if rigid (the control of issue 21's
+     *  deformation motion; zero = follow them through gpu_scene_prev_positions). */
+    bool no_deform_motion;
 } tf_settings;
 
 /** The method's images the pass works on, each 2 layers (eyes), GENERAL, width x height:
