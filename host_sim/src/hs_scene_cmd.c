@@ -144,7 +144,7 @@ int hs_scene_main(int argc, char **argv)
     xrsc_scene_options so = {0};
     int c;
     optind = 1;
-    opterr = 1;
+    opterr = 0; /* getopt would name argv[0] ("info"): the message below names the command */
     while ((c = getopt_long(argc - 1, argv + 1, "h", longs, NULL)) != -1) {
         if (c == 'j') {
             json = true;
@@ -157,7 +157,8 @@ int hs_scene_main(int argc, char **argv)
             usage(stdout);
             return 0;
         } else {
-            usage(stderr);
+            fprintf(stderr, SCENE_CMD " info: %s: unknown option or missing value (see --help)\n",
+                    argv[optind]); /* argv + 1 shifted: argv[optind] is the option read */
             return HS_EXIT_BAD_ARGS;
         }
     }
