@@ -50,6 +50,7 @@ static void usage(FILE *f)
 "       xrsc bench [options]        (speed vs. accuracy of methods; xrsc bench --help)\n"
 "       xrsc poses stats [--fastest S] FILE   (pose stream speed; xrsc poses --help)\n"
 "       xrsc sweep plan|run|merge FILE   (a bench split into units; xrsc sweep --help)\n"
+"       xrsc scene info [--json] FILE        (what a glTF file holds; xrsc scene --help)\n"
 "       xrsc version | --version   (program, Vulkan loader and OpenXR versions)\n"
 "\n"
 "Replays a recorded head-pose stream over a glTF 2.0 scene, ray traces both eyes with\n"
