@@ -18,8 +18,8 @@ extern "C" {
 
 /** The --help lines of --animation. */
 #define HS_ANIM_USAGE                                                                              \
-    "  --animation A       the clip that plays, looping at the display time: first (the file's\n" \
-    "                      first clip) | all (every clip at once) | none | a clip's name or\n"  \
+    "  --animation A       the clip that plays, looping at the display time: first (the file's\n"  \
+    "                      first clip) | all (every clip at once) | none | a clip's name or\n"     \
     "                      index (xrsc scene info FILE lists them) [first]\n"
 
 /**

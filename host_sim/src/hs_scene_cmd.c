@@ -73,9 +73,8 @@ static void print_text(const char *path, const xrsc_file_info *fi)
     printf("materials: %u  textures: %u (images %u)  lights: %u%s  cameras: %u\n",
            fi->material_count, si->texture_count, fi->image_count, si->light_count,
            si->studio_environment ? " (studio environment)" : "", si->camera_count);
-    printf("nodes: %u  meshes: %u  skins: %u  morph targets: %u (in %u meshes)\n",
-           fi->node_count, fi->mesh_count, fi->skin_count, fi->morph_target_count,
-           fi->morph_mesh_count);
+    printf("nodes: %u  meshes: %u  skins: %u  morph targets: %u (in %u meshes)\n", fi->node_count,
+           fi->mesh_count, fi->skin_count, fi->morph_target_count, fi->morph_mesh_count);
     printf("extensions used: %s\n", fi->extensions_used[0] ? fi->extensions_used : "none");
     printf("extensions required: %s\n",
            fi->extensions_required[0] ? fi->extensions_required : "none");
@@ -101,9 +100,8 @@ static void print_json(const char *path, const xrsc_file_info *fi)
            "\"images\": %u, \"lights\": %u, \"cameras\": %u, \"nodes\": %u, \"meshes\": %u, "
            "\"skins\": %u, \"morph_targets\": %u, \"morph_meshes\": %u",
            (unsigned long long)si->triangle_count, si->instance_count, fi->material_count,
-           si->texture_count, fi->image_count, si->light_count, si->camera_count,
-           fi->node_count, fi->mesh_count, fi->skin_count, fi->morph_target_count,
-           fi->morph_mesh_count);
+           si->texture_count, fi->image_count, si->light_count, si->camera_count, fi->node_count,
+           fi->mesh_count, fi->skin_count, fi->morph_target_count, fi->morph_mesh_count);
     printf(", \"extensions_used\": ");
     json_string(stdout, fi->extensions_used);
     printf(", \"extensions_required\": ");

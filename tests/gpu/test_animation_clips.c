@@ -36,11 +36,11 @@ static xrsc_context *g_ctx;
  *  x = +1 to -1 over 2 s. */
 static const char *write_two_clips(void)
 {
-    float data[25] = {-0.25f, -0.2f, -3.0f, 0.25f, -0.2f, -3.0f, 0.0f, 0.2f, -3.0f, /* POSITION */
-                      0.0f,   1.0f,                                                /* walk t */
-                      -1.0f,  0.35f, 0.0f,  1.0f,  0.35f, 0.0f,                    /* walk T */
-                      0.0f,   2.0f,                                                /* idle t */
-                      1.0f,   -0.35f, 0.0f, -1.0f, -0.35f, 0.0f};                  /* idle T */
+    float data[25] = {-0.25f, -0.2f,  -3.0f, 0.25f, -0.2f,  -3.0f, 0.0f, 0.2f, -3.0f, /* POSITION */
+                      0.0f,   1.0f,                                                   /* walk t */
+                      -1.0f,  0.35f,  0.0f,  1.0f,  0.35f,  0.0f,                     /* walk T */
+                      0.0f,   2.0f,                                                   /* idle t */
+                      1.0f,   -0.35f, 0.0f,  -1.0f, -0.35f, 0.0f};                    /* idle T */
     char *uri = t_data_uri(data, sizeof(data));
     if (!uri)
         return NULL;

@@ -16,14 +16,17 @@
 #include "t_stab.h"
 
 #define T_RES 48u
-#define T_FRAMES 60u                /**< the suite's frame count for the case */
-#define T_MIN_FIGURE_PX 40u         /**< the figure's pixels per eye (measured 90-100 at 48 px) */
-#define T_MIN_STEP_PX 3.0           /**< centroid shift over 30 frames (0.33 m at 1.5 m) */
-#define T_MIN_WALL_CV 0.2           /**< luminance std / mean over the wall: the checker */
-#define T_SC_FRAMES 12u             /**< sample-cache frames before the scored one */
+#define T_FRAMES 60u        /**< the suite's frame count for the case */
+#define T_MIN_FIGURE_PX 40u /**< the figure's pixels per eye (measured 90-100 at 48 px) */
+#define T_MIN_STEP_PX 3.0   /**< centroid shift over 30 frames (0.33 m at 1.5 m) */
+#define T_MIN_WALL_CV 0.2   /**< luminance std / mean over the wall: the checker */
+#define T_SC_FRAMES 12u     /**< sample-cache frames before the scored one */
 #define T_REF_SPP 16u
 
-static double luminance(const float *p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
+static double luminance(const float *p)
+{
+    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+}
 
 /** The instance that is flagged OBJECT (the figure), and the count of such instances. */
 static uint32_t figure_instance(const ts_rig *r, uint32_t *count)
@@ -98,8 +101,8 @@ static void figure_is_the_moving_object_region(void)
     }
     for (uint32_t e = 0; e < 2; e++)
         for (uint32_t k = 1; k < 3; k++)
-            CHECK_MSG(cx[k][e] - cx[k - 1][e] > T_MIN_STEP_PX, "eye %u: figure moved %.2f px",
-                      e, cx[k][e] - cx[k - 1][e]);
+            CHECK_MSG(cx[k][e] - cx[k - 1][e] > T_MIN_STEP_PX, "eye %u: figure moved %.2f px", e,
+                      cx[k][e] - cx[k - 1][e]);
     free(mask);
     ts_views_free(&v);
     xrsc_renderer_destroy(&rd);
@@ -114,11 +117,12 @@ static void region_metric_is_finite(void)
         ts_close(&r);
         return;
     }
-    xrsc_renderer *sc = ts_renderer(
-        &r, (xrsc_renderer_options){.method = XRSC_METHOD_SAMPLECACHE, .seed = 3,
-                                    .samplecache = {.max_bounces = 1}});
+    xrsc_renderer *sc = ts_renderer(&r, (xrsc_renderer_options){.method = XRSC_METHOD_SAMPLECACHE,
+                                                                .seed = 3,
+                                                                .samplecache = {.max_bounces = 1}});
     xrsc_renderer *ref = ts_renderer(
-        &r, (xrsc_renderer_options){.method = XRSC_METHOD_SPP, .seed = 8,
+        &r, (xrsc_renderer_options){.method = XRSC_METHOD_SPP,
+                                    .seed = 8,
                                     .spp = {.samples_per_pixel = T_REF_SPP, .max_bounces = 1}});
     ts_views v, vr;
     ts_views_alloc(&r, &v);
