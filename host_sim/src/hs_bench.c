@@ -832,6 +832,11 @@ static void bench_config(bench_run *b, const char *device)
              opt->scene_path, opt->poses_path, hs_pose_format_name(opt->pose_format),
              anchor_name[opt->anchor], opt->start_s, b->w, b->h, b->ref_spp, opt->seed,
              b->headset.ipd_m, b->headset.refresh_hz, fov0, fov1, env);
+    if (opt->scene.animation) { /* the clip changes every frame's image (issue 21) */
+        size_t at = strlen(b->ref_config);
+        snprintf(b->ref_config + at, sizeof(b->ref_config) - at, " animation=%s",
+                 opt->scene.animation);
+    }
     /* columns=: CSVs written with other columns are rendered again, not reused. */
     snprintf(b->config, sizeof(b->config),
              "%s frames=%u warmup=%u score_every=%u device=%s columns=%u%s", b->ref_config,

@@ -5,6 +5,7 @@
  */
 #include "hs_bench.h"
 
+#include "hs_anim_args.h"
 #include "hs_args.h"
 #include "u_diag.h"
 
@@ -64,6 +65,7 @@ static void usage(FILE *f)
 "                      another seed; prints the relMSE between the two (the noise floor)\n"
 "  --seed N            random seed of every setting             [0]\n"
 "  --env R,G,B         constant environment radiance\n"
+HS_ANIM_USAGE
 "  --ipd MM            interpupillary distance                  [63]\n"
 "  --refresh HZ        display refresh rate (frame spacing)     [90]\n"
 "  --device D          cpu | gpu | index | name part\n"
@@ -135,7 +137,7 @@ static char *read_text_file(const char *path)
 static const char *const value_options[] = {
     "--scene", "--poses", "--pose-format", "--anchor", "--start", "--frames",
     "--warmup", "--score-every", "--settings", "--baseline", "--resolution", "--ref-spp",
-    "--seed", "--env", "--ipd", "--refresh", "--device", "--out", "--part",
+    "--seed", "--env", HS_ANIM_FLAG, "--ipd", "--refresh", "--device", "--out", "--part",
 };
 
 /* What the command line sets: the bench options, the settings' text, --warmup given. */
@@ -264,6 +266,10 @@ static int parse_render_option(const char *a, const char *v, bench_args *ba)
         if (!hs_parse_rgb(v, opt->scene.environment))
             return bad_arg(a, v, "expected R,G,B >= 0");
         opt->scene.env_set = true;
+    } else if (!strcmp(a, HS_ANIM_FLAG)) {
+        int r = hs_anim_parse("xrsc bench", a, v, &opt->scene);
+        if (r)
+            return r;
     } else if (!strcmp(a, "--ipd")) {
         if (!hs_parse_f(v, &d) || d < 0 || d > 200)
             return bad_arg(a, v, "expected millimetres 0..200");

@@ -6,6 +6,7 @@
  */
 #include "hs_sweep.h"
 
+#include "hs_anim_args.h"
 #include "hs_args.h"
 #include "hs_bench.h"
 #include "hs_bench_internal.h"
@@ -29,7 +30,7 @@
 static const char *const bench_value_keys[] = {
     "--resolution", "--frames", "--warmup", "--score-every", "--ref-spp", "--seed", "--env",
     "--ipd",        "--refresh", "--device", "--anchor",     "--pose-format", "--baseline",
-    "--start",
+    "--start",      HS_ANIM_FLAG,
 };
 static const char *const bench_flag_keys[] = {"--validation", "--no-plots", "--quiet"};
 /* The sweep's own keys: scene and capture and setting may repeat. */

@@ -4,6 +4,7 @@
  * @brief The `xrsc` program: replays a head-pose stream over a glTF scene and writes the
  *        stereo result (per-eye and side-by-side PNG, linear PFM, per-frame timing).
  */
+#include "hs_anim_args.h"
 #include "hs_args.h"
 #include "hs_bench.h"
 #include "hs_sweep.h"
@@ -12,6 +13,7 @@
 #include "hs_light_args.h"
 #include "hs_metrics_cmd.h"
 #include "hs_poses_cmd.h"
+#include "hs_scene_cmd.h"
 #include "hs_replay.h"
 #include "hs_run.h"
 #include "hs_xr_replay.h"
@@ -48,6 +50,7 @@ static void usage(FILE *f)
 "       xrsc bench [options]        (speed vs. accuracy of methods; xrsc bench --help)\n"
 "       xrsc poses stats [--fastest S] FILE   (pose stream speed; xrsc poses --help)\n"
 "       xrsc sweep plan|run|merge FILE   (a bench split into units; xrsc sweep --help)\n"
+"       xrsc scene info [--json] FILE        (what a glTF file holds; xrsc scene --help)\n"
 "       xrsc version | --version   (program, Vulkan loader and OpenXR versions)\n"
 "\n"
 "Replays a recorded head-pose stream over a glTF 2.0 scene, ray traces both eyes with\n"
@@ -92,6 +95,7 @@ static void usage(FILE *f)
 "  --seed N            random seed                    [0]\n"
 "  --env R,G,B         constant environment radiance (default: the scene's)\n"
 HS_LIGHT_USAGE
+HS_ANIM_USAGE
 "  --device D          cpu | gpu | index | name part  [$XRSC_DEVICE, else a GPU, else lavapipe]\n"
 "  --validation        enable the Vulkan validation layer, synchronization checks included\n"
 "\n"
@@ -228,7 +232,7 @@ static const char *const value_options[] = {
     "--blend-estimate", "--taa", "--taa-alpha",
     "--isrt-m", "--hc-table", "--hc-lod", "--hc-voxel-scale", "--hc-max-age",
     "--hc-voxel-jitter", "--viewpoint",
-    "--max-pose-bytes",
+    "--max-pose-bytes", HS_ANIM_FLAG,
 };
 
 /* Positive float option; returns 0 or the exit code of bad_arg. */
@@ -428,6 +432,12 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
            si->material_count > 0 ? si->material_count - 1 : 0, si->texture_count,
            si->light_count, si->studio_environment ? " (studio environment)" : "",
            st->load_peak_rss_kib / 1024.0);
+    if (si->clip_count > 0 && si->clip_playing >= 0)
+        printf("animation: clip %d of %u, %.2f s, looping\n", si->clip_playing, si->clip_count,
+               (double)si->animation_duration_s);
+    else if (si->clip_count > 0)
+        printf("animation: %s of %u clips\n",
+               si->clip_playing == XRSC_CLIP_ALL ? "all" : "none", si->clip_count);
     printf("render wall time per stereo frame: mean %.2f ms, max %.2f ms\n",
            st->render_ms_mean, st->render_ms_max);
     for (uint32_t p = 0; p < st->pass_count; p++)
@@ -655,6 +665,10 @@ static int parse_world_option(const char *a, const char *v, main_args *m)
         int r = hs_light_parse("xrsc", a, v, &opt->scene);
         if (r)
             return r;
+    } else if (!strcmp(a, HS_ANIM_FLAG)) {
+        int r = hs_anim_parse("xrsc", a, v, &opt->scene);
+        if (r)
+            return r;
     } else if (!strcmp(a, "--device")) {
         opt->context.device = v;
     } else if (!strcmp(a, "--ipd")) {
@@ -808,6 +822,7 @@ static int run_with_record(main_args *m, const hs_args *args, hs_run_info *run)
         {"--ipd", ipd_s},               {"--refresh", refresh_s},
         {"--out", opt->out_dir},        {"--write", "eyes,sbs"},
         {"--exposure", "auto"},
+        {HS_ANIM_FLAG, HS_ANIM_DEFAULT},
     };
     run->args_argc = args->argc;
     run->args_argv = args->argv;
@@ -840,6 +855,8 @@ int main(int argc, char **argv)
         return hs_sweep_main(argc - 1, argv + 1);
     if (argc > 1 && strcmp(argv[1], "poses") == 0)
         return hs_poses_main(argc - 1, argv + 1);
+    if (argc > 1 && strcmp(argv[1], "scene") == 0)
+        return hs_scene_main(argc - 1, argv + 1);
     main_args m = {
         .opt = {
             .scene_path = DEFAULT_SCENE,

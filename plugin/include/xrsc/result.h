@@ -42,7 +42,8 @@ extern "C" {
     X(XRSC_ERROR_XR_RUNTIME_UNAVAILABLE, -23, "no OpenXR runtime (see XR_RUNTIME_JSON)")           \
     X(XRSC_ERROR_XR_SESSION_LOST, -24, "the OpenXR runtime lost the session or instance")         \
     XRSC_RESULT_LIST_LOADER(X)                                                                     \
-    XRSC_RESULT_LIST_RUN(X)
+    XRSC_RESULT_LIST_RUN(X)                                                                        \
+    XRSC_RESULT_LIST_CLIPS(X)
 
 /* Scene loader (issue 18): bad-file errors found before the bytes reach tinygltf, and
  * warnings (positive: the load succeeds) that a scene records in sc_scene.warning_ids. */
@@ -59,6 +60,10 @@ extern "C" {
 /* A replay's run (issue 23): warnings are positive (the run goes on), printed with their ID. */
 #define XRSC_RESULT_LIST_RUN(X)                                                                    \
     X(XRSC_WARN_FRAMES_PAST_END, 60, "--frames runs past the pose stream: its last pose is held")
+
+/* Animation clips (issue 21): the clip a user picks (--animation). */
+#define XRSC_RESULT_LIST_CLIPS(X)                                                                  \
+    X(XRSC_ERROR_ANIMATION_UNKNOWN, -80, "--animation names no clip of the scene (name or index)")
 
 typedef enum xrsc_result {
 #define XRSC_X_ENUM(name, value, text) name = value,

@@ -75,6 +75,13 @@ uint32_t xrsc_context_validation_errors(const xrsc_context *ctx);
  *   0.53 degrees that replaces the file's directional lights (point and spot lights stay).
  * - env_no_importance: for tests and benchmarks, the map is reached by escaping BSDF rays
  *   only (no next-event estimation of it).
+ * Animation (issue 21): animation names the clip (glTF `animations[i]`) whose channels play,
+ * looping over its duration at the frame's display time (xrsc_frame.display_time_ns, the same
+ * on the direct and the OpenXR path): NULL, "" or "first" = the first clip (none when the file
+ * has none); "all" = every clip's channels at once, looping over the longest; "none" = no
+ * animation (the file's rest pose); else a clip's name, or its index in `animations` (digits;
+ * a clip named so wins). Any other text is XRSC_ERROR_ANIMATION_UNKNOWN (field "animation")
+ * with a message listing the file's clips. The keywords win over clip names of the same text.
  */
 typedef struct xrsc_scene_options {
     bool env_set;
@@ -88,6 +95,7 @@ typedef struct xrsc_scene_options {
     bool sun_direction_set;
     float sun_direction[3];
     bool env_no_importance;
+    const char *animation;
 } xrsc_scene_options;
 
 typedef struct xrsc_scene_info {
@@ -112,7 +120,45 @@ typedef struct xrsc_scene_info {
      *  acceleration-structure builds (0 for xrsc_scene_inspect). */
     double load_ms, load_parse_ms, load_geometry_ms, load_tangents_ms, load_morton_ms;
     double load_gpu_ms;
+    /** The file's animation clips, and the one that plays (xrsc_scene_options.animation):
+     *  its index, or XRSC_CLIP_NONE / XRSC_CLIP_ALL. animation_duration_s is its duration. */
+    uint32_t clip_count;
+    int32_t clip_playing;
 } xrsc_scene_info;
+
+#define XRSC_CLIP_NONE (-1)
+#define XRSC_CLIP_ALL (-2)
+/** Most clips ::xrsc_file_info lists (xrsc_file_info.clip_count counts them all). */
+#define XRSC_FILE_INFO_MAX_CLIPS 64u
+
+/** One animation clip of a glTF file. */
+typedef struct xrsc_clip_info {
+    char name[128];         /**< "" when the file gives none */
+    float duration_s;       /**< the last key time over its channels */
+    uint32_t channel_count; /**< its channels (every path, those xrsc ignores included) */
+} xrsc_clip_info;
+
+/**
+ * What a user asks first about a glTF file (`xrsc scene info`): the scene as drawn (scene, as
+ * ::xrsc_scene_inspect fills it) and what the file holds, counted in the file whether xrsc
+ * draws it or not: nodes, meshes, images, materials, skins, morph targets (summed over the
+ * primitives, and the meshes that have any), its clips (the first XRSC_FILE_INFO_MAX_CLIPS)
+ * and its extensionsUsed / extensionsRequired (comma-separated, "" when none).
+ */
+typedef struct xrsc_file_info {
+    xrsc_scene_info scene;
+    uint32_t node_count, mesh_count, image_count, material_count;
+    uint32_t skin_count, morph_target_count, morph_mesh_count;
+    uint32_t clip_count;
+    xrsc_clip_info clips[XRSC_FILE_INFO_MAX_CLIPS];
+    char extensions_used[1024], extensions_required[1024];
+} xrsc_file_info;
+
+/** Reads a glTF 2.0 file on the CPU alone (no Vulkan device, nothing uploaded, no Morton
+ *  sort) into out_info. options may be NULL; its animation is resolved as in xrsc_scene_load
+ *  (scene.clip_playing). Errors as xrsc_scene_load's. */
+xrsc_result xrsc_file_inspect(const char *path, const xrsc_scene_options *options,
+                              xrsc_file_info *out_info, xrsc_diag *out_diag);
 
 /** Loads a glTF 2.0 file and uploads it (BLAS/TLAS built). */
 xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,

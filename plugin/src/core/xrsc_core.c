@@ -131,6 +131,7 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
         lo.sun_direction_set = options->sun_direction_set;
         memcpy(lo.sun_direction, options->sun_direction, sizeof(lo.sun_direction));
         lo.env_no_importance = options->env_no_importance;
+        lo.animation = options->animation;
     }
     double t0 = core_now_ms();
     xrsc_result res = sc_scene_load(path, &lo, &s->cpu, out_diag);
@@ -188,6 +189,8 @@ static void scene_info_fill(const sc_scene *c, xrsc_scene_info *info)
     info->load_geometry_ms = t->geometry_ms;
     info->load_tangents_ms = t->tangents_ms;
     info->load_morton_ms = t->morton_ms;
+    info->clip_count = c->clip_count;
+    info->clip_playing = c->clip_playing;
 }
 
 xrsc_result xrsc_scene_camera(const xrsc_scene *scene, uint32_t index, XrPosef *out_pose,
@@ -222,6 +225,48 @@ xrsc_result xrsc_scene_inspect(const char *path, xrsc_scene_info *out_info, xrsc
         scene_info_fill(c, out_info);
     sc_scene_destroy(&c);
     return res;
+}
+
+_Static_assert(XRSC_CLIP_NONE == SC_CLIP_NONE && XRSC_CLIP_ALL == SC_CLIP_ALL, "clip ids");
+_Static_assert(sizeof(((xrsc_clip_info *)0)->name) == sizeof(((sc_clip *)0)->name), "name");
+_Static_assert(sizeof(((xrsc_file_info *)0)->extensions_used) ==
+                   sizeof(((sc_file_facts *)0)->extensions_used), "extensions");
+
+xrsc_result xrsc_file_inspect(const char *path, const xrsc_scene_options *options,
+                              xrsc_file_info *out_info, xrsc_diag *out_diag)
+{
+    if (!path || !out_info)
+        return u_diag_set(out_diag, XRSC_ERROR_INVALID_ARGUMENT, path ? path : "", 0,
+                          path ? "out_info" : "path", "NULL");
+    memset(out_info, 0, sizeof(*out_info));
+    /* No Morton sort: nothing is traced, and the counts do not depend on the order. */
+    sc_load_options lo = {.keep_triangle_order = true,
+                          .animation = options ? options->animation : NULL};
+    sc_scene *c = NULL;
+    xrsc_result res = sc_scene_load(path, &lo, &c, out_diag);
+    if (res != XRSC_OK)
+        return res;
+    scene_info_fill(c, &out_info->scene);
+    const sc_file_facts *f = &c->facts;
+    out_info->node_count = f->node_count;
+    out_info->mesh_count = f->mesh_count;
+    out_info->image_count = f->image_count;
+    out_info->material_count = f->material_count;
+    out_info->skin_count = f->skin_count;
+    out_info->morph_target_count = f->morph_target_count;
+    out_info->morph_mesh_count = f->morph_mesh_count;
+    out_info->clip_count = c->clip_count;
+    for (uint32_t i = 0; i < c->clip_count && i < XRSC_FILE_INFO_MAX_CLIPS; i++) {
+        xrsc_clip_info *k = &out_info->clips[i];
+        memcpy(k->name, c->clips[i].name, sizeof k->name);
+        k->duration_s = c->clips[i].duration_s;
+        k->channel_count = c->clips[i].channel_count;
+    }
+    memcpy(out_info->extensions_used, f->extensions_used, sizeof out_info->extensions_used);
+    memcpy(out_info->extensions_required, f->extensions_required,
+           sizeof out_info->extensions_required);
+    sc_scene_destroy(&c);
+    return XRSC_OK;
 }
 
 void xrsc_scene_destroy(xrsc_scene **scene)

@@ -1,13 +1,67 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file sc_anim.c
- * @brief Node animation (glTF 2.0 §3.11: LINEAR, STEP, CUBICSPLINE; T/R/S and morph weights)
+ * @brief Node animation (glTF 2.0 §3.11: LINEAR, STEP, CUBICSPLINE; T/R/S and morph weights),
+ *        the clip that plays,
  *        and world transforms.
  */
 #include "sc_scene.h"
 #include "sc_xform.h"
+#include "u_diag.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/** "0 Survey (3.42 s), 1 Walk (0.71 s)" into buf; "none" when there are no clips. */
+static void list_clips(const sc_clip *clips, uint32_t n, char *buf, size_t cap)
+{
+    size_t at = 0;
+    buf[0] = '\0';
+    if (n == 0) snprintf(buf, cap, "none");
+    for (uint32_t i = 0; i < n && at + 1 < cap; i++) {
+        int w = snprintf(buf + at, cap - at, "%s%u %s%s%s (%.2f s)", i ? ", " : "", i,
+                         clips[i].name[0] ? "\"" : "", clips[i].name[0] ? clips[i].name : "unnamed",
+                         clips[i].name[0] ? "\"" : "", (double)clips[i].duration_s);
+        if (w < 0) break;
+        at += (size_t)w;
+    }
+}
+
+xrsc_result sc_clip_resolve(const sc_clip *clips, uint32_t clip_count, const char *animation,
+                            const char *file, int32_t *out_playing, xrsc_diag *diag)
+{
+    const char *a = animation ? animation : "";
+    *out_playing = clip_count ? 0 : SC_CLIP_NONE;
+    if (!a[0] || !strcmp(a, "first")) return XRSC_OK;
+    if (!strcmp(a, "none")) {
+        *out_playing = SC_CLIP_NONE;
+        return XRSC_OK;
+    }
+    if (!strcmp(a, "all")) {
+        *out_playing = clip_count ? SC_CLIP_ALL : SC_CLIP_NONE;
+        return XRSC_OK;
+    }
+    /* A clip's name wins over its reading as an index ("1" may name a clip). */
+    for (uint32_t i = 0; i < clip_count; i++)
+        if (!strcmp(clips[i].name, a)) {
+            *out_playing = (int32_t)i;
+            return XRSC_OK;
+        }
+    char *end = NULL;
+    unsigned long idx = strtoul(a, &end, 10);
+    if (a[0] >= '0' && a[0] <= '9' && end && !*end && idx < clip_count) {
+        *out_playing = (int32_t)idx;
+        return XRSC_OK;
+    }
+    char list[400];
+    list_clips(clips, clip_count, list, sizeof list);
+    return u_diag_set(diag, XRSC_ERROR_ANIMATION_UNKNOWN, file ? file : "", 0, "animation",
+                      "no clip '%s' (--animation takes a clip's name or index, all or none); "
+                      "the file's clips: %s",
+                      a, list);
+}
 
 /** Index k of the key segment [times[k], times[k+1]] containing t (0 <= k < n-1), n >= 2. */
 static uint32_t find_segment(const float *times, uint32_t n, float t)

@@ -42,6 +42,8 @@
 #include <string>
 #include <vector>
 
+static void note_in(char *list, size_t cap, const char *feature);
+
 namespace {
 
 /** JSON nesting deeper than this is rejected (real glTF files nest < 10 levels). */
@@ -632,6 +634,35 @@ void fill_instancing(const tinygltf::Node &n, sc_gltf_node *o)
     if (a.Has("SCALE")) o->inst_scale = value_index(a.Get("SCALE"));
 }
 
+/** The clips (animations) and the facts `xrsc scene info` reports; false when out of memory.
+ *  Channels are laid out clip after clip in doc->channels (fill_doc). */
+bool fill_clips_and_facts(const tinygltf::Model &m, sc_gltf_doc *doc)
+{
+    sc_gltf_facts *f = &doc->facts;
+    f->skin_count = (uint32_t)m.skins.size();
+    for (const tinygltf::Mesh &mesh : m.meshes) {
+        uint32_t targets = 0;
+        for (const tinygltf::Primitive &pr : mesh.primitives) targets += (uint32_t)pr.targets.size();
+        f->morph_target_count += targets;
+        f->morph_mesh_count += targets ? 1u : 0u;
+    }
+    for (const std::string &ext : m.extensionsUsed)
+        note_in(f->extensions_used, sizeof f->extensions_used, ext.c_str());
+    for (const std::string &ext : m.extensionsRequired)
+        note_in(f->extensions_required, sizeof f->extensions_required, ext.c_str());
+    doc->clip_count = (uint32_t)m.animations.size();
+    doc->clips = alloc_array<sc_gltf_clip>(m.animations.size());
+    if (m.animations.size() && !doc->clips) return false;
+    uint32_t first = 0;
+    for (size_t i = 0; i < m.animations.size(); i++) {
+        copy_name(doc->clips[i].name, sizeof doc->clips[i].name, m.animations[i].name);
+        doc->clips[i].first_channel = first;
+        doc->clips[i].channel_count = (uint32_t)m.animations[i].channels.size();
+        first += doc->clips[i].channel_count;
+    }
+    return true;
+}
+
 /** Fills doc from the loaded model. Returns XRSC_OK or an error for malformed node data. */
 /** Accessor of attribute `key` of a primitive or morph target, -1 when absent. */
 int32_t attribute(const std::map<std::string, int> &attrs, const std::string &key)
@@ -1031,6 +1062,8 @@ xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_glt
         }
     }
     doc->default_scene = m.defaultScene;
+    if (!fill_clips_and_facts(m, doc))
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, name, 0, "", "out of memory");
 
     bool oom = (nbuf && !doc->buffers) || (m.bufferViews.size() && !doc->views) ||
                (m.accessors.size() && !doc->accessors) || (prim_total && !doc->primitives) ||
@@ -1306,6 +1339,7 @@ extern "C" void sc_gltf_doc_destroy(sc_gltf_doc **pdoc)
     free(doc->nodes);
     free(doc->children);
     free(doc->channels);
+    free(doc->clips);
     free(doc->scenes);
     free(doc->roots);
     free(doc->targets);

@@ -217,6 +217,23 @@ typedef struct sc_gltf_channel {
     int32_t input, output; /**< accessors; -1 when the sampler index is invalid */
 } sc_gltf_channel;
 
+/** One glTF animation (a clip): its channels are the range [first_channel, +channel_count)
+ *  of sc_gltf_doc.channels (every path, weights and unknown ones included). */
+typedef struct sc_gltf_clip {
+    char name[128]; /**< animations[i].name, "" when it has none */
+    uint32_t first_channel, channel_count;
+} sc_gltf_clip;
+
+/** What the file holds beyond what the scene draws, for `xrsc scene info` (counted in the
+ *  file, whether or not xrsc uses it). */
+typedef struct sc_gltf_facts {
+    uint32_t skin_count;          /**< skins */
+    uint32_t morph_target_count;  /**< morph targets, summed over the primitives */
+    uint32_t morph_mesh_count;    /**< meshes with at least one primitive with targets */
+    char extensions_used[1024];     /**< extensionsUsed, comma-separated */
+    char extensions_required[1024]; /**< extensionsRequired, comma-separated */
+} sc_gltf_facts;
+
 typedef struct sc_gltf_scene {
     uint32_t first_root, root_count; /**< range in sc_gltf_doc.roots */
     bool has_environment;
@@ -244,6 +261,8 @@ typedef struct sc_gltf_doc {
     float *weights;              uint32_t weight_count; /**< mesh and node morph weights */
     sc_gltf_skin *skins;         uint32_t skin_count;
     int32_t *skin_joints;        uint32_t skin_joint_count;
+    sc_gltf_clip *clips;         uint32_t clip_count; /**< the file's animations, in order */
+    sc_gltf_facts facts;
     /** Comma-separated names of ignored features, each once (see ::sc_gltf_note). */
     char unsupported[1024];
     /** Comma-separated optional extensions that are ignored, each once: one warning each. */

@@ -1426,7 +1426,10 @@ static void note_deform(sc_build *b, int32_t ni, sc_instance *inst)
     sc_mesh *mesh = (sc_mesh *)b->meshes.data + inst->mesh;
     bool skinned = mesh->skin_sets && b->s->nodes[ni].skin >= 0;
     if (!skinned && mesh->target_count == 0) return;
-    inst->animated = inst->animated || b->s->animation_duration_s > 0.0f;
+    /* A morph-only mesh moves when its node's weights play (anim_below, as T/R/S); a skinned
+     * one whenever the clip that plays moves anything (its joints may be anywhere). */
+    if (skinned)
+        inst->animated = inst->animated || b->s->animation_duration_s > 0.0f;
     if (mesh->deform_node == SC_NO_DEFORM)
         mesh->deform_node = (uint32_t)ni;
     else if (mesh->deform_node != (uint32_t)ni)
@@ -1485,6 +1488,39 @@ static xrsc_result finish_deform(sc_build *b)
 
 /* ---------------------------------------------------------------- animation ------------ */
 
+/** The file's clips (names, channel counts, durations) and the one that plays
+ *  (sc_load_options.animation). A clip whose inputs cannot be read gets the duration of the
+ *  rest; only the clip that plays must be valid (build_channels). */
+static xrsc_result build_clips(sc_build *b)
+{
+    sc_gltf_doc *d = b->doc;
+    sc_scene *s = b->s;
+    s->clips = calloc(d->clip_count ? d->clip_count : 1, sizeof(sc_clip));
+    if (!s->clips)
+        return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
+    s->clip_count = d->clip_count;
+    xrsc_diag scratch = {0}, *diag = b->diag;
+    b->diag = &scratch; /* a clip's unreadable input is not an error here */
+    for (uint32_t i = 0; i < d->clip_count; i++) {
+        const sc_gltf_clip *g = &d->clips[i];
+        sc_clip *c = &s->clips[i];
+        snprintf(c->name, sizeof c->name, "%s", g->name);
+        c->channel_count = g->channel_count;
+        for (uint32_t k = g->first_channel;
+             k < g->first_channel + g->channel_count && k < d->channel_count; k++) {
+            double *times = NULL;
+            size_t n = 0;
+            if (read_accessor(b, d->channels[k].input, 1, "input", &times, &n) == XRSC_OK &&
+                n > 0 && times[n - 1] > c->duration_s)
+                c->duration_s = (float)times[n - 1];
+            free(times);
+        }
+    }
+    b->diag = diag;
+    return sc_clip_resolve(s->clips, s->clip_count, b->opt->animation, b->name,
+                           &s->clip_playing, b->diag);
+}
+
 static xrsc_result build_channels(sc_build *b, bool *node_animated)
 {
     sc_gltf_doc *d = b->doc;
@@ -1495,6 +1531,8 @@ static xrsc_result build_channels(sc_build *b, bool *node_animated)
         return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
     for (uint32_t c = 0; c < d->channel_count; c++) {
         const sc_gltf_channel *g = &d->channels[c];
+        /* Only the chosen clip's channels play (issue 21; --animation). */
+        if (s->clip_playing != SC_CLIP_ALL && (int64_t)g->animation != s->clip_playing) continue;
         FIELD(field, "animations[%u].channels[%u]", g->animation, g->channel);
         if (g->node < 0) continue; /* no target node: ignored per spec (extensions may use it) */
         if ((uint32_t)g->node >= d->node_count)
@@ -2228,7 +2266,17 @@ static xrsc_result build_scene(sc_build *b)
     bool *node_animated = calloc(d->node_count ? d->node_count : 1, sizeof(bool));
     if (!node_animated)
         return u_diag_set(b->diag, XRSC_ERROR_OUT_OF_MEMORY, b->name, 0, "", "out of memory");
-    r = build_channels(b, node_animated);
+    s->facts = (sc_file_facts){.node_count = d->node_count, .mesh_count = d->mesh_count,
+                               .image_count = d->image_count,
+                               .material_count = d->material_count,
+                               .skin_count = d->facts.skin_count,
+                               .morph_target_count = d->facts.morph_target_count,
+                               .morph_mesh_count = d->facts.morph_mesh_count};
+    memcpy(s->facts.extensions_used, d->facts.extensions_used, sizeof s->facts.extensions_used);
+    memcpy(s->facts.extensions_required, d->facts.extensions_required,
+           sizeof s->facts.extensions_required);
+    r = build_clips(b);
+    if (r == XRSC_OK) r = build_channels(b, node_animated);
     int32_t camera_node = -1, sun_node = -1, sun_light = -1;
     if (r == XRSC_OK)
         r = build_instances(b, scene_index, node_animated, &camera_node, &sun_node, &sun_light);
@@ -2462,6 +2510,7 @@ void sc_scene_destroy(sc_scene **pscene)
     free(s->node_weights);
     free(s->pose_matrices);
     free(s->pose_weights);
+    free(s->clips);
     sc_env_map_free(&s->env_map);
     free(s);
     *pscene = NULL;

@@ -204,6 +204,24 @@ typedef struct sc_anim_channel {
     uint32_t components; /**< values per key and element: 3, 4, or the node's weight count */
 } sc_anim_channel;
 
+/** One animation clip of the file (glTF `animations[i]`), whether it plays or not. */
+typedef struct sc_clip {
+    char name[128];         /**< "" when the file gives none */
+    float duration_s;       /**< the last key time over its channels' inputs */
+    uint32_t channel_count; /**< its channels in the file (every path) */
+} sc_clip;
+
+/** sc_scene.clip_playing when no clip plays, or when every clip does (sc_load_options). */
+#define SC_CLIP_NONE (-1)
+#define SC_CLIP_ALL (-2)
+
+/** What the file holds beyond what is drawn, for `xrsc scene info`. */
+typedef struct sc_file_facts {
+    uint32_t node_count, mesh_count, image_count, material_count; /**< the file's */
+    uint32_t skin_count, morph_target_count, morph_mesh_count;    /**< see sc_gltf_facts */
+    char extensions_used[1024], extensions_required[1024];       /**< comma-separated */
+} sc_file_facts;
+
 typedef struct sc_sun {
     bool present;
     float direction[3]; /**< unit, pointing FROM the scene TOWARDS the sun (world space) */
@@ -289,6 +307,12 @@ typedef struct sc_scene {
     xrsc_result warning_ids[SC_MAX_WARNING_IDS];
     uint32_t warning_id_count;
     sc_load_timing load_timing;
+    /** The file's clips (all of them) and the one whose channels play (an index,
+     *  SC_CLIP_NONE or SC_CLIP_ALL): channels[] and animation_duration_s are its. */
+    sc_clip *clips;
+    uint32_t clip_count;
+    int32_t clip_playing;
+    sc_file_facts facts;
     uint32_t *node_order; /**< internal: node indices, parents before children */
     /* ---- skins and morph targets (sc_mesh deformation fields) ---- */
     sc_skin *skins;                uint32_t skin_count;
@@ -333,6 +357,11 @@ typedef struct sc_load_options {
     bool env_no_importance;
     /** Keep the file's triangle order (skip the Morton sort); for tests and benchmarks. */
     bool keep_triangle_order;
+    /** The clip that plays (looping): NULL, "" or "first" = the file's first clip (none when
+     *  it has none); "all" = every clip's channels at once; "none" = no animation; else a
+     *  clip's index in `animations` (digits) or its name. A name or index the file does not
+     *  have: XRSC_ERROR_ANIMATION_UNKNOWN, field "animation", the message listing the clips. */
+    const char *animation;
 } sc_load_options;
 
 /**
@@ -401,6 +430,15 @@ void sc_scene_pose(sc_scene *scene);
  */
 void sc_scene_posed_vertex(const sc_scene *scene, uint32_t mesh, uint32_t v, float out_pos[3],
                            float out_normal[3]);
+
+/**
+ * Resolves which clip plays from sc_load_options.animation (see there) over the file's clips:
+ * *out_playing becomes a clip index, SC_CLIP_NONE or SC_CLIP_ALL. A name or index that is not
+ * a clip of the file: XRSC_ERROR_ANIMATION_UNKNOWN with field "animation" and a message that
+ * lists the clips (file names the scene in diag).
+ */
+xrsc_result sc_clip_resolve(const sc_clip *clips, uint32_t clip_count, const char *animation,
+                            const char *file, int32_t *out_playing, xrsc_diag *diag);
 
 /**
  * Reorders the triangles of one mesh along a Morton (Z-order) curve of their centroids,
