@@ -21,7 +21,7 @@
 #include <string.h>
 
 #ifndef HS_XR_DEFAULT_MANIFEST
-#define HS_XR_DEFAULT_MANIFEST "host_sim/src/runtime/xrsc_runtime.json"
+#define HS_XR_DEFAULT_MANIFEST "host_sim/runtime/xrsc_runtime.json"
 #endif
 #define HS_XR_DEFAULT_MANIFEST_TEXT HS_XR_DEFAULT_MANIFEST
 
@@ -143,7 +143,7 @@ HS_LIGHT_USAGE
 "  XR_RUNTIME_JSON names, or, when it is unset, on this build's host_sim runtime\n"
 "  (" HS_XR_DEFAULT_MANIFEST_TEXT "); the runtime replays the poses and writes\n"
 "  the frames it is given (--start, --ipd, --device, ... reach it as XRSC_RT_*\n"
-"  variables; host_sim/src/runtime/README.md). --pose-format other than auto needs\n"
+"  variables; host_sim/runtime/README.md). --pose-format other than auto needs\n"
 "  --direct unless the runtime detects it.\n"
 "  --preview           show the run in the runtime's preview window (as XRSC_RT_PREVIEW=1):\n"
 "                      overlay with frame, time, ms, method, blend, R; keys V/1/2/3 views,\n"

@@ -184,7 +184,7 @@ hs_lookup hs_pose_stream_sample_views(const hs_pose_stream *stream, int64_t time
 
 /**
  * The two eyes to render at time_ns, as the replay (hs_replay.c) and the runtime's
- * xrLocateViews (host_sim/src/runtime) both place them: a stream with recorded views
+ * xrLocateViews (host_sim/runtime) both place them: a stream with recorded views
  * (stream->views) gives those (hs_pose_stream_sample_views: the recording headset's eye poses
  * and per-eye FOVs; the headset's IPD and FOVs are not used); any other stream gives the
  * headset's eyes (xrsc_headset_eye_poses: ±IPD/2 along the head's +X) at the interpolated head

@@ -9,7 +9,7 @@
  * keeps the write end (non-blocking: a preview that reads slowly or not at all never stalls the
  * frame loop; lines that do not fit are dropped), and XRSC_RT_PREVIEW_INFO_FD names the read end,
  * which the runtime reads at xrCreateInstance's configuration (hsrt_config.preview_info_fd).
- * Lines of space-separated words (host_sim/src/runtime/README.md, "Overlay information"):
+ * Lines of space-separated words (host_sim/runtime/README.md, "Overlay information"):
  *
  *     run method=samplecache blend=moments r=0
  *     frame 12 ms=38.2 tlas=0.01 trace=20.5 ...

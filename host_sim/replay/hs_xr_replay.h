@@ -4,7 +4,7 @@
  * @brief `xrsc replay` through OpenXR: the plugin's OpenXR front end (xrsc_xr.h) as the
  *        application, host_sim's runtime (or any runtime) replaying the pose stream.
  *
- * The runtime is configured through its environment variables (host_sim/src/runtime/
+ * The runtime is configured through its environment variables (host_sim/runtime/
  * README.md), set from the replay options before the instance is created: XRSC_RT_POSES,
  * XRSC_RT_FRAMES, XRSC_RT_OUT, XRSC_RT_WRITE, XRSC_RT_EXPOSURE, XRSC_RT_EYE_SIZE,
  * XRSC_RT_REFRESH_HZ, XRSC_RT_IPD_MM (--ipd), XRSC_RT_FOV_DEG (the headset's per-eye FOVs,
