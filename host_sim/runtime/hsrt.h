@@ -11,7 +11,8 @@
  * (README.md in this folder lists the variables).
  *
  * Files: hsrt_entry.c (negotiation, xrGetInstanceProcAddr, instance, system, paths, events,
- * view configurations), hsrt_session.c (session state machine, frame timing, spaces, views,
+ * view configurations), hsrt_instance.c (the instance-level helpers that entry, session,
+ * vulkan and preview share: hsrt_instance.h, the bottom of the runtime), hsrt_session.c (session state machine, frame timing, spaces, views,
  * actions), hsrt_vulkan.c (XR_KHR_vulkan_enable/enable2, swapchains, frame read-back),
  * hsrt_handle.c (the table of issued handles), hsrt_profiles.c (interaction profiles),
  * hsrt_capture.c (pixel conversion and writing of captured frames), hsrt_preview.c (the optional
@@ -254,25 +255,6 @@ const hsrt_profile *hsrt_profile_find(const hsrt_instance *inst, const char *pat
 bool hsrt_profile_has_binding(const hsrt_profile *p, const char *binding);
 /** Whether path is a top-level user path (/user/hand/left, /user/head, …). */
 bool hsrt_top_level_path(const char *path);
-
-/* ---- hsrt_entry.c ---- */
-/** Logs "xrsc runtime: <function>: <message>" as an error and returns result. */
-XrResult hsrt_fail(XrResult result, const char *function, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-const char *hsrt_result_name(XrResult result);
-/** Validates an XrInstance handle (not locked). */
-hsrt_instance *hsrt_instance_from(XrInstance handle);
-/** Queues a session state change (locked by the caller). */
-void hsrt_push_state(hsrt_session *s, XrSessionState state);
-/** Queues an event (locked by the caller); the oldest is dropped when the queue is full. */
-void hsrt_push_event(hsrt_instance *inst, const void *event, size_t size);
-/** The string of a path, NULL if the path is not one of this instance's. */
-const char *hsrt_path_string(hsrt_instance *inst, XrPath path);
-/** Monotonic clock in ns. */
-XrTime hsrt_now_ns(void);
 
 /* ---- hsrt_session.c: the core entry points implemented there ---- */
 #define HSRT_SESSION_FUNCS(X)                                                                      \

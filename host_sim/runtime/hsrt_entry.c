@@ -10,7 +10,7 @@
  * runtime keeps no process-wide mutable state: every handle is a heap struct, and the
  * negotiation hands the loader a pointer to a function, nothing else.
  */
-#include "hsrt.h"
+#include "hsrt_instance.h"
 
 #include "u_diag.h"
 
@@ -64,30 +64,6 @@ xrNegotiateLoaderRuntimeInterface(const XrNegotiateLoaderInfo *loaderInfo,
 
 /* ---- logging and results ---- */
 
-XrResult hsrt_fail(XrResult result, const char *function, const char *fmt, ...)
-{
-    char msg[768];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(msg, sizeof(msg), fmt, ap);
-    va_end(ap);
-    U_LOG_E("runtime: %s: %s [%s]", function, msg, hsrt_result_name(result));
-    return result;
-}
-
-const char *hsrt_result_name(XrResult result)
-{
-    switch (result) {
-#define HSRT_X_RESULT(name, value)                                                                 \
-    case name:                                                                                     \
-        return #name;
-        XR_LIST_ENUM_XrResult(HSRT_X_RESULT)
-#undef HSRT_X_RESULT
-    default:
-        return NULL;
-    }
-}
-
 static const char *structure_type_name(XrStructureType type)
 {
     switch (type) {
@@ -101,48 +77,12 @@ static const char *structure_type_name(XrStructureType type)
     }
 }
 
-XrTime hsrt_now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (XrTime)ts.tv_sec * 1000000000 + ts.tv_nsec;
-}
-
-hsrt_instance *hsrt_instance_from(XrInstance handle)
-{
-    return hsrt_handle_get(HSRT_VALUE(handle), HSRT_HANDLE_INSTANCE);
-}
-
 #define GET_INSTANCE(var, handle, fn)                                                              \
     hsrt_instance *var = hsrt_instance_from(handle);                                               \
     if (!var)                                                                                      \
         return hsrt_fail(XR_ERROR_HANDLE_INVALID, fn, "not an XrInstance of this runtime");
 
 /* ---- events ---- */
-
-void hsrt_push_event(hsrt_instance *inst, const void *event, size_t size)
-{
-    if (inst->event_count == HSRT_EVENT_QUEUE) {
-        U_LOG_W("runtime: event queue full, the oldest event is dropped");
-        inst->event_head = (inst->event_head + 1) % HSRT_EVENT_QUEUE;
-        inst->event_count--;
-    }
-    uint32_t slot = (inst->event_head + inst->event_count) % HSRT_EVENT_QUEUE;
-    memset(&inst->events[slot], 0, sizeof(inst->events[slot]));
-    memcpy(&inst->events[slot], event, size < sizeof(XrEventDataBuffer) ? size : sizeof(XrEventDataBuffer));
-    inst->event_count++;
-}
-
-void hsrt_push_state(hsrt_session *s, XrSessionState state)
-{
-    s->state = state;
-    XrEventDataSessionStateChanged ev = {.type = XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED,
-                                         .session = HSRT_XR(XrSession, s->handle),
-                                         .state = state,
-                                         .time = hsrt_now_ns()};
-    U_LOG_D("runtime: session state -> %d", (int)state);
-    hsrt_push_event(s->instance, &ev, sizeof(ev));
-}
 
 static XrResult XRAPI_CALL hsrt_xrPollEvent(XrInstance instance, XrEventDataBuffer *eventData)
 {
@@ -460,13 +400,6 @@ static XrPosef local_origin_of(const hs_pose_stream *stream)
 }
 
 /* ---- paths ---- */
-
-const char *hsrt_path_string(hsrt_instance *inst, XrPath path)
-{
-    if (path == XR_NULL_PATH || path > inst->path_count)
-        return NULL;
-    return inst->paths[path - 1];
-}
 
 static bool path_well_formed(const char *s)
 {
@@ -918,11 +851,7 @@ typedef struct hsrt_proc {
     PFN_xrVoidFunction fn;
 } hsrt_proc;
 
-static const hsrt_proc k_entry_procs[] = {
-#define HSRT_X_PROC(n) {"xr" #n, (PFN_xrVoidFunction)hsrt_xr##n},
-    HSRT_ENTRY_FUNCS(HSRT_X_PROC)
-#undef HSRT_X_PROC
-};
+static const hsrt_proc k_entry_procs[] = {HSRT_ENTRY_FUNCS(HSRT_X_PROC)};
 
 static XrResult XRAPI_CALL hsrt_xrGetInstanceProcAddr(XrInstance instance, const char *name,
                                                       PFN_xrVoidFunction *function)

@@ -45,7 +45,7 @@
  * window requests exit (the session walks down to STOPPING, as xrRequestExitSession). The
  * title shows the frame on screen, the state and the view.
  */
-#include "hsrt.h"
+#include "hsrt_instance.h"
 #include "hsrt_preview_view.h"
 
 #include "hs_image.h"

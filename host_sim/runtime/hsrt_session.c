@@ -17,7 +17,7 @@
  * VIEW follows the head. Display time t maps to stream time t - (first predicted display
  * time), wrapping around at the stream's end.
  */
-#include "hsrt.h"
+#include "hsrt_instance.h"
 
 #include "u_diag.h"
 
@@ -1430,9 +1430,7 @@ PFN_xrVoidFunction hsrt_session_proc(const char *name)
         const char *name;
         PFN_xrVoidFunction fn;
     } procs[] = {
-#define HSRT_X_PROC(n) {"xr" #n, (PFN_xrVoidFunction)hsrt_xr##n},
         HSRT_SESSION_FUNCS(HSRT_X_PROC)
-#undef HSRT_X_PROC
     };
     for (size_t i = 0; i < sizeof(procs) / sizeof(procs[0]); i++) {
         if (!strcmp(procs[i].name, name))

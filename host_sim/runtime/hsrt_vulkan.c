@@ -11,7 +11,7 @@
  * spec ties to their first usage flag (colour attachment, depth attachment, storage, ...)
  * whenever the application holds them.
  */
-#include "hsrt.h"
+#include "hsrt_instance.h"
 
 #include "u_device.h"
 #include "u_diag.h"
