@@ -7,7 +7,8 @@
 #include "hs_bench.h"
 
 #include "hs_args.h"
-#include "hs_bench_internal.h"
+#include "hs_bench_columns.h"
+#include "hs_bench_report.h"
 #include "hs_image.h"
 #include "u_diag.h"
 #include "xrsc/xrsc_metrics.h"
@@ -89,11 +90,6 @@ typedef struct bench_run {
      *  other settings' base_energy (seed 002 §5.1), NULL where not rendered in this run */
     float **base_color;
 } bench_run;
-
-bool hs_bench_is_scored(uint32_t k, uint32_t warmup, uint32_t score_every)
-{
-    return k >= warmup && (k - warmup) % score_every == 0;
-}
 
 /* suffix: "" for the reference, "_floor" for the second one of --ref-floor. */
 static void ref_path_s(const bench_run *b, uint32_t k, int eye, const char *suffix, char *out,
@@ -404,17 +400,6 @@ static bool metric_ok(bench_run *b, xrsc_result r)
     return false;
 }
 
-/* The fixed columns of a setting's CSV, before the per-pass columns "gpu_<pass>_ms". */
-/** Columns before relmse: what every frame has, also with --timing-only. */
-#define BENCH_FIRST_METRIC_COLUMN 10u
-const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT] = {
-    "setting",    "method",       "frame",          "display_time_ns", "warmup",
-    "scored",     "wall_ms",      "gpu_ms",         "rays",            "rays_per_px",
-    "relmse",     "rmse",         "ssim",           "cpbd",            "ref_cpbd",
-    "temporal_msd", "temporal_valid", "stereo_msd", "stereo_valid", "ref_stereo_msd",
-    "base_energy",
-};
-
 /* Renders frame k with r and reads its colour, and the depth at pixel centres (the same
  * for every setting) for the reprojections, into cur. */
 static xrsc_result render_frame(bench_run *b, const hs_bench_setting *s, xrsc_renderer *r,
@@ -714,11 +699,6 @@ done:
     free(ref[1]);
     xrsc_renderer_destroy(&r);
     return res;
-}
-
-void hs_bench_setting_csv_path(const char *out_dir, const char *name, char *out, size_t cap)
-{
-    snprintf(out, cap, "%s/frames/%s.csv", out_dir, name);
 }
 
 static bool headset_is_zero(const xrsc_headset *hs)

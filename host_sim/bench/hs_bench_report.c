@@ -6,7 +6,8 @@
  *        writes and runs the gnuplot charts.
  */
 #include "hs_args.h"
-#include "hs_bench_internal.h"
+#include "hs_bench_columns.h"
+#include "hs_bench_report.h"
 
 #include "u_diag.h"
 #include "xrsc/xrsc_metrics.h"

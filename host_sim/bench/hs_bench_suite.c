@@ -16,7 +16,8 @@
 #include "hs_bench.h"
 
 #include "hs_args.h"
-#include "hs_bench_internal.h"
+#include "hs_bench_columns.h"
+#include "hs_bench_report.h"
 #include "u_diag.h"
 #include "xrsc/xrsc_metrics.h"
 

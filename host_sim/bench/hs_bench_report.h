@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 /**
- * @file hs_bench_internal.h
- * @brief Shared between the parts of `xrsc bench` (run, report, command line).
+ * @file hs_bench_report.h
+ * @brief `xrsc bench`'s report (hs_bench_report.c): what the runner (hs_bench.c) tells it, and
+ *        the gnuplot helpers the stability suite (hs_bench_suite.c) shares. It reads the frames
+ *        CSVs through their schema (hs_bench_columns.h), not through the runner.
  */
 #pragma once
 
@@ -11,21 +13,6 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
-
-#define HS_BENCH_PATH_MAX 1024
-
-/** The fixed leading columns of a setting's CSV (then "gpu_<pass>_ms" per pass). */
-#define HS_BENCH_COLUMN_COUNT 21
-extern const char *const hs_bench_columns[HS_BENCH_COLUMN_COUNT];
-/** Prefix of the columns that hold a method's counters (xrsc_renderer_counters), after the
- *  per-pass columns "gpu_<pass>_ms". */
-#define HS_BENCH_COUNTER_PREFIX "c_"
-
-
-/** out_dir/frames/NAME.csv */
-void hs_bench_setting_csv_path(const char *out_dir, const char *name, char *out, size_t cap);
-/** Frame k is scored: k >= warmup and (k - warmup) % score_every == 0. */
-bool hs_bench_is_scored(uint32_t k, uint32_t warmup, uint32_t score_every);
 
 /** What the report needs to know of the run (defaults resolved). */
 typedef struct hs_bench_report_info {
