@@ -28,7 +28,7 @@ declare -A owner=()
 for f in $folders; do
   [ -d "$dir/$f" ] || { echo "missing folder $dir/$f"; echo "0 passed, 1 failed"; exit 1; }
   for h in "$dir/$f"/*.h; do
-    [ -e "$h" ] && owner[$(basename "$h")]=$f
+    [ -e "$h" ] && owner[${h##*/}]=$f
   done
 done
 
@@ -38,7 +38,7 @@ for f in $folders; do
   for src in "$dir/$f"/*.c "$dir/$f"/*.h; do
     [ -e "$src" ] || continue
     while IFS=: read -r line inc; do
-      h=$(basename "$inc")
+      h=${inc##*/}
       o=${owner[$h]:-}
       [ -z "$o" ] || [ "$o" = "$f" ] && continue
       case " ${allowed[$f]} " in
