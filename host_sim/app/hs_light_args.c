@@ -11,11 +11,6 @@
 #include <stdio.h>
 #include <string.h>
 
-const char *const hs_light_value_options[] = {"--env-map", "--env-intensity", "--env-rotation",
-                                              "--sky-turbidity", "--sun-dir"};
-const size_t hs_light_value_option_count =
-    sizeof(hs_light_value_options) / sizeof(hs_light_value_options[0]);
-
 /** Largest accepted --env-intensity. */
 #define HS_LIGHT_MAX_INTENSITY 1e6
 

@@ -6,6 +6,7 @@
  */
 #pragma once
 
+#include "hs_opt.h"
 #include "xrsc/xrsc.h"
 
 #include <stddef.h>
@@ -14,23 +15,23 @@
 extern "C" {
 #endif
 
-/** Lighting options that take a value (for the command's value-option list). */
-extern const char *const hs_light_value_options[];
-extern const size_t hs_light_value_option_count;
-
-/** The --help lines of the lighting options (right after the --env line). */
-#define HS_LIGHT_USAGE                                                                             \
-    "                      (a scene without one and without a directional light: the built-in\n" \
-    "                      studio environment, emissive materials notwithstanding; 1,1,1 is\n" \
-    "                      the grey of earlier versions)\n"                                  \
-    "  --env-map FILE      equirectangular Radiance .hdr environment (centre = -Z, top = +Y),\n" \
-    "                      importance-sampled; replaces --env and the scene's environment\n"     \
-    "  --env-intensity X   scales --env-map, or --sky's sun and sky [1]\n"                     \
-    "  --env-rotation DEG  turns the map or sky about +Y (counter-clockwise from above) [0]\n"    \
-    "  --sky               Preetham sun and sky (seed 000 section 5.1) as the environment;\n"    \
-    "                      its sun (a 0.53 deg disk) replaces the scene's directional light\n"   \
-    "  --sky-turbidity T   --sky: atmospheric turbidity, 1.7..10 [3]\n"                           \
-    "  --sun-dir X,Y,Z     --sky: towards the sun, y >= 0 [the scene's sun, else 0.5,0.707,0.5]\n"
+/** The table rows (hs_opt.h) of the lighting options, in --help's order (after --env); parse
+ *  is the command's parser, which calls hs_light_parse with the row's name. */
+#define HS_LIGHT_OPTS(parse)                                                                       \
+    {"--env-map", "FILE",                                                                          \
+     "equirectangular Radiance .hdr environment (centre = -Z, top = +Y),\n"                       \
+     "importance-sampled; replaces --env and the scene's environment",                             \
+     parse, 0, NULL},                                                                              \
+        {"--env-intensity", "X", "scales --env-map, or --sky's sun and sky [1]", parse, 0, NULL},  \
+        {"--env-rotation", "DEG",                                                                  \
+         "turns the map or sky about +Y (counter-clockwise from above) [0]", parse, 0, NULL},      \
+        {"--sky", NULL,                                                                            \
+         "Preetham sun and sky (seed 000 section 5.1) as the environment;\n"                      \
+         "its sun (a 0.53 deg disk) replaces the scene's directional light",                       \
+         parse, 0, NULL},                                                                          \
+        {"--sky-turbidity", "T", "--sky: atmospheric turbidity, 1.7..10 [3]", parse, 0, NULL},     \
+        {"--sun-dir", "X,Y,Z", "--sky: towards the sun, y >= 0 [the scene's sun, else 0.5,0.707,0.5]", \
+         parse, 0, NULL}
 
 /** Flags (no value) of the lighting options. */
 #define HS_LIGHT_FLAG_SKY "--sky"
