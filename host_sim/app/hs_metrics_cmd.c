@@ -9,11 +9,13 @@
 
 #include "hs_args.h"
 #include "hs_metrics_stereo.h"
+#include "hs_opt.h"
 #include "hs_run_dir.h"
 #include "u_diag.h"
 #include "xrsc/xrsc_metrics.h"
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,57 +24,6 @@
 #define PATH_MAX_LEN 4096
 #define MAX_SEQ 2
 
-/* clang-format off */
-static void usage(FILE *f)
-{
-    fprintf(f,
-"usage: xrsc metrics --ref DIR --test DIR [options]\n"
-"       xrsc metrics --stereo DIR [--views FILE] [options]\n"
-"\n"
-"Compares two runs frame by frame, both eyes: linear colour PFM files as `xrsc replay\n"
-"--write linear` writes them, else EXR files (--write exr), else the PNGs of runs that have\n"
-"only PNGs (a warning: those are tone-mapped and 8-bit, so the values are display-referred).\n"
-"Per frame and eye: relMSE, RMSE and mean SSIM of the test frame against the reference\n"
-"frame, and the CPBD sharpness of both; then the means over the sequence, per eye. The first\n"
-"frame is the lowest number present in the reference folder (OpenXR runs start at 1, --direct\n"
-"runs at 0).\n"
-"\n"
-"  --ref DIR           reference frames (e.g. `spp` with many samples per pixel)\n"
-"  --test DIR          frames to evaluate (same names and sizes)\n"
-"  --pattern FMT       one sequence's file name with one %%u, zero padding allowed; a name\n"
-"                      with \"left\" also scores the \"right\" one  [frame_%%05u_left.pfm,\n"
-"                      .exr or .png]\n"
-"  --first N           first frame number          [the lowest in --ref]\n"
-"  --frames N          N frames, an error if fewer exist (0 = until a reference frame is\n"
-"                      missing)                    [0]\n"
-"  --floor X|FILE      the reference's noise floor as a relMSE: rows whose relMSE is below it\n"
-"                      are marked \"below floor\" (their difference cannot be told from the\n"
-"                      reference's own noise). FILE: the saved output of `xrsc bench\n"
-"                      --ref-floor`, whose \"reference floor relMSE\" is measured between two\n"
-"                      independent references; half of it is one reference's noise, used here\n"
-"  --csv PATH          also write the per-frame values as CSV (one row per frame and eye)\n"
-"  --relmse-eps E      relMSE epsilon: (x - r)^2 / (r^2 + E)           [0.01]\n"
-"  --range L           display range: luminance clamped to [0, L] for SSIM and CPBD [1]\n"
-"  --cpbd-linear       CPBD on linear instead of sRGB-encoded luminance\n"
-"  --quiet             print only the mean lines\n"
-"  -h, --help          this help\n"
-"\n"
-"--stereo DIR scores one run's stereo frames, as `xrsc bench` does (its temporal_msd and\n"
-"stereo_msd): per frame the stereo discrepancy (the left eye reprojected into the right by\n"
-"depth, disocclusions excluded; mean squared RGB difference over the valid pixels) and the\n"
-"temporal difference (each eye against the previous frame reprojected into it, both eyes'\n"
-"means weighted by their valid pixels), then their means. Input: frame_NNNNN_left.exr and\n"
-"_right.exr with colour R, G, B and depth Z (metres along -Z at the pixel centre, 0 = no hit;\n"
-"`xrsc replay --write exr` writes them) and views.csv (each frame's eye poses, FOVs and\n"
-"sizes; the replay writes it; README.md, \"views.csv\"), so frames of any renderer can be\n"
-"scored. --pattern (with \"left\", ending .exr), --first, --frames, --csv and --quiet apply.\n"
-"  --stereo DIR        the run to score (instead of --ref/--test)\n"
-"  --views FILE        the eye poses and FOVs               [DIR/views.csv]\n"
-"  --warmup N          the first N frames are listed but left out of the means (as\n"
-"                      `xrsc bench --warmup`)                [0]\n"
-"  --depth-tolerance X relative depth test of the reprojection [0.05]\n");
-}
-/* clang-format on */
 
 static int bad_arg(const char *flag, const char *value, const char *why)
 {
@@ -213,74 +164,112 @@ typedef struct metrics_args {
 
 static int check_mode(const metrics_args *a);
 
+#define A(a) ((metrics_args *)(a)->target)
+
+static int parse_first(const hs_opt_arg *a)
+{
+    if (!hs_parse_u32(a->value, &A(a)->first))
+        return bad_arg(a->opt->name, a->value, "expected a frame number");
+    A(a)->first_given = true;
+    return 0;
+}
+
+static int parse_floor_opt(const hs_opt_arg *a)
+{
+    if (!parse_floor(a->value, &A(a)->floor_relmse))
+        return bad_arg(a->opt->name, a->value,
+                       "expected a positive relMSE, or a file with `xrsc bench "
+                       "--ref-floor`'s \"" BENCH_FLOOR_TEXT "\"");
+    return 0;
+}
+
+/* A double field in (0, 1e30]. */
+static int parse_positive_opt(const hs_opt_arg *a)
+{
+    if (!parse_positive(a->value, (double *)a->field))
+        return bad_arg(a->opt->name, a->value, "expected a positive number");
+    return 0;
+}
+
+#define F(field) offsetof(metrics_args, field)
+#define COUNT (&(const hs_opt_num){0, UINT32_MAX, "expected a count"})
+#define TEXT(s) {NULL, NULL, s, NULL, 0, NULL}
+
+/* Every option of `xrsc metrics` once, in --help's order. */
+static const hs_opt k_metrics_opts[] = {
+    TEXT("usage: xrsc metrics --ref DIR --test DIR [options]\n"
+         "       xrsc metrics --stereo DIR [--views FILE] [options]\n"
+         "\n"
+         "Compares two runs frame by frame, both eyes: linear colour PFM files as `xrsc replay\n"
+         "--write linear` writes them, else EXR files (--write exr), else the PNGs of runs that have\n"
+         "only PNGs (a warning: those are tone-mapped and 8-bit, so the values are display-referred).\n"
+         "Per frame and eye: relMSE, RMSE and mean SSIM of the test frame against the reference\n"
+         "frame, and the CPBD sharpness of both; then the means over the sequence, per eye. The first\n"
+         "frame is the lowest number present in the reference folder (OpenXR runs start at 1, --direct\n"
+         "runs at 0).\n"
+         "\n"),
+    {"--ref", "DIR", "reference frames (e.g. `spp` with many samples per pixel)", NULL, F(ref_dir),
+     NULL},
+    {"--test", "DIR", "frames to evaluate (same names and sizes)", NULL, F(test_dir), NULL},
+    {"--pattern", "FMT",
+     "one sequence's file name with one %u, zero padding allowed; a name\n"
+     "with \"left\" also scores the \"right\" one  [frame_%05u_left.pfm,\n"
+     ".exr or .png]",
+     NULL, F(pattern), NULL},
+    {"--first", "N", "first frame number          [the lowest in --ref]", parse_first, 0, NULL},
+    {"--frames", "N",
+     "N frames, an error if fewer exist (0 = until a reference frame is\n"
+     "missing)                    [0]",
+     hs_opt_u32, F(max_frames), COUNT},
+    {"--floor", "X|FILE",
+     "the reference's noise floor as a relMSE: rows whose relMSE is below it\n"
+     "are marked \"below floor\" (their difference cannot be told from the\n"
+     "reference's own noise). FILE: the saved output of `xrsc bench\n"
+     "--ref-floor`, whose \"reference floor relMSE\" is measured between two\n"
+     "independent references; half of it is one reference's noise, used here",
+     parse_floor_opt, 0, NULL},
+    {"--csv", "PATH", "also write the per-frame values as CSV (one row per frame and eye)", NULL,
+     F(csv_path), NULL},
+    {"--relmse-eps", "E", "relMSE epsilon: (x - r)^2 / (r^2 + E)           [0.01]",
+     parse_positive_opt, F(mo.relmse_epsilon), NULL},
+    {"--range", "L", "display range: luminance clamped to [0, L] for SSIM and CPBD [1]",
+     parse_positive_opt, F(mo.display_range), NULL},
+    {"--cpbd-linear", NULL, "CPBD on linear instead of sRGB-encoded luminance", NULL,
+     F(mo.cpbd_linear), NULL},
+    {"--quiet", NULL, "print only the mean lines", NULL, F(quiet), NULL},
+    TEXT("  -h, --help          this help\n"
+         "\n"
+         "--stereo DIR scores one run's stereo frames, as `xrsc bench` does (its temporal_msd and\n"
+         "stereo_msd): per frame the stereo discrepancy (the left eye reprojected into the right by\n"
+         "depth, disocclusions excluded; mean squared RGB difference over the valid pixels) and the\n"
+         "temporal difference (each eye against the previous frame reprojected into it, both eyes'\n"
+         "means weighted by their valid pixels), then their means. Input: frame_NNNNN_left.exr and\n"
+         "_right.exr with colour R, G, B and depth Z (metres along -Z at the pixel centre, 0 = no hit;\n"
+         "`xrsc replay --write exr` writes them) and views.csv (each frame's eye poses, FOVs and\n"
+         "sizes; the replay writes it; README.md, \"views.csv\"), so frames of any renderer can be\n"
+         "scored. --pattern (with \"left\", ending .exr), --first, --frames, --csv and --quiet apply.\n"),
+    {"--stereo", "DIR", "the run to score (instead of --ref/--test)", NULL, F(stereo_dir), NULL},
+    {"--views", "FILE", "the eye poses and FOVs               [DIR/views.csv]", NULL,
+     F(views_path), NULL},
+    {"--warmup", "N",
+     "the first N frames are listed but left out of the means (as\n"
+     "`xrsc bench --warmup`)                [0]",
+     hs_opt_u32, F(warmup), COUNT},
+    {"--depth-tolerance", "X", "relative depth test of the reprojection [0.05]",
+     parse_positive_opt, F(mo.depth_tolerance), NULL},
+};
+#define METRICS_OPT_COUNT (sizeof(k_metrics_opts) / sizeof(k_metrics_opts[0]))
+
 /* Parses the command line; returns -1 to go on, else the exit code. */
 static int parse_args(int argc, char **argv, metrics_args *a)
 {
-    static const char *const with_value[] = {
-        "--ref",   "--test",        "--pattern", "--first",  "--frames",         "--csv",
-        "--floor", "--relmse-eps",  "--range",   "--stereo", "--views",          "--warmup",
-        "--depth-tolerance"};
-    hs_args args; /* --opt=value; without config files the values stay in argv */
-    int prep = hs_args_normalize(&args, "xrsc metrics", with_value, sizeof(with_value) / sizeof(with_value[0]), &argc, &argv);
-    if (prep)
-        return prep;
-    for (int i = 1; i < argc; i++) {
-        const char *f = argv[i];
-        if (!strcmp(f, "-h") || !strcmp(f, "--help")) {
-            usage(stdout);
-            return 0;
-        }
-        if (!strcmp(f, "--quiet")) {
-            a->quiet = true;
-            continue;
-        }
-        if (!strcmp(f, "--cpbd-linear")) {
-            a->mo.cpbd_linear = true;
-            continue;
-        }
-        if (!hs_arg_in(f, with_value, sizeof(with_value) / sizeof(with_value[0])))
-            return bad_arg(f, NULL, f[0] == '-' ? "unknown option" : "unexpected argument");
-        if (i + 1 >= argc)
-            return bad_arg(f, NULL, "needs a value");
-        const char *v = argv[++i];
-        if (!strcmp(f, "--ref")) {
-            a->ref_dir = v;
-        } else if (!strcmp(f, "--test")) {
-            a->test_dir = v;
-        } else if (!strcmp(f, "--pattern")) {
-            a->pattern = v;
-        } else if (!strcmp(f, "--first")) {
-            if (!hs_parse_u32(v, &a->first))
-                return bad_arg(f, v, "expected a frame number");
-            a->first_given = true;
-        } else if (!strcmp(f, "--frames")) {
-            if (!hs_parse_u32(v, &a->max_frames))
-                return bad_arg(f, v, "expected a count");
-        } else if (!strcmp(f, "--csv")) {
-            a->csv_path = v;
-        } else if (!strcmp(f, "--floor")) {
-            if (!parse_floor(v, &a->floor_relmse))
-                return bad_arg(f, v,
-                               "expected a positive relMSE, or a file with `xrsc bench "
-                               "--ref-floor`'s \"" BENCH_FLOOR_TEXT "\"");
-        } else if (!strcmp(f, "--relmse-eps")) {
-            if (!parse_positive(v, &a->mo.relmse_epsilon))
-                return bad_arg(f, v, "expected a positive number");
-        } else if (!strcmp(f, "--range")) {
-            if (!parse_positive(v, &a->mo.display_range))
-                return bad_arg(f, v, "expected a positive number");
-        } else if (!strcmp(f, "--stereo")) {
-            a->stereo_dir = v;
-        } else if (!strcmp(f, "--views")) {
-            a->views_path = v;
-        } else if (!strcmp(f, "--warmup")) {
-            if (!hs_parse_u32(v, &a->warmup))
-                return bad_arg(f, v, "expected a count");
-        } else if (!strcmp(f, "--depth-tolerance")) {
-            if (!parse_positive(v, &a->mo.depth_tolerance))
-                return bad_arg(f, v, "expected a positive number");
-        }
+    int r = hs_opt_parse("xrsc metrics", k_metrics_opts, METRICS_OPT_COUNT, argc, argv, 1, a);
+    if (r == HS_OPT_HELP) {
+        hs_opt_print_help(stdout, k_metrics_opts, METRICS_OPT_COUNT);
+        return 0;
     }
+    if (r != HS_ARG_NEXT)
+        return r;
     return check_mode(a);
 }
 
