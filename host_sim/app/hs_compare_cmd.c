@@ -10,12 +10,14 @@
 #include "hs_args.h"
 #include "hs_font.h"
 #include "hs_image.h"
+#include "hs_opt.h"
 #include "hs_run_dir.h"
 #include "u_diag.h"
 #include "xrsc/xrsc_metrics.h"
 
 #include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,33 +34,6 @@
 /** Height of the colour scale bar, pixels (times the text scale). */
 #define SCALE_BAR_PX 8
 
-/* clang-format off */
-static void usage(FILE *f)
-{
-    fprintf(f,
-"usage: xrsc compare A B [options]\n"
-"\n"
-"A/B comparison of two run folders (as `xrsc replay` writes them; linear PFM, else EXR frames\n"
-"when both have them, else PNGs with a warning that they are tone-mapped). Frames are matched\n"
-"by number from the lowest one in A. Per frame it writes OUT/compare_NNNNN.png: one row per\n"
-"eye with A, B and the heat map of |B - A| (RMS over R, G, B; black = equal), each labelled,\n"
-"and the heat map's colour scale; and it prints relMSE, RMSE, PSNR and SSIM of B against A for\n"
-"both eyes (also written to OUT/compare.csv).\n"
-"\n"
-"  --out DIR           output folder (created)          [" DEFAULT_OUT "]\n"
-"  --first N           first frame number               [the lowest in A]\n"
-"  --frames N          N frames (0 = until a frame of A is missing)  [0]\n"
-"  --scale X           heat map full scale (RMS difference shown white) [the 99th\n"
-"                      percentile of the first frame's differences]\n"
-"  --exposure X        tone-mapping exposure of linear frames in the images [1]\n"
-"  --relmse-eps E      relMSE epsilon                   [0.01]\n"
-"  --quiet             print only the mean lines\n"
-"  -h, --help          this help\n"
-"\n"
-"PSNR is 10 log10(1 / MSE): the peak is 1, the display white of linear frames.\n");
-}
-/* clang-format on */
-
 static int bad_arg(const char *flag, const char *value, const char *why)
 {
     return hs_bad_arg("xrsc compare", flag, value, why);
@@ -72,58 +47,83 @@ typedef struct compare_args {
     xrsc_metrics_options mo;
 } compare_args;
 
+#define C(a) ((compare_args *)(a)->target)
+
+/* The run folders A and B, in order. */
+static int parse_folder(const hs_opt_arg *a)
+{
+    if (!C(a)->a_dir)
+        C(a)->a_dir = a->value;
+    else if (!C(a)->b_dir)
+        C(a)->b_dir = a->value;
+    else
+        return bad_arg(a->value, NULL, "unexpected argument (two run folders: A B)");
+    return 0;
+}
+
+static int parse_first(const hs_opt_arg *a)
+{
+    if (!hs_parse_u32(a->value, &C(a)->first))
+        return bad_arg(a->opt->name, a->value, "expected a frame number");
+    C(a)->first_given = true;
+    return 0;
+}
+
+/* A double field in (0, 1e30]. */
+static int parse_positive(const hs_opt_arg *a)
+{
+    double d;
+    if (!hs_parse_f(a->value, &d) || !(d > 0.0) || d > 1e30)
+        return bad_arg(a->opt->name, a->value, "expected a positive number");
+    *(double *)a->field = d;
+    return 0;
+}
+
+#define F(field) offsetof(compare_args, field)
+#define TEXT(s) {NULL, NULL, s, NULL, 0, NULL}
+
+/* Every option of `xrsc compare` once, in --help's order; the text row with a parser takes A
+ * and B. */
+static const hs_opt k_compare_opts[] = {
+    {NULL, NULL,
+     "usage: xrsc compare A B [options]\n"
+     "\n"
+     "A/B comparison of two run folders (as `xrsc replay` writes them; linear PFM, else EXR frames\n"
+     "when both have them, else PNGs with a warning that they are tone-mapped). Frames are matched\n"
+     "by number from the lowest one in A. Per frame it writes OUT/compare_NNNNN.png: one row per\n"
+     "eye with A, B and the heat map of |B - A| (RMS over R, G, B; black = equal), each labelled,\n"
+     "and the heat map's colour scale; and it prints relMSE, RMSE, PSNR and SSIM of B against A for\n"
+     "both eyes (also written to OUT/compare.csv).\n"
+     "\n",
+     parse_folder, 0, NULL},
+    {"--out", "DIR", "output folder (created)          [" DEFAULT_OUT "]", NULL, F(out_dir), NULL},
+    {"--first", "N", "first frame number               [the lowest in A]", parse_first, 0, NULL},
+    {"--frames", "N", "N frames (0 = until a frame of A is missing)  [0]", hs_opt_u32,
+     F(max_frames), &(const hs_opt_num){0, UINT32_MAX, "expected a count"}},
+    {"--scale", "X",
+     "heat map full scale (RMS difference shown white) [the 99th\n"
+     "percentile of the first frame's differences]",
+     parse_positive, F(scale), NULL},
+    {"--exposure", "X", "tone-mapping exposure of linear frames in the images [1]",
+     parse_positive, F(exposure), NULL},
+    {"--relmse-eps", "E", "relMSE epsilon                   [0.01]", parse_positive,
+     F(mo.relmse_epsilon), NULL},
+    {"--quiet", NULL, "print only the mean lines", NULL, F(quiet), NULL},
+    TEXT("  -h, --help          this help\n"
+         "\n"
+         "PSNR is 10 log10(1 / MSE): the peak is 1, the display white of linear frames.\n"),
+};
+#define COMPARE_OPT_COUNT (sizeof(k_compare_opts) / sizeof(k_compare_opts[0]))
+
 static int parse_args(int argc, char **argv, compare_args *a)
 {
-    static const char *const with_value[] = {"--out",   "--first",    "--frames",
-                                             "--scale", "--exposure", "--relmse-eps"};
-    hs_args args; /* --opt=value; without config files the values stay in argv */
-    int prep = hs_args_normalize(&args, "xrsc compare", with_value, sizeof(with_value) / sizeof(with_value[0]), &argc, &argv);
-    if (prep)
-        return prep;
-    for (int i = 1; i < argc; i++) {
-        const char *f = argv[i];
-        double d;
-        if (!strcmp(f, "-h") || !strcmp(f, "--help")) {
-            usage(stdout);
-            return 0;
-        }
-        if (!strcmp(f, "--quiet")) {
-            a->quiet = true;
-            continue;
-        }
-        if (f[0] != '-') {
-            if (!a->a_dir)
-                a->a_dir = f;
-            else if (!a->b_dir)
-                a->b_dir = f;
-            else
-                return bad_arg(f, NULL, "unexpected argument (two run folders: A B)");
-            continue;
-        }
-        if (!hs_arg_in(f, with_value, sizeof(with_value) / sizeof(with_value[0])))
-            return bad_arg(f, NULL, "unknown option");
-        if (i + 1 >= argc)
-            return bad_arg(f, NULL, "needs a value");
-        const char *v = argv[++i];
-        if (!strcmp(f, "--out")) {
-            a->out_dir = v;
-        } else if (!strcmp(f, "--first")) {
-            if (!hs_parse_u32(v, &a->first))
-                return bad_arg(f, v, "expected a frame number");
-            a->first_given = true;
-        } else if (!strcmp(f, "--frames")) {
-            if (!hs_parse_u32(v, &a->max_frames))
-                return bad_arg(f, v, "expected a count");
-        } else if (!hs_parse_f(v, &d) || !(d > 0.0) || d > 1e30) {
-            return bad_arg(f, v, "expected a positive number");
-        } else if (!strcmp(f, "--scale")) {
-            a->scale = d;
-        } else if (!strcmp(f, "--exposure")) {
-            a->exposure = d;
-        } else {
-            a->mo.relmse_epsilon = d;
-        }
+    int r = hs_opt_parse("xrsc compare", k_compare_opts, COMPARE_OPT_COUNT, argc, argv, 1, a);
+    if (r == HS_OPT_HELP) {
+        hs_opt_print_help(stdout, k_compare_opts, COMPARE_OPT_COUNT);
+        return 0;
     }
+    if (r != HS_ARG_NEXT)
+        return r;
     if (!a->a_dir || !a->b_dir)
         return bad_arg(a->a_dir ? "B" : "A", NULL, "two run folders are required: A B");
     return -1;

@@ -41,8 +41,6 @@ static int refused(const char *cmd, const hs_opt *t, size_t n, const char *arg, 
 {
     char buf[NAME_MAX_LEN];
     const char *name = typed_name(arg, buf);
-    if (arg[0] != '-' || (arg[1] != '-' && arg[1] != '\0' && strcmp(arg, "-h")))
-        return hs_bad_arg(cmd, arg, NULL, "unexpected argument");
     if (c == ':')
         return hs_bad_arg(cmd, name, NULL, "needs a value");
     const hs_opt *o = find(t, n, name);
@@ -77,6 +75,13 @@ int hs_opt_parse(const char *cmd, const hs_opt *t, size_t n, int argc, char **ar
     }
     lo[k++] = (struct option){"help", no_argument, NULL, 'h'};
     lo[k] = (struct option){0};
+    /* A text row with a parser takes the arguments that are not options, in order ("-": getopt
+     * returns them as 1); without one the first of them ends the options ("+") and is an
+     * error. */
+    const hs_opt *positional = NULL;
+    for (size_t i = 0; i < n && !positional; i++)
+        if (!t[i].name && t[i].parse)
+            positional = &t[i];
     /* getopt_long reads argv[1..]: hand it argv[first - 1..] with that element as "argv[0]". */
     int sub_argc = argc - (first - 1);
     char **sub = argv + (first - 1);
@@ -85,9 +90,15 @@ int hs_opt_parse(const char *cmd, const hs_opt *t, size_t n, int argc, char **ar
     for (;;) {
         int at = optind ? optind : 1;
         int idx = -1;
-        int c = getopt_long(sub_argc, sub, "+:h", lo, &idx);
+        int c = getopt_long(sub_argc, sub, positional ? "-:h" : "+:h", lo, &idx);
         if (c == -1)
             break;
+        if (c == 1) {
+            int r = run_parser(cmd, positional, optarg, target);
+            if (r)
+                return r;
+            continue;
+        }
         const char *arg = sub[at];
         char buf[NAME_MAX_LEN];
         const char *name = typed_name(arg, buf);
@@ -125,7 +136,8 @@ void hs_opt_print_help(FILE *f, const hs_opt *t, size_t n)
 {
     for (size_t i = 0; i < n; i++) {
         if (!t[i].name) {
-            fputs(t[i].help, f);
+            if (t[i].help)
+                fputs(t[i].help, f);
             continue;
         }
         if (!t[i].help)

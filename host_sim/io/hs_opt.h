@@ -31,7 +31,9 @@ typedef struct hs_opt_arg {
 typedef int (*hs_opt_fn)(const hs_opt_arg *a);
 
 /**
- * One row. name NULL: a text row, help printed as it is in --help (headings, notes). Else an
+ * One row. name NULL: a text row, help (if any) printed as it is in --help (headings, notes);
+ * with a parser it also takes the arguments that are not options (value: each in turn; at most
+ * one such row; without one such an argument is an error). Else an
  * option: name with its dashes ("--frames"), arg the value's placeholder ("N"; NULL: a flag,
  * which takes no value), help its lines without indentation ('\n' between them; NULL: not
  * listed), parse its parser (NULL: the value is stored as const char *, a flag sets a bool

@@ -99,6 +99,43 @@ static void test_errors(void)
     CHECK_EQ_INT(o.frames, 4);
 }
 
+/* A text row with a parser takes the arguments that are not options, between the options. */
+typedef struct files {
+    const char *a, *b;
+    bool quiet;
+} files;
+
+static int take_file(const hs_opt_arg *a)
+{
+    files *f = a->target;
+    if (f->a && f->b)
+        return hs_bad_arg(a->cmd, a->value, NULL, "unexpected argument");
+    *(f->a ? &f->b : &f->a) = a->value;
+    return 0;
+}
+
+static const hs_opt k_files[] = {
+    {NULL, NULL, "usage: t A B\n", take_file, 0, NULL},
+    {"--quiet", NULL, "quiet", NULL, offsetof(files, quiet), NULL},
+};
+
+static void test_positional(void)
+{
+    char w0[] = "t", w1[] = "A", w2[] = "--quiet", w3[] = "B", w4[] = "C";
+    char *argv[] = {w0, w1, w2, w3, w4, NULL};
+    files f = {0};
+    CHECK_EQ_INT(hs_opt_parse("t", k_files, 2, 4, argv, 1, &f), HS_ARG_NEXT);
+    CHECK(f.a && !strcmp(f.a, "A") && f.b && !strcmp(f.b, "B") && f.quiet);
+    memset(&f, 0, sizeof(f));
+    CHECK_EQ_INT(hs_opt_parse("t", k_files, 2, 5, argv, 1, &f), HS_EXIT_BAD_ARGS);
+    /* without such a row a word that is not an option is an error */
+    char w5[] = "--frame";
+    char *argv2[] = {w0, w5, w1, NULL};
+    opts o = {0};
+    CHECK_EQ_INT(hs_opt_parse("t", k_table, N, 3, argv2, 1, &o), HS_EXIT_BAD_ARGS);
+    CHECK(o.direct); /* the flag before it was read */
+}
+
 static void test_help_and_value_names(void)
 {
     const char *path = t_temp_file("test_opt_help.txt", "");
@@ -128,6 +165,7 @@ int main(void)
 {
     RUN(test_values_both_spellings);
     RUN(test_errors);
+    RUN(test_positional);
     RUN(test_help_and_value_names);
     return t_finish();
 }
