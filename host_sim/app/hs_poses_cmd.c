@@ -8,33 +8,19 @@
 #include "hs_poses_cmd.h"
 
 #include "hs_args.h"
+#include "hs_opt.h"
 #include "hs_pose_stats.h"
 #include "hs_pose_stream.h"
 
 #include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
 #define POSES_CMD "xrsc poses"
 #define POSES_DEG_PER_RAD (180.0 / 3.14159265358979323846)
 #define POSES_DEFAULT_REFRESH_HZ 90.0
-
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: xrsc poses stats [options] FILE\n"
-               "\n"
-               "Prints the samples, duration and peak angular speed of a pose stream (any format\n"
-               "the replay reads), and with --fastest the window of that length with the fastest\n"
-               "mean angular speed (rotation summed over the steps between samples in the window,\n"
-               "divided by its length): its start and end (seconds from the first sample), mean\n"
-               "and peak speed (deg/s), the time of the peak, the frame of the peak counted from\n"
-               "the window's start at --refresh, and the replay flags that start there.\n"
-               "\n"
-               "  --fastest S   window length in seconds (> 0)\n"
-               "  --format F    auto | xrsc | pred6dof | 360video | librnr   [auto]\n"
-               "  --refresh HZ  display rate for the peak's frame index      [90]\n"
-               "  -h, --help    this help\n");
-}
 
 static bool parse_format(const char *v, hs_pose_format *out)
 {
@@ -82,51 +68,89 @@ static void print_stats(const char *path, const hs_pose_stream *s, double window
     printf("replay: --start %.6f --frames %.0f\n", start_s, ceil(window_s * refresh_hz));
 }
 
-/* The options that take a value, for --opt=value (hs_args_prepare). */
-static const char *const poses_value_options[] = {"--fastest", "--refresh", "--format"};
+/* What `xrsc poses stats` reads from its command line. */
+typedef struct poses_args {
+    const char *path;
+    double window_s, refresh_hz;
+    hs_pose_format format;
+} poses_args;
+
+#define P(a) ((poses_args *)(a)->target)
+
+static int parse_file(const hs_opt_arg *a)
+{
+    if (P(a)->path)
+        return hs_bad_arg(POSES_CMD, a->value, NULL, "one file only");
+    P(a)->path = a->value;
+    return 0;
+}
+
+/* --fastest, --refresh: a double field in (0, 1e6]. */
+static int parse_seconds_or_hz(const hs_opt_arg *a)
+{
+    double x;
+    if (!hs_parse_f(a->value, &x) || !(x > 0.0) || x > 1e6)
+        return hs_bad_arg(POSES_CMD, a->opt->name, a->value, "expected a number > 0");
+    *(double *)a->field = x;
+    return 0;
+}
+
+static int parse_format_opt(const hs_opt_arg *a)
+{
+    if (!parse_format(a->value, &P(a)->format))
+        return hs_bad_arg(POSES_CMD, a->opt->name, a->value,
+                          "expected auto, xrsc, pred6dof, 360video or librnr");
+    return 0;
+}
+
+/* Every option of `xrsc poses stats` once, in --help's order; the text row with a parser takes
+ * FILE. */
+static const hs_opt k_poses_opts[] = {
+    {NULL, NULL,
+     "usage: xrsc poses stats [options] FILE\n"
+     "\n"
+     "Prints the samples, duration and peak angular speed of a pose stream (any format\n"
+     "the replay reads), and with --fastest the window of that length with the fastest\n"
+     "mean angular speed (rotation summed over the steps between samples in the window,\n"
+     "divided by its length): its start and end (seconds from the first sample), mean\n"
+     "and peak speed (deg/s), the time of the peak, the frame of the peak counted from\n"
+     "the window's start at --refresh, and the replay flags that start there.\n"
+     "\n",
+     parse_file, 0, NULL},
+    {"--fastest", "S", "window length in seconds (> 0)", parse_seconds_or_hz,
+     offsetof(poses_args, window_s), NULL},
+    {"--format", "F", "auto | xrsc | pred6dof | 360video | librnr   [auto]", parse_format_opt, 0,
+     NULL},
+    {"--refresh", "HZ", "display rate for the peak's frame index      [90]", parse_seconds_or_hz,
+     offsetof(poses_args, refresh_hz), NULL},
+    {NULL, NULL, "  -h, --help          this help\n", NULL, 0, NULL},
+};
+#define POSES_OPT_COUNT (sizeof(k_poses_opts) / sizeof(k_poses_opts[0]))
 
 int hs_poses_main(int argc, char **argv)
 {
-    hs_args args; /* --opt=value */
-    int prep = hs_args_normalize(&args, POSES_CMD, poses_value_options,
-                                 sizeof(poses_value_options) / sizeof(poses_value_options[0]),
-                                 &argc, &argv);
-    if (prep)
-        return prep;
-    if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help")) {
-        usage(argc < 2 ? stderr : stdout);
-        return argc < 2 ? HS_EXIT_BAD_ARGS : 0;
+    bool help = argc >= 2 && (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help"));
+    if (argc < 2 || help) {
+        hs_opt_print_help(help ? stdout : stderr, k_poses_opts, POSES_OPT_COUNT);
+        return help ? 0 : HS_EXIT_BAD_ARGS;
     }
-    if (strcmp(argv[1], "stats") != 0)
-        return hs_bad_arg(POSES_CMD, argv[1], NULL, "unknown subcommand (expected stats)");
-    const char *path = NULL;
-    double window_s = 0.0, refresh_hz = POSES_DEFAULT_REFRESH_HZ;
-    hs_pose_format format = HS_POSE_FORMAT_AUTO;
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(a, "--fastest") || !strcmp(a, "--refresh")) {
-            double x;
-            if (!v || !hs_parse_f(v, &x) || !(x > 0.0) || x > 1e6)
-                return hs_bad_arg(POSES_CMD, a, v, "expected a number > 0");
-            *(!strcmp(a, "--fastest") ? &window_s : &refresh_hz) = x;
-            i++;
-        } else if (!strcmp(a, "--format")) {
-            if (!v || !parse_format(v, &format))
-                return hs_bad_arg(POSES_CMD, a, v,
-                                  "expected auto, xrsc, pred6dof, 360video or librnr");
-            i++;
-        } else if (a[0] == '-' && a[1]) {
-            return hs_bad_arg(POSES_CMD, a, NULL, "unknown option");
-        } else if (path) {
-            return hs_bad_arg(POSES_CMD, a, NULL, "one file only");
-        } else {
-            path = a;
-        }
+    if (strcmp(argv[1], "stats") != 0) {
+        char buf[128];
+        snprintf(buf, sizeof(buf), "%.*s", (int)strcspn(argv[1], "="), argv[1]);
+        return hs_bad_arg(POSES_CMD, buf, NULL, argv[1][0] == '-' ? "unknown option"
+                                                                  : "unknown subcommand (expected stats)");
     }
+    poses_args pa = {.refresh_hz = POSES_DEFAULT_REFRESH_HZ, .format = HS_POSE_FORMAT_AUTO};
+    int r = hs_opt_parse(POSES_CMD, k_poses_opts, POSES_OPT_COUNT, argc, argv, 2, &pa);
+    if (r == HS_OPT_HELP) {
+        hs_opt_print_help(stdout, k_poses_opts, POSES_OPT_COUNT);
+        return 0;
+    }
+    if (r != HS_ARG_NEXT)
+        return r;
+    const char *path = pa.path;
+    double window_s = pa.window_s, refresh_hz = pa.refresh_hz;
+    hs_pose_format format = pa.format;
     if (!path)
         return hs_bad_arg(POSES_CMD, "FILE", NULL, "missing");
     hs_pose_stream *s = NULL;
