@@ -6,8 +6,12 @@
 #include "hs_bench.h"
 
 #include "hs_args.h"
+#include "hs_opt.h"
 #include "u_diag.h"
 
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,72 +30,6 @@
 #define DEFAULT_SIZE 128
 #define DEFAULT_REF_SPP 256
 #define SETTINGS_FILE_MAX (64 * 1024)
-
-/* clang-format off */
-static void usage(FILE *f)
-{
-    fprintf(f,
-"usage: xrsc bench [options]\n"
-"\n"
-"Speed vs. accuracy: renders every setting (a method and its options) over the same frames of\n"
-"one scene and pose stream (same views and seeds), scores every K-th frame after the warm-up\n"
-"against a converged `spp` reference of that frame's views (cached in OUT/ref/), writes one\n"
-"CSV row per frame and setting, prints a summary with ratios to a baseline setting and draws\n"
-"charts with gnuplot. Rerunning with the same options skips complete settings and cached\n"
-"references (restartable).\n"
-"\n"
-"Input:\n"
-"  --scene PATH        glTF scene                               [scenes/cornell.gltf]\n"
-"  --poses PATH        pose stream; a relative path not found is also looked up in\n"
-"                      $XRSC_SHARED_DIR and ../shared (e.g. poses/pred6dof-hololens/1.csv)\n"
-"                                                               [poses/orbit_cornell.xrpose]\n"
-"  --pose-format F     auto | xrsc | pred6dof | 360video | librnr   [auto]\n"
-"  --anchor A          start: the head pose at --start is placed at the scene's viewpoint;\n"
-"                      first: the stream's first pose (as xrsc replay); none   [start]\n"
-"  --start S           start S seconds into the stream          [0]\n"
-"  --frames N          frames per setting (0 = until the stream ends) [%d]\n"
-"  --warmup N          first N frames left out of the means (caches fill) [%d]\n"
-"  --score-every K     score frames warmup, warmup+K, ...        [%d]\n"
-"\n"
-"Rendering:\n"
-"  --settings LIST     settings separated by ';' (or @FILE, one per line, '#' comments):\n"
-"                      METHOD[:KEY=VALUE,...]   [spp 1, 4; samplecache single/multi/\n"
-"                      adaptive x 1pass/2pass; samplecache + moments R = 0, R = 1, pfj23]\n"
-"  --baseline NAME     setting the ratios are to     [the first samplecache trace=single]\n"
-"  --resolution WxH    per eye                                  [%dx%d]\n"
-"  --ref-spp N         samples per pixel of the references      [%d]\n"
-"  --ref-floor         also render a second reference of the first scored frame with\n"
-"                      another seed; prints the relMSE between the two (the noise floor)\n"
-"  --seed N            random seed of every setting             [0]\n"
-"  --env R,G,B         constant environment radiance\n"
-"  --ipd MM            interpupillary distance                  [63]\n"
-"  --refresh HZ        display refresh rate (frame spacing)     [90]\n"
-"  --device D          cpu | gpu | index | name part\n"
-"  --validation        enable the Vulkan validation layer, synchronization checks included\n"
-"\n"
-"Suites:\n"
-"  --suite stability   the issue-9 failure cases for every method (xrsc bench --suite\n"
-"                      stability --help; bench/README.md)\n"
-"\n"
-"Output:\n"
-"  --out DIR           output folder                            [out/bench]\n"
-"  --fresh             ignore results and references already in DIR\n"
-"  --no-plots          write the gnuplot scripts, do not run gnuplot\n"
-"  --timing-only       times, rays and counters only: no references, read-backs or image\n"
-"                      metrics (their columns stay empty; for large sizes on a GPU)\n"
-"  --quiet             no progress\n"
-"  -h, --help          this help\n"
-"\n"
-"Setting keys:\n",
-            DEFAULT_FRAMES, DEFAULT_WARMUP, DEFAULT_SCORE_EVERY, DEFAULT_SIZE, DEFAULT_SIZE,
-            DEFAULT_REF_SPP);
-    hs_bench_print_keys(f);
-    fprintf(f,
-"\n"
-"Example: xrsc bench --settings \"spp:spp=1;samplecache:trace=single\" --frames 30\n"
-"Files: OUT/bench.csv (all rows), OUT/summary.csv, OUT/frames/NAME.csv, OUT/*.png and *.gp\n");
-}
-/* clang-format on */
 
 static int bad_arg(const char *flag, const char *value, const char *why)
 {
@@ -128,12 +66,6 @@ static char *read_text_file(const char *path)
     return buf;
 }
 
-static const char *const value_options[] = {
-    "--scene", "--poses", "--pose-format", "--anchor", "--start", "--frames",
-    "--warmup", "--score-every", "--settings", "--baseline", "--resolution", "--ref-spp",
-    "--seed", "--env", "--ipd", "--refresh", "--device", "--out",
-};
-
 /* What the command line sets: the bench options, the settings' text, --warmup given. */
 typedef struct bench_args {
     hs_bench_options opt;
@@ -142,146 +74,189 @@ typedef struct bench_args {
     bool warmup_given;
 } bench_args;
 
-/* Options without a value. */
-static int parse_flag(const char *a, bench_args *ba)
+#define B(a) ((bench_args *)(a)->target)
+
+static int parse_pose_format(const hs_opt_arg *a)
 {
-    hs_bench_options *opt = &ba->opt;
-    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-        usage(stdout);
-        return 0;
-    }
-    if (!strcmp(a, "--fresh"))
-        opt->fresh = true;
-    else if (!strcmp(a, "--ref-floor"))
-        opt->ref_floor = true;
-    else if (!strcmp(a, "--no-plots"))
-        opt->no_plots = true;
-    else if (!strcmp(a, "--timing-only"))
-        opt->timing_only = true;
-    else if (!strcmp(a, "--quiet"))
-        opt->progress = false;
-    else if (!strcmp(a, "--validation"))
-        opt->context.validation = true;
-    else
-        return HS_ARG_NOT_MINE;
-    return HS_ARG_NEXT;
+    if (!hs_pose_format_from_name(a->value, &B(a)->opt.pose_format))
+        return bad_arg(a->opt->name, a->value, "expected auto, xrsc, pred6dof, 360video or librnr");
+    return 0;
 }
 
-/* What is run: scene, poses, frames and scoring, the settings and the baseline. */
-static int parse_run_option(const char *a, const char *v, bench_args *ba)
+static int parse_warmup(const hs_opt_arg *a)
 {
-    hs_bench_options *opt = &ba->opt;
-    double d;
-    if (!strcmp(a, "--scene")) {
-        opt->scene_path = v;
-    } else if (!strcmp(a, "--poses")) {
-        opt->poses_path = v;
-    } else if (!strcmp(a, "--pose-format")) {
-        if (!hs_pose_format_from_name(v, &opt->pose_format))
-            return bad_arg(a, v, "expected auto, xrsc, pred6dof, 360video or librnr");
-    } else if (!strcmp(a, "--anchor")) {
-        if (!strcmp(v, "start"))
-            opt->anchor = HS_BENCH_ANCHOR_START;
-        else if (!strcmp(v, "first"))
-            opt->anchor = HS_BENCH_ANCHOR_FIRST;
-        else if (!strcmp(v, "none"))
-            opt->anchor = HS_BENCH_ANCHOR_NONE;
-        else
-            return bad_arg(a, v, "expected start, first or none");
-    } else if (!strcmp(a, "--start")) {
-        if (!hs_parse_f(v, &d) || d < 0)
-            return bad_arg(a, v, "expected seconds >= 0");
-        opt->start_s = d;
-    } else if (!strcmp(a, "--frames")) {
-        if (!hs_parse_u32(v, &opt->frames) || opt->frames > 1000000)
-            return bad_arg(a, v, "expected 0..1000000");
-    } else if (!strcmp(a, "--warmup")) {
-        if (!hs_parse_u32(v, &opt->warmup))
-            return bad_arg(a, v, "expected a count");
-        ba->warmup_given = true;
-    } else if (!strcmp(a, "--score-every")) {
-        if (!hs_parse_u32(v, &opt->score_every) || opt->score_every == 0)
-            return bad_arg(a, v, "expected a count >= 1");
-    } else if (!strcmp(a, "--settings")) {
-        ba->settings_text = v;
-        if (v[0] == '@') {
-            free(ba->settings_file);
-            ba->settings_text = ba->settings_file = read_text_file(v + 1);
-            if (!ba->settings_file)
-                return bad_arg(a, v, "cannot read the file");
-        }
-    } else if (!strcmp(a, "--baseline")) {
-        opt->baseline = v;
-    } else {
-        return HS_ARG_NOT_MINE;
-    }
-    return HS_ARG_NEXT;
+    if (!hs_parse_u32(a->value, &B(a)->opt.warmup))
+        return bad_arg(a->opt->name, a->value, "expected a count");
+    B(a)->warmup_given = true;
+    return 0;
 }
 
-/* How it is rendered and written: size, references, seed, environment, headset, device, out. */
-static int parse_render_option(const char *a, const char *v, bench_args *ba)
+static int parse_settings(const hs_opt_arg *a)
 {
-    hs_bench_options *opt = &ba->opt;
-    uint32_t u;
-    double d;
-    if (!strcmp(a, "--resolution")) {
-        unsigned w, h;
-        if (!hs_parse_size(v, 16, 8192, &w, &h))
-            return bad_arg(a, v, "expected WxH, each 16..8192");
-        opt->width = w;
-        opt->height = h;
-    } else if (!strcmp(a, "--ref-spp")) {
-        if (!hs_parse_u32(v, &u) || u == 0 || u > 1u << 20)
-            return bad_arg(a, v, "expected 1..1048576");
-        opt->ref_spp = u;
-    } else if (!strcmp(a, "--seed")) {
-        if (!hs_parse_u32(v, &opt->seed))
-            return bad_arg(a, v, "expected an unsigned integer");
-    } else if (!strcmp(a, "--env")) {
-        if (!hs_parse_rgb(v, opt->scene.environment))
-            return bad_arg(a, v, "expected R,G,B >= 0");
-        opt->scene.env_set = true;
-    } else if (!strcmp(a, "--ipd")) {
-        if (!hs_parse_f(v, &d) || d < 0 || d > 200)
-            return bad_arg(a, v, "expected millimetres 0..200");
-        opt->headset.ipd_m = (float)(d * 1e-3);
-    } else if (!strcmp(a, "--refresh")) {
-        if (!hs_parse_f(v, &d) || d < 1 || d > 1000)
-            return bad_arg(a, v, "expected 1..1000 Hz");
-        opt->headset.refresh_hz = (float)d;
-    } else if (!strcmp(a, "--device")) {
-        opt->context.device = v;
-    } else if (!strcmp(a, "--out")) {
-        if (!v[0])
-            return bad_arg(a, v, "empty folder name");
-        opt->out_dir = v;
-    } else {
-        return HS_ARG_NOT_MINE;
+    bench_args *ba = B(a);
+    ba->settings_text = a->value;
+    if (a->value[0] == '@') {
+        free(ba->settings_file);
+        ba->settings_text = ba->settings_file = read_text_file(a->value + 1);
+        if (!ba->settings_file)
+            return bad_arg(a->opt->name, a->value, "cannot read the file");
     }
-    return HS_ARG_NEXT;
+    return 0;
+}
+
+static int parse_resolution(const hs_opt_arg *a)
+{
+    unsigned w, h;
+    if (!hs_parse_size(a->value, 16, 8192, &w, &h))
+        return bad_arg(a->opt->name, a->value, "expected WxH, each 16..8192");
+    B(a)->opt.width = w;
+    B(a)->opt.height = h;
+    return 0;
+}
+
+static int parse_env(const hs_opt_arg *a)
+{
+    if (!hs_parse_rgb(a->value, B(a)->opt.scene.environment))
+        return bad_arg(a->opt->name, a->value, "expected R,G,B >= 0");
+    B(a)->opt.scene.env_set = true;
+    return 0;
+}
+
+static int parse_ipd(const hs_opt_arg *a)
+{
+    double d;
+    if (!hs_parse_f(a->value, &d) || d < 0 || d > 200)
+        return bad_arg(a->opt->name, a->value, "expected millimetres 0..200");
+    B(a)->opt.headset.ipd_m = (float)(d * 1e-3);
+    return 0;
+}
+
+static int parse_out(const hs_opt_arg *a)
+{
+    if (!a->value[0])
+        return bad_arg(a->opt->name, a->value, "empty folder name");
+    B(a)->opt.out_dir = a->value;
+    return 0;
+}
+
+static int parse_quiet(const hs_opt_arg *a)
+{
+    B(a)->opt.progress = false;
+    return 0;
+}
+
+#define STR_(x) #x
+#define STR(x) STR_(x)
+#define F(field) offsetof(bench_args, opt.field)
+#define NUM(lo, hi, why) (&(const hs_opt_num){lo, hi, why})
+#define TEXT(s) {NULL, NULL, s, NULL, 0, NULL}
+
+/* hs_opt_enum writes an int: the enum it sets is int-sized. */
+_Static_assert(sizeof(hs_bench_anchor) == sizeof(int), "enum field set through int");
+static const hs_opt_name k_anchors[] = {{"start", HS_BENCH_ANCHOR_START, "expected start, first or none"},
+                                        {"first", HS_BENCH_ANCHOR_FIRST, NULL},
+                                        {"none", HS_BENCH_ANCHOR_NONE, NULL},
+                                        {NULL, 0, NULL}};
+
+/* Every option of `xrsc bench` once, in --help's order (the setting keys follow, usage()). */
+static const hs_opt k_bench_opts[] = {
+    TEXT("usage: xrsc bench [options]\n"
+         "\n"
+         "Speed vs. accuracy: renders every setting (a method and its options) over the same frames of\n"
+         "one scene and pose stream (same views and seeds), scores every K-th frame after the warm-up\n"
+         "against a converged `spp` reference of that frame's views (cached in OUT/ref/), writes one\n"
+         "CSV row per frame and setting, prints a summary with ratios to a baseline setting and draws\n"
+         "charts with gnuplot. Rerunning with the same options skips complete settings and cached\n"
+         "references (restartable).\n"
+         "\n"
+         "Input:\n"),
+    {"--scene", "PATH", "glTF scene                               [scenes/cornell.gltf]", NULL,
+     F(scene_path), NULL},
+    {"--poses", "PATH",
+     "pose stream; a relative path not found is also looked up in\n"
+     "$XRSC_SHARED_DIR and ../shared (e.g. poses/pred6dof-hololens/1.csv)\n"
+     "                                         [poses/orbit_cornell.xrpose]",
+     NULL, F(poses_path), NULL},
+    {"--pose-format", "F", "auto | xrsc | pred6dof | 360video | librnr   [auto]",
+     parse_pose_format, 0, NULL},
+    {"--anchor", "A",
+     "start: the head pose at --start is placed at the scene's viewpoint;\n"
+     "first: the stream's first pose (as xrsc replay); none   [start]",
+     hs_opt_enum, F(anchor), k_anchors},
+    {"--start", "S", "start S seconds into the stream          [0]", hs_opt_double, F(start_s),
+     NUM(0, INFINITY, "expected seconds >= 0")},
+    {"--frames", "N", "frames per setting (0 = until the stream ends) [" STR(DEFAULT_FRAMES) "]",
+     hs_opt_u32, F(frames), NUM(0, 1000000, "expected 0..1000000")},
+    {"--warmup", "N", "first N frames left out of the means (caches fill) [" STR(DEFAULT_WARMUP) "]",
+     parse_warmup, 0, NULL},
+    {"--score-every", "K", "score frames warmup, warmup+K, ...        [" STR(DEFAULT_SCORE_EVERY) "]",
+     hs_opt_u32, F(score_every), NUM(1, UINT32_MAX, "expected a count >= 1")},
+    TEXT("\nRendering:\n"),
+    {"--settings", "LIST",
+     "settings separated by ';' (or @FILE, one per line, '#' comments):\n"
+     "METHOD[:KEY=VALUE,...]   [spp 1, 4; samplecache single/multi/\n"
+     "adaptive x 1pass/2pass; samplecache + moments R = 0, R = 1, pfj23]",
+     parse_settings, 0, NULL},
+    {"--baseline", "NAME", "setting the ratios are to     [the first samplecache trace=single]",
+     NULL, F(baseline), NULL},
+    {"--resolution", "WxH",
+     "per eye                                  [" STR(DEFAULT_SIZE) "x" STR(DEFAULT_SIZE) "]",
+     parse_resolution, 0, NULL},
+    {"--ref-spp", "N", "samples per pixel of the references      [" STR(DEFAULT_REF_SPP) "]",
+     hs_opt_u32, F(ref_spp), NUM(1, 1u << 20, "expected 1..1048576")},
+    {"--ref-floor", NULL,
+     "also render a second reference of the first scored frame with\n"
+     "another seed; prints the relMSE between the two (the noise floor)",
+     NULL, F(ref_floor), NULL},
+    {"--seed", "N", "random seed of every setting             [0]", hs_opt_u32, F(seed),
+     NUM(0, UINT32_MAX, "expected an unsigned integer")},
+    {"--env", "R,G,B", "constant environment radiance", parse_env, 0, NULL},
+    {"--ipd", "MM", "interpupillary distance                  [63]", parse_ipd, 0, NULL},
+    {"--refresh", "HZ", "display refresh rate (frame spacing)     [90]", hs_opt_float,
+     F(headset.refresh_hz), NUM(1, 1000, "expected 1..1000 Hz")},
+    {"--device", "D", "cpu | gpu | index | name part", NULL, F(context.device), NULL},
+    {"--validation", NULL, "enable the Vulkan validation layer, synchronization checks included",
+     NULL, F(context.validation), NULL},
+    TEXT("\nSuites:\n"
+         "  --suite stability   the issue-9 failure cases for every method (xrsc bench --suite\n"
+         "                      stability --help; bench/README.md)\n"
+         "\nOutput:\n"),
+    {"--out", "DIR", "output folder                            [" DEFAULT_OUT "]", parse_out, 0,
+     NULL},
+    {"--fresh", NULL, "ignore results and references already in DIR", NULL, F(fresh), NULL},
+    {"--no-plots", NULL, "write the gnuplot scripts, do not run gnuplot", NULL, F(no_plots), NULL},
+    {"--timing-only", NULL,
+     "times, rays and counters only: no references, read-backs or image\n"
+     "metrics (their columns stay empty; for large sizes on a GPU)",
+     NULL, F(timing_only), NULL},
+    {"--quiet", NULL, "no progress", parse_quiet, 0, NULL},
+    TEXT("  -h, --help          this help\n"
+         "\n"
+         "Setting keys:\n"),
+};
+#define BENCH_OPT_COUNT (sizeof(k_bench_opts) / sizeof(k_bench_opts[0]))
+
+static void usage(FILE *f)
+{
+    hs_opt_print_help(f, k_bench_opts, BENCH_OPT_COUNT);
+    hs_bench_print_keys(f);
+    fprintf(f,
+            "\n"
+            "Example: xrsc bench --settings \"spp:spp=1;samplecache:trace=single\" --frames 30\n"
+            "Files: OUT/bench.csv (all rows), OUT/summary.csv, OUT/frames/NAME.csv, OUT/*.png and "
+            "*.gp\n");
 }
 
 /* Reads argv[1..argc) into ba: HS_ARG_NEXT when all of it was read, else the exit status. */
 static int parse_args(int argc, char **argv, bench_args *ba)
 {
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        int r = parse_flag(a, ba);
-        if (r == HS_ARG_NEXT)
-            continue;
-        if (r != HS_ARG_NOT_MINE)
-            return r;
-        if (!hs_arg_in(a, value_options, sizeof(value_options) / sizeof(value_options[0])))
-            return bad_arg(a, NULL, a[0] == '-' ? "unknown option" : "unexpected argument");
-        if (i + 1 >= argc)
-            return bad_arg(a, NULL, "needs a value");
-        const char *v = argv[++i];
-        r = parse_run_option(a, v, ba);
-        if (r == HS_ARG_NOT_MINE)
-            r = parse_render_option(a, v, ba);
-        if (r != HS_ARG_NEXT && r != HS_ARG_NOT_MINE)
-            return r;
+    int r = hs_opt_parse("xrsc bench", k_bench_opts, BENCH_OPT_COUNT, argc, argv, 1, ba);
+    if (r == HS_OPT_HELP) {
+        usage(stdout);
+        return 0;
     }
+    if (r != HS_ARG_NEXT)
+        return r;
     if (ba->opt.frames && ba->opt.warmup >= ba->opt.frames) {
         if (ba->warmup_given)
             return bad_arg("--warmup", NULL, "must be less than --frames");
@@ -333,12 +308,7 @@ int hs_bench_main(int argc, char **argv)
         .settings_text = HS_BENCH_DEFAULT_SETTINGS,
     };
     xrsc_headset_default(&ba.opt.headset);
-    hs_args args; /* --opt=value */
-    int r = hs_args_normalize(&args, "xrsc bench", value_options,
-                              sizeof(value_options) / sizeof(value_options[0]), &argc, &argv);
-    if (r)
-        return r;
-    r = parse_args(argc, argv, &ba);
+    int r = parse_args(argc, argv, &ba);
     if (r == HS_ARG_NEXT)
         r = run_bench(&ba);
     free(ba.settings_file);
