@@ -18,10 +18,12 @@
 #include "hs_args.h"
 #include "hs_bench_columns.h"
 #include "hs_bench_report.h"
+#include "hs_opt.h"
 #include "u_diag.h"
 #include "xrsc/xrsc_metrics.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -970,37 +972,54 @@ static int suite_bad(const char *flag, const char *value, const char *why)
     return hs_bad_arg("xrsc bench --suite", flag, value, why);
 }
 
-/* The options of suite_option (all take a value), for --opt=value (hs_args_prepare). */
-static const char *const suite_value_options[] = {"--suite",      "--case",    "--out",   "--device",
-                                                  "--resolution", "--ref-spp", "--frames"};
+#define O(a) ((suite_opts *)(a)->target)
 
-/* One option with its value (argv[*i + 1]); returns 0 or the exit code of a bad argument. */
-static int suite_option(suite_opts *o, const char *a, const char *v)
+static int parse_suite(const hs_opt_arg *a)
+{
+    return strcmp(a->value, "stability") ? suite_bad(a->opt->name, a->value,
+                                                     "the only suite is 'stability'")
+                                         : 0;
+}
+
+static int parse_resolution(const hs_opt_arg *a)
 {
     unsigned w = 0, h = 0;
-    if (!strcmp(a, "--suite"))
-        return strcmp(v, "stability") ? suite_bad(a, v, "the only suite is 'stability'") : 0;
-    if (!strcmp(a, "--case"))
-        o->only_case = v;
-    else if (!strcmp(a, "--out"))
-        o->out_dir = v;
-    else if (!strcmp(a, "--device"))
-        o->context.device = v;
-    else if (!strcmp(a, "--resolution")) {
-        if (!hs_parse_size(v, 16, 4096, &w, &h))
-            return suite_bad(a, v, "expected WxH, each 16..4096");
-        o->w = w;
-        o->h = h;
-    } else if (!strcmp(a, "--ref-spp")) {
-        if (!hs_parse_u32(v, &o->ref_spp) || o->ref_spp == 0 || o->ref_spp > 1u << 16)
-            return suite_bad(a, v, "expected 1..65536");
-    } else if (!strcmp(a, "--frames")) {
-        if (!hs_parse_u32(v, &o->frames) || o->frames <= SUITE_WARMUP || o->frames > 100000)
-            return suite_bad(a, v, "expected more than the warm-up, at most 100000");
-    } else
-        return suite_bad(a, NULL, a[0] == '-' ? "unknown option" : "unexpected argument");
+    if (!hs_parse_size(a->value, 16, 4096, &w, &h))
+        return suite_bad(a->opt->name, a->value, "expected WxH, each 16..4096");
+    O(a)->w = w;
+    O(a)->h = h;
     return 0;
 }
+
+static int parse_quiet(const hs_opt_arg *a)
+{
+    O(a)->progress = false;
+    return 0;
+}
+
+#define F(field) offsetof(suite_opts, field)
+
+/* Every option of `xrsc bench --suite stability` once (--help: suite_usage). */
+static const hs_opt k_suite_opts[] = {
+    {NULL, NULL, "\nOptions:\n", NULL, 0, NULL},
+    {"--suite", "NAME", "stability (the only suite)", parse_suite, 0, NULL},
+    {"--case", "NAME", "run only this case                        [all]", NULL, F(only_case),
+     NULL},
+    {"--out", "DIR", "output folder", NULL, F(out_dir), NULL},
+    {"--resolution", "WxH", "per eye, each 16..4096", parse_resolution, 0, NULL},
+    {"--ref-spp", "N", "samples per pixel of the references, 1..65536", hs_opt_u32, F(ref_spp),
+     &(const hs_opt_num){1, 1u << 16, "expected 1..65536"}},
+    {"--frames", "N", "every case's frame count (more than the warm-up)", hs_opt_u32, F(frames),
+     &(const hs_opt_num){SUITE_WARMUP + 1, 100000,
+                         "expected more than the warm-up, at most 100000"}},
+    {"--device", "D", "cpu | gpu | index | name part", NULL, F(context.device), NULL},
+    {"--validation", NULL, "enable the Vulkan validation layer", NULL, F(context.validation),
+     NULL},
+    {"--no-plots", NULL, "write the gnuplot scripts, do not run gnuplot", NULL, F(no_plots), NULL},
+    {"--quiet", NULL, "no progress", parse_quiet, 0, NULL},
+    {NULL, NULL, "  -h, --help          this help\n", NULL, 0, NULL},
+};
+#define SUITE_OPT_COUNT (sizeof(k_suite_opts) / sizeof(k_suite_opts[0]))
 
 int hs_bench_suite_main(int argc, char **argv)
 {
@@ -1009,30 +1028,14 @@ int hs_bench_suite_main(int argc, char **argv)
                     .h = SUITE_DEFAULT_SIZE_PX,
                     .ref_spp = SUITE_DEFAULT_REF_SPP,
                     .progress = true};
-    hs_args args; /* --opt=value */
-    int prep = hs_args_normalize(&args, "xrsc bench --suite", suite_value_options,
-                                 sizeof(suite_value_options) / sizeof(suite_value_options[0]),
-                                 &argc, &argv);
-    if (prep)
-        return prep;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            suite_usage(stdout);
-            return 0;
-        }
-        if (!strcmp(a, "--no-plots") || !strcmp(a, "--quiet") || !strcmp(a, "--validation")) {
-            o.no_plots |= !strcmp(a, "--no-plots");
-            o.progress &= strcmp(a, "--quiet") != 0;
-            o.context.validation |= !strcmp(a, "--validation");
-            continue;
-        }
-        if (i + 1 >= argc)
-            return suite_bad(a, NULL, "needs a value");
-        int bad = suite_option(&o, a, argv[++i]);
-        if (bad)
-            return bad;
+    int r = hs_opt_parse("xrsc bench --suite", k_suite_opts, SUITE_OPT_COUNT, argc, argv, 1, &o);
+    if (r == HS_OPT_HELP) {
+        suite_usage(stdout);
+        hs_opt_print_help(stdout, k_suite_opts, SUITE_OPT_COUNT);
+        return 0;
     }
+    if (r != HS_ARG_NEXT)
+        return r;
     xrsc_diag diag = {0};
     if (suite_run(&o, &diag) != XRSC_OK) {
         char msg[1400];
