@@ -327,16 +327,3 @@ int hs_args_prepare(hs_args *out, const hs_args_spec *spec, int argc, char **arg
     }
     return 0;
 }
-
-int hs_args_normalize(hs_args *out, const char *cmd, const char *const *value_options,
-                      size_t value_count, int *argc, char ***argv)
-{
-    const hs_args_spec spec = {
-        .cmd = cmd, .value_options = value_options, .value_count = value_count};
-    int r = hs_args_prepare(out, &spec, *argc, *argv);
-    if (r == 0) {
-        *argc = out->argc;
-        *argv = out->argv;
-    }
-    return r;
-}

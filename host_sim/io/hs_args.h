@@ -46,10 +46,8 @@ bool hs_parse_on_off(const char *s, bool *out);
 /** "R,G,B", each >= 0; out set only on success. */
 bool hs_parse_rgb(const char *s, float out[3]);
 
-/* The results of a command's parse steps besides an exit status (>= 0): go on with the next
- * argument, or the option is not this step's (main.c, hs_bench_cmd.c). */
+/* A parse's result besides an exit status (>= 0): all was read, go on (hs_opt_parse). */
 #define HS_ARG_NEXT (-1)
-#define HS_ARG_NOT_MINE (-2)
 
 /** Whether flag is one of the count options in list. */
 bool hs_arg_in(const char *flag, const char *const *list, size_t count);
@@ -80,8 +78,8 @@ typedef struct hs_args {
 } hs_args;
 
 /**
- * getopt_long's conventions, before a command's own parse loop (which then sees only
- * "--name value" pairs and flags): argv[1..] is copied into out with
+ * The --config expansion of `xrsc replay`, before its option table is read (hs_opt_parse;
+ * run.conf records the result): argv[1..] is copied into out with
  *  - "--name=value" split into "--name" "value" when --name is in spec->value_options; any
  *    other "--name=..." is an error naming --name (a flag takes no value, or it is unknown);
  *  - with spec->config, "--config FILE" (or --config=FILE) replaced by the options of FILE, in
@@ -94,11 +92,6 @@ typedef struct hs_args {
  * or HS_EXIT_BAD_ARGS after printing the error to stderr.
  */
 int hs_args_prepare(hs_args *out, const hs_args_spec *spec, int argc, char **argv);
-
-/** hs_args_prepare for a command without config files (--opt=value only): the spec from cmd
- *  and its value options; on success *argc, *argv are out's. Returns as hs_args_prepare. */
-int hs_args_normalize(hs_args *out, const char *cmd, const char *const *value_options,
-                      size_t value_count, int *argc, char ***argv);
 
 /**
  * The config-file part of hs_args_prepare on text in memory (terminated; changed in place):
