@@ -2,7 +2,7 @@
 /**
  * @file hs_light_args.h
  * @brief The lighting options of `xrsc replay` (environment map, sun and sky) and their
- *        --help text, kept apart from main.c's parse loop.
+ *        rows of its option table (HS_LIGHT_OPTS), kept apart from hs_replay_cmd.c.
  */
 #pragma once
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 /**
- * @file main.c
- * @brief The `xrsc` program: replays a head-pose stream over a glTF scene and writes the
- *        stereo result (per-eye and side-by-side PNG, linear PFM, per-frame timing).
+ * @file hs_replay_cmd.c
+ * @brief `xrsc [replay]` (hs_replay_cmd.h): replays a head-pose stream over a glTF scene and
+ *        writes the stereo result (per-eye and side-by-side PNG, linear PFM, per-frame timing).
  */
 #include "hs_args.h"
 #include "hs_bench.h"
@@ -11,7 +11,6 @@
 #include "hs_light_args.h"
 #include "hs_metrics_cmd.h"
 #include "hs_opt.h"
-#include "hs_poses_cmd.h"
 #include "hs_replay.h"
 #include "hs_run.h"
 #include "hs_xr_replay.h"
@@ -746,22 +745,8 @@ static int run_with_record(main_args *m, const hs_args *args, const char *const 
     return run_recorded(opt, m->direct, m->overwrite, m->quiet, run);
 }
 
-int main(int argc, char **argv)
+int hs_replay_main(int argc, char **argv)
 {
-    /* xrsc version, and --version anywhere (any command) */
-    for (int k = 1; k < argc; k++)
-        if (!strcmp(argv[k], "--version") || (k == 1 && !strcmp(argv[k], "version"))) {
-            hs_run_print_version(stdout);
-            return 0;
-        }
-    if (argc > 1 && strcmp(argv[1], "metrics") == 0)
-        return hs_metrics_main(argc - 1, argv + 1);
-    if (argc > 1 && strcmp(argv[1], "compare") == 0)
-        return hs_compare_main(argc - 1, argv + 1);
-    if (argc > 1 && strcmp(argv[1], "bench") == 0)
-        return hs_bench_main(argc - 1, argv + 1);
-    if (argc > 1 && strcmp(argv[1], "poses") == 0)
-        return hs_poses_main(argc - 1, argv + 1);
     main_args m = {
         .opt = {
             .scene_path = DEFAULT_SCENE,
