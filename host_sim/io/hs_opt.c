@@ -61,30 +61,61 @@ static int run_parser(const char *cmd, const hs_opt *o, const char *value, void 
     return 0;
 }
 
+/* getopt_long's table of t's options (lo, ending in a zero row; "help" returns 'h'), with the
+ * row of each in rows; the text row that takes the other arguments, or NULL. Returns false
+ * when t has more than HS_OPT_MAX options. */
+static bool long_options(const hs_opt *t, size_t n, struct option *lo, const hs_opt **rows,
+                         const hs_opt **positional)
+{
+    size_t k = 0;
+    *positional = NULL;
+    for (size_t i = 0; i < n; i++) {
+        if (!t[i].name) {
+            if (t[i].parse && !*positional)
+                *positional = &t[i];
+            continue;
+        }
+        if (k == HS_OPT_MAX)
+            return false;
+        lo[k] = (struct option){t[i].name + 2, t[i].arg ? required_argument : no_argument, NULL, 0};
+        rows[k++] = &t[i];
+    }
+    lo[k++] = (struct option){"help", no_argument, NULL, 'h'};
+    lo[k] = (struct option){0};
+    return true;
+}
+
+/* One getopt_long result c for sub[at] (long option lo[idx]): parsed into target, or the exit
+ * status of an error, or HS_OPT_HELP. */
+static int one_option(const char *cmd, const hs_opt *t, size_t n, int c, const char *arg,
+                      const char *typed, const hs_opt *row, void *target)
+{
+    if (c == '?' || c == ':')
+        return refused(cmd, t, n, arg, c);
+    if (c == 'h')
+        return strcmp(arg, "-h") && strcmp(arg, "--help")
+                   ? hs_bad_arg(cmd, typed, NULL, "unknown option") /* an abbreviation */
+                   : HS_OPT_HELP;
+    /* getopt_long takes unique abbreviations; the commands never did. */
+    if (strncmp(typed, "--", 2) || strcmp(typed, row->name))
+        return hs_bad_arg(cmd, typed, NULL, "unknown option");
+    return run_parser(cmd, row, optarg, target);
+}
+
 int hs_opt_parse(const char *cmd, const hs_opt *t, size_t n, int argc, char **argv, int first,
                  void *target)
 {
     struct option lo[HS_OPT_MAX + 2];
-    const hs_opt *row[HS_OPT_MAX];
-    size_t k = 0;
-    for (size_t i = 0; i < n && k < HS_OPT_MAX; i++) {
-        if (!t[i].name || !strcmp(t[i].name, "--help"))
-            continue;
-        lo[k] = (struct option){t[i].name + 2, t[i].arg ? required_argument : no_argument, NULL, 0};
-        row[k++] = &t[i];
-    }
-    lo[k++] = (struct option){"help", no_argument, NULL, 'h'};
-    lo[k] = (struct option){0};
-    /* A text row with a parser takes the arguments that are not options, in order ("-": getopt
-     * returns them as 1); without one the first of them ends the options ("+") and is an
-     * error. */
-    const hs_opt *positional = NULL;
-    for (size_t i = 0; i < n && !positional; i++)
-        if (!t[i].name && t[i].parse)
-            positional = &t[i];
-    /* getopt_long reads argv[1..]: hand it argv[first - 1..] with that element as "argv[0]". */
+    const hs_opt *rows[HS_OPT_MAX];
+    const hs_opt *positional;
+    if (!long_options(t, n, lo, rows, &positional))
+        return hs_bad_arg(cmd, t[0].name ? t[0].name : cmd, NULL, "too many options (HS_OPT_MAX)");
+    /* getopt_long reads argv[1..]: hand it argv[first - 1..] with that element as "argv[0]".
+     * With a text row that takes the other arguments they come in order as 1 ("-"); without
+     * one the first of them ends the options ("+") and is an error. */
     int sub_argc = argc - (first - 1);
     char **sub = argv + (first - 1);
+    int read_to = 1; /* sub[1..read_to) are read */
     opterr = 0;
     optind = 0; /* glibc: start over (a command may parse more than once) */
     for (;;) {
@@ -93,30 +124,15 @@ int hs_opt_parse(const char *cmd, const hs_opt *t, size_t n, int argc, char **ar
         int c = getopt_long(sub_argc, sub, positional ? "-:h" : "+:h", lo, &idx);
         if (c == -1)
             break;
-        if (c == 1) {
-            int r = run_parser(cmd, positional, optarg, target);
-            if (r)
-                return r;
-            continue;
-        }
-        const char *arg = sub[at];
         char buf[NAME_MAX_LEN];
-        const char *name = typed_name(arg, buf);
-        if (c == '?' || c == ':')
-            return refused(cmd, t, n, arg, c);
-        if (c == 'h') {
-            if (strcmp(arg, "-h") && strcmp(arg, "--help"))
-                return hs_bad_arg(cmd, name, NULL, "unknown option"); /* an abbreviation */
-            return HS_OPT_HELP;
-        }
-        /* getopt_long takes unique abbreviations; the commands never did. */
-        if (strncmp(name, "--", 2) || strcmp(name + 2, lo[idx].name))
-            return hs_bad_arg(cmd, name, NULL, "unknown option");
-        int r = run_parser(cmd, row[idx], optarg, target);
+        int r = c == 1 ? run_parser(cmd, positional, optarg, target)
+                       : one_option(cmd, t, n, c, sub[at], typed_name(sub[at], buf),
+                                    c == 0 ? rows[idx] : NULL, target);
         if (r)
             return r;
+        read_to = optind;
     }
-    if (optind > 1 && !strcmp(sub[optind - 1], "--"))
+    if (optind > read_to && !strcmp(sub[read_to], "--"))
         return hs_bad_arg(cmd, "--", NULL, "unknown option");
     if (optind < sub_argc)
         return hs_bad_arg(cmd, sub[optind], NULL, "unexpected argument");

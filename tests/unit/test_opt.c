@@ -93,6 +93,11 @@ static void test_errors(void)
     CHECK_EQ_INT(parse(&o, 4, help), HS_OPT_HELP);
     const char *help_short[] = {"t", "-h"};
     CHECK_EQ_INT(parse(&o, 2, help_short), HS_OPT_HELP);
+    const char *dashes_value[] = {"t", "--out", "--"}; /* a value, not the end of options */
+    CHECK_EQ_INT(parse(&o, 3, dashes_value), HS_ARG_NEXT);
+    CHECK(o.out && !strcmp(o.out, "--"));
+    const char *dashes[] = {"t", "--frame", "--"};
+    CHECK_EQ_INT(parse(&o, 3, dashes), HS_EXIT_BAD_ARGS);
     /* parsing twice in one process starts over */
     const char *again[] = {"t", "--frames", "4"};
     CHECK_EQ_INT(parse(&o, 3, again), HS_ARG_NEXT);
