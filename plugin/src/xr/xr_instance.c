@@ -149,7 +149,7 @@ static xrsc_result runtime_unavailable(xrsc_diag *diag, XrResult r, const char *
                       "XR_RUNTIME_JSON",
                       "no OpenXR runtime could be loaded (%s: %s); XR_RUNTIME_JSON is %s%s%s: "
                       "set it to a runtime manifest such as the build tree's "
-                      "host_sim/src/runtime/xrsc_runtime.json",
+                      "host_sim/runtime/xrsc_runtime.json",
                       call, xr_result_name(XR_NULL_HANDLE, r, buf), json ? "'" : "unset",
                       json ? json : "", json ? "'" : "");
 }
