@@ -7,32 +7,67 @@
 #include "hs_scene_cmd.h"
 
 #include "hs_args.h"
+#include "hs_opt.h"
 #include "xrsc/xrsc.h"
 
 #include "u_diag.h"
 
-#include <getopt.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define SCENE_CMD "xrsc scene"
 
+/* What `xrsc scene info` reads: the file, --json, --animation. */
+typedef struct scene_args {
+    const char *path;
+    bool json;
+    xrsc_scene_options so;
+} scene_args;
+
+static int parse_path(const hs_opt_arg *a)
+{
+    scene_args *sa = a->target;
+    if (sa->path)
+        return hs_bad_arg(a->cmd, a->value, NULL, "expected one FILE");
+    sa->path = a->value;
+    return 0;
+}
+
+static int parse_animation(const hs_opt_arg *a)
+{
+    if (!a->value[0])
+        return hs_bad_arg(a->cmd, a->opt->name, a->value,
+                          "expected first, all, none, a clip's name or index");
+    ((scene_args *)a->target)->so.animation = a->value;
+    return 0;
+}
+
+#define TEXT(s) {NULL, NULL, s, NULL, 0, NULL}
+static const hs_opt k_scene_opts[] = {
+    TEXT("usage: xrsc scene info [options] FILE\n"
+         "\n"
+         "Reads a glTF 2.0 file (.gltf/.glb) on the CPU, without a Vulkan device, and\n"
+         "prints what it holds: triangles (as drawn, over all instances), instances,\n"
+         "materials, textures, images, lights, cameras, nodes, meshes, skins, morph\n"
+         "targets, extensions used and required, the bounds, and its animation clips with\n"
+         "their durations and channel counts, marking the clip that plays (the first one\n"
+         "unless --animation says otherwise).\n"
+         "\n"),
+    {NULL, NULL, NULL, parse_path, 0, NULL},
+    {"--json", NULL, "one JSON object instead of text", NULL, offsetof(scene_args, json), NULL},
+    {"--animation", "A",
+     "first | all | none | a clip's name or index: the clip a replay\n"
+     "with this option plays (an unknown one is an error)  [first]",
+     parse_animation, 0, NULL},
+    TEXT("  -h, --help          this help\n"),
+};
+#define SCENE_OPT_COUNT (sizeof(k_scene_opts) / sizeof(k_scene_opts[0]))
+
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: xrsc scene info [options] FILE\n"
-               "\n"
-               "Reads a glTF 2.0 file (.gltf/.glb) on the CPU, without a Vulkan device, and\n"
-               "prints what it holds: triangles (as drawn, over all instances), instances,\n"
-               "materials, textures, images, lights, cameras, nodes, meshes, skins, morph\n"
-               "targets, extensions used and required, the bounds, and its animation clips with\n"
-               "their durations and channel counts, marking the clip that plays (the first one\n"
-               "unless --animation says otherwise).\n"
-               "\n"
-               "  --json          one JSON object instead of text\n"
-               "  --animation A   first | all | none | a clip's name or index: the clip a replay\n"
-               "                  with this option plays (an unknown one is an error)  [first]\n"
-               "  -h, --help      this help\n");
+    hs_opt_print_help(f, k_scene_opts, SCENE_OPT_COUNT);
 }
 
 /** s as a JSON string (quotes, backslashes and control characters escaped). */
@@ -125,10 +160,6 @@ static void print_json(const char *path, const xrsc_file_info *fi)
 
 int hs_scene_main(int argc, char **argv)
 {
-    static const struct option longs[] = {{"json", no_argument, NULL, 'j'},
-                                          {"animation", required_argument, NULL, 'a'},
-                                          {"help", no_argument, NULL, 'h'},
-                                          {NULL, 0, NULL, 0}};
     if (argc > 1 && (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help"))) {
         usage(stdout);
         return 0;
@@ -138,33 +169,21 @@ int hs_scene_main(int argc, char **argv)
         usage(stderr);
         return HS_EXIT_BAD_ARGS;
     }
-    bool json = false;
-    xrsc_scene_options so = {0};
-    int c;
-    optind = 1;
-    opterr = 0; /* getopt would name argv[0] ("info"): the message below names the command */
-    while ((c = getopt_long(argc - 1, argv + 1, "h", longs, NULL)) != -1) {
-        if (c == 'j') {
-            json = true;
-        } else if (c == 'a') {
-            if (!optarg[0])
-                return hs_bad_arg(SCENE_CMD " info", "--animation", optarg,
-                                  "expected first, all, none, a clip's name or index");
-            so.animation = optarg;
-        } else if (c == 'h') {
-            usage(stdout);
-            return 0;
-        } else {
-            fprintf(stderr, SCENE_CMD " info: %s: unknown option or missing value (see --help)\n",
-                    argv[optind]); /* argv + 1 shifted: argv[optind] is the option read */
-            return HS_EXIT_BAD_ARGS;
-        }
+    scene_args sa = {0};
+    int c = hs_opt_parse(SCENE_CMD " info", k_scene_opts, SCENE_OPT_COUNT, argc, argv, 2, &sa);
+    if (c == HS_OPT_HELP) {
+        usage(stdout);
+        return 0;
     }
-    if (optind + 1 != argc - 1) {
+    if (c != HS_ARG_NEXT)
+        return c;
+    if (!sa.path) {
         fprintf(stderr, SCENE_CMD " info: expected one FILE\n");
         return HS_EXIT_BAD_ARGS;
     }
-    const char *path = argv[1 + optind];
+    const char *path = sa.path;
+    bool json = sa.json;
+    xrsc_scene_options so = sa.so;
     xrsc_file_info *fi = calloc(1, sizeof(*fi)); /* ~12 KiB */
     xrsc_diag diag = {0};
     char msg[1400];

@@ -10,9 +10,11 @@
 #include "hs_args.h"
 #include "hs_bench.h"
 #include "hs_bench_columns.h"
+#include "hs_opt.h"
 #include "u_diag.h"
 
 #include <errno.h>
+#include <stddef.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -502,73 +504,103 @@ static int cmd_merge(const sweep *sw)
     return missing || merged < sw->case_count ? 1 : 0;
 }
 
-static void usage(FILE *f)
+/* What `xrsc sweep VERB` reads besides the verb: the sweep file, --count, --units. */
+typedef struct sweep_args {
+    const char *file, *count, *units;
+} sweep_args;
+
+static int parse_file(const hs_opt_arg *a)
 {
-    fputs("usage: xrsc sweep plan FILE [--count [refs|runs]]\n"
-          "       xrsc sweep run FILE --unit I | --units I..J | --units all\n"
-          "       xrsc sweep merge FILE\n"
-          "\n"
-          "A benchmark split into work units (Slurm array tasks: scripts/slurm/). FILE: one\n"
-          "key = value per line: scene = PATH and capture = PATH[,start=S][,frames=N]\n"
-          "[,name=LABEL] (each repeatable: every scene x capture is a case, benched into\n"
-          "OUT/CASE), setting = METHOD[:KEY=VALUE,...] (repeatable; xrsc bench --settings),\n"
-          "out = DIR [out/sweep], and xrsc bench's options: resolution, frames, warmup,\n"
-          "score-every, ref-spp, seed, env, ipd, refresh, device, anchor, pose-format,\n"
-          "baseline, start, validation, no-plots, quiet.\n"
-          "  plan    prints the units: first each case's references (one per scored frame),\n"
-          "          then each case's settings; --count prints how many (all, refs or runs)\n"
-          "  run     does units in the shared folder (a finished unit is skipped; a run unit\n"
-          "          renders the references it lacks); a failure is kept in OUT/units/\n"
-          "  merge   writes each case's bench.csv, summary.csv and charts from the units'\n"
-          "          files, exactly as xrsc bench would, and names the units missing\n"
-          "Details: bench/README.md \"Sweeps\".\n",
-          f);
+    sweep_args *sa = a->target;
+    if (sa->file)
+        return hs_bad_arg(a->cmd, a->value, NULL, "unexpected argument (one sweep file)");
+    sa->file = a->value;
+    return 0;
 }
 
-/* argv after "sweep VERB FILE": --count [WHAT], --unit I, --units I..J. */
-static int sweep_command(sweep *sw, const char *verb, int argc, char **argv)
+static int parse_count(const hs_opt_arg *a)
 {
-    const char *count = NULL, *units = NULL;
-    for (int i = 0; i < argc; i++) {
-        const char *a = argv[i];
-        bool has_next = i + 1 < argc && argv[i + 1][0] != '-';
-        if (!strcmp(verb, "plan") && !strcmp(a, "--count"))
-            count = has_next ? argv[++i] : "all";
-        else if (!strcmp(verb, "run") && (!strcmp(a, "--unit") || !strcmp(a, "--units")) &&
-                 i + 1 < argc)
-            units = argv[++i];
-        else
-            return hs_bad_arg("xrsc sweep", a, NULL, "unknown option or argument");
-    }
-    if (count && strcmp(count, "all") && strcmp(count, "refs") && strcmp(count, "runs"))
-        return hs_bad_arg("xrsc sweep plan", "--count", count, "expected refs, runs or nothing");
+    if (strcmp(a->value, "all") && strcmp(a->value, "refs") && strcmp(a->value, "runs"))
+        return hs_bad_arg(a->cmd, a->opt->name, a->value, "expected all, refs or runs");
+    ((sweep_args *)a->target)->count = a->value;
+    return 0;
+}
+
+#define TEXT(s) {NULL, NULL, s, NULL, 0, NULL}
+static const hs_opt k_sweep_opts[] = {
+    TEXT("usage: xrsc sweep plan FILE [--count all|refs|runs]\n"
+         "       xrsc sweep run FILE --unit I | --units I..J | --units all\n"
+         "       xrsc sweep merge FILE\n"
+         "\n"
+         "A benchmark split into work units (Slurm array tasks: scripts/slurm/). FILE: one\n"
+         "key = value per line: scene = PATH and capture = PATH[,start=S][,frames=N]\n"
+         "[,name=LABEL] (each repeatable: every scene x capture is a case, benched into\n"
+         "OUT/CASE), setting = METHOD[:KEY=VALUE,...] (repeatable; xrsc bench --settings),\n"
+         "out = DIR [out/sweep], and xrsc bench's options: resolution, frames, warmup,\n"
+         "score-every, ref-spp, seed, env, animation, ipd, refresh, device, anchor,\n"
+         "pose-format, baseline, start, validation, no-plots, quiet.\n"
+         "  plan    prints the units: first each case's references (one per scored frame),\n"
+         "          then each case's settings\n"
+         "  run     does units in the shared folder (a finished unit is skipped; a run unit\n"
+         "          renders the references it lacks); a failure is kept in OUT/units/\n"
+         "  merge   writes each case's bench.csv, summary.csv and charts from the units'\n"
+         "          files, exactly as xrsc bench would, and names the units missing\n"
+         "\nOptions:\n"),
+    {NULL, NULL, NULL, parse_file, 0, NULL},
+    {"--count", "WHAT", "plan: print how many units (all, refs or runs) instead", parse_count,
+     0, NULL},
+    {"--unit", "I", "run: unit I", NULL, offsetof(sweep_args, units), NULL},
+    {"--units", "I..J", "run: units I to J, or all", NULL, offsetof(sweep_args, units), NULL},
+    TEXT("  -h, --help          this help\n"
+         "Details: bench/README.md \"Sweeps\", README.md \"Sweeps on a cluster\".\n"),
+};
+#define SWEEP_OPT_COUNT (sizeof(k_sweep_opts) / sizeof(k_sweep_opts[0]))
+
+/* The verb's command on the sweep read from sa->file. */
+static int sweep_command(sweep *sw, const char *verb, const sweep_args *sa)
+{
+    if (sa->count && strcmp(verb, "plan"))
+        return hs_bad_arg("xrsc sweep", "--count", NULL, "only with plan");
+    if (sa->units && strcmp(verb, "run"))
+        return hs_bad_arg("xrsc sweep", "--unit", NULL, "only with run");
     if (!strcmp(verb, "plan"))
-        return cmd_plan(sw, count);
+        return cmd_plan(sw, sa->count);
     if (!strcmp(verb, "run"))
-        return cmd_run(sw, units);
+        return cmd_run(sw, sa->units);
     return cmd_merge(sw);
 }
 
 int hs_sweep_main(int argc, char **argv)
 {
-    if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help")) {
-        usage(argc < 2 ? stderr : stdout);
-        return argc < 2 ? HS_EXIT_BAD_ARGS : 0;
+    const char *verb = argc > 1 ? argv[1] : "";
+    if (!strcmp(verb, "-h") || !strcmp(verb, "--help")) {
+        hs_opt_print_help(stdout, k_sweep_opts, SWEEP_OPT_COUNT);
+        return 0;
     }
-    const char *verb = argv[1];
-    if (strcmp(verb, "plan") && strcmp(verb, "run") && strcmp(verb, "merge"))
-        return hs_bad_arg("xrsc sweep", verb, NULL, "expected plan, run or merge");
-    if (argc < 3)
+    if (strcmp(verb, "plan") && strcmp(verb, "run") && strcmp(verb, "merge")) {
+        hs_opt_print_help(stderr, k_sweep_opts, SWEEP_OPT_COUNT);
+        return hs_bad_arg("xrsc sweep", verb[0] ? verb : "(nothing)", NULL,
+                          "expected plan, run or merge");
+    }
+    sweep_args sa = {0};
+    int r = hs_opt_parse("xrsc sweep", k_sweep_opts, SWEEP_OPT_COUNT, argc, argv, 2, &sa);
+    if (r == HS_OPT_HELP) {
+        hs_opt_print_help(stdout, k_sweep_opts, SWEEP_OPT_COUNT);
+        return 0;
+    }
+    if (r != HS_ARG_NEXT)
+        return r;
+    if (!sa.file)
         return hs_bad_arg("xrsc sweep", verb, NULL, "needs the sweep file");
     static sweep sw; /* large: the file's text and every case's scored frames */
     memset(&sw, 0, sizeof(sw));
     xrsc_diag diag = {0};
-    if (read_sweep(&sw, argv[2], &diag) != XRSC_OK)
+    if (read_sweep(&sw, sa.file, &diag) != XRSC_OK)
         return sweep_error(&diag);
-    int r = make_cases(&sw);
+    r = make_cases(&sw);
     if (!r)
         r = plan_cases(&sw);
     if (!r)
-        r = sweep_command(&sw, verb, argc - 3, argv + 3);
+        r = sweep_command(&sw, verb, &sa);
     return r;
 }
