@@ -66,6 +66,7 @@ static void usage(FILE *f)
 "  --seed N            random seed of every setting             [0]\n"
 "  --env R,G,B         constant environment radiance\n"
 HS_ANIM_USAGE
+"  --blas-update M     skinned/morphed meshes' BLAS each frame: auto | refit | rebuild [auto]\n"
 "  --ipd MM            interpupillary distance                  [63]\n"
 "  --refresh HZ        display refresh rate (frame spacing)     [90]\n"
 "  --device D          cpu | gpu | index | name part\n"
@@ -137,7 +138,7 @@ static char *read_text_file(const char *path)
 static const char *const value_options[] = {
     "--scene", "--poses", "--pose-format", "--anchor", "--start", "--frames",
     "--warmup", "--score-every", "--settings", "--baseline", "--resolution", "--ref-spp",
-    "--seed", "--env", HS_ANIM_FLAG, "--ipd", "--refresh", "--device", "--out", "--part",
+    "--seed", "--env", HS_ANIM_FLAG, "--blas-update", "--ipd", "--refresh", "--device", "--out", "--part",
 };
 
 /* What the command line sets: the bench options, the settings' text, --warmup given. */
@@ -270,6 +271,14 @@ static int parse_render_option(const char *a, const char *v, bench_args *ba)
         int r = hs_anim_parse("xrsc bench", a, v, &opt->scene);
         if (r)
             return r;
+    } else if (!strcmp(a, "--blas-update")) {
+        static const char *const modes[] = {"auto", "refit", "rebuild"};
+        uint32_t m = 0;
+        while (m < 3 && strcmp(v, modes[m]))
+            m++;
+        if (m == 3)
+            return bad_arg(a, v, "expected auto, refit or rebuild");
+        opt->scene.blas_update = (xrsc_blas_update)m;
     } else if (!strcmp(a, "--ipd")) {
         if (!hs_parse_f(v, &d) || d < 0 || d > 200)
             return bad_arg(a, v, "expected millimetres 0..200");

@@ -12,16 +12,19 @@
  *        sample-cache frame. With `--animation none` nothing is an object: the region is the
  *        clip's doing.
  */
+#include "gpu_scene.h"
 #include "sc_scene.h"
 #include "t_stab.h"
+#include "xrsc_core_internal.h"
 
 #define T_RES 48u
-#define T_FRAMES 60u        /**< the suite's frame count for the case */
-#define T_MIN_FIGURE_PX 40u /**< the figure's pixels per eye (measured 86-90 at 48 px, frame 12)   \
-                             */
-#define T_MIN_STEP_PX 3.0   /**< centroid shift over 30 frames (0.33 m at 1.5 m) */
-#define T_MIN_WALL_CV 0.2   /**< luminance std / mean over the wall: the checker */
-#define T_SC_FRAMES 12u     /**< sample-cache frames before the scored one */
+#define T_FRAMES 60u /**< the suite's frame count for the case */
+#define T_MIN_FIGURE_PX                                                                            \
+    40u                   /**< the figure's pixels per eye (measured 86-90 at 48 px, frame 12)     \
+                           */
+#define T_MIN_STEP_PX 3.0 /**< centroid shift over 30 frames (0.33 m at 1.5 m) */
+#define T_MIN_WALL_CV 0.2 /**< luminance std / mean over the wall: the checker */
+#define T_SC_FRAMES 12u   /**< sample-cache frames before the scored one */
 #define T_REF_SPP 16u
 #define T_FOOT_MOVE_M 0.1  /**< foot displacement in the hips' frame, 0 s to 0.25 s of `walk` */
 #define T_RIGID_EPS_M 1e-4 /**< a vertex weighted to the hips alone stays put in their frame */
@@ -241,11 +244,43 @@ static void figure_deforms(void)
     sc_scene_destroy(&s);
 }
 
+/** xrsc_scene_options.blas_update reaches the GPU scene: forced refits never rebuild, forced
+ *  rebuilds never refit, one update per frame either way (`xrsc bench --blas-update`). */
+static void blas_update_mode_applies(void)
+{
+    static const xrsc_blas_update modes[2] = {XRSC_BLAS_UPDATE_REFIT, XRSC_BLAS_UPDATE_REBUILD};
+    for (int m = 0; m < 2; m++) {
+        ts_rig r;
+        xrsc_scene_options so = {.blas_update = modes[m]};
+        if (ts_open_with(&r, "scenes/character.gltf", &so, "poses/still.xrpose", 16u)) {
+            xrsc_renderer *rd =
+                ts_renderer(&r, (xrsc_renderer_options){.method = XRSC_METHOD_PRIMARY});
+            ts_views v;
+            ts_views_alloc(&r, &v);
+            uint32_t rendered = 0, rebuilds = 0, refits = 0;
+            for (uint32_t k = 1; rd && k <= 3; k++) {
+                xrsc_frame f = ts_frame(&r, k);
+                rendered += ts_render(&r, rd, &f, &v);
+            }
+            gpu_scene_blas_update_counts(xrsc_scene_gpu(r.scene), &rebuilds, &refits);
+            printf("blas_update %d: %u frames, %u rebuilds, %u refits\n", (int)modes[m], rendered,
+                   rebuilds, refits);
+            CHECK_EQ_INT(rendered, 3);
+            CHECK_EQ_INT(m == 0 ? rebuilds : refits, 0);
+            CHECK((m == 0 ? refits : rebuilds) >= rendered);
+            ts_views_free(&v);
+            xrsc_renderer_destroy(&rd);
+        }
+        ts_close(&r);
+    }
+}
+
 int main(void)
 {
     RUN(figure_deforms);
     RUN(figure_is_the_moving_object_region);
     RUN(region_metric_is_finite);
     RUN(no_clip_no_object);
+    RUN(blas_update_mode_applies);
     return t_finish();
 }
