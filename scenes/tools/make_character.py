@@ -229,8 +229,8 @@ def add_figure(d, seg):
     nodes = {}
     for name, parent, p in JOINTS:
         pp = JOINTS[JI[parent]][2] if parent else (0, 0, 0)
-        nodes[name] = d.add("nodes", {"name": name,
-                                      "translation": [p[c] - pp[c] for c in range(3)]})
+        local = [round(p[c] - pp[c], 6) for c in range(3)]
+        nodes[name] = d.add("nodes", {"name": name, "translation": local})
         parent_node = d.g["nodes"][nodes[parent] if parent else figure]
         parent_node.setdefault("children", []).append(nodes[name])
     nodes["figure"] = figure
