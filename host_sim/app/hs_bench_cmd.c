@@ -163,6 +163,14 @@ static int parse_part(const hs_opt_arg *a)
     return 0;
 }
 
+/* The enum it sets is int-sized (hs_opt_enum writes an int). */
+_Static_assert(sizeof(xrsc_blas_update) == sizeof(int), "enum field set through int");
+static const hs_opt_name k_blas_updates[] = {
+    {"auto", XRSC_BLAS_UPDATE_AUTO, "expected auto, refit or rebuild"},
+    {"refit", XRSC_BLAS_UPDATE_REFIT, NULL},
+    {"rebuild", XRSC_BLAS_UPDATE_REBUILD, NULL},
+    {NULL, 0, NULL}};
+
 static int parse_quiet(const hs_opt_arg *a)
 {
     B(a)->opt.progress = false;
@@ -240,6 +248,8 @@ static const hs_opt k_bench_opts[] = {
      "first clip) | all (every clip at once) | none | a clip's name or\n"
      "index (xrsc scene info FILE lists them) [first]",
      parse_animation, 0, NULL},
+    {"--blas-update", "M", "skinned/morphed meshes' BLAS each frame: auto | refit | rebuild [auto]",
+     hs_opt_enum, F(scene.blas_update), k_blas_updates},
     {"--ipd", "MM", "interpupillary distance                  [63]", parse_ipd, 0, NULL},
     {"--refresh", "HZ", "display refresh rate (frame spacing)     [90]", hs_opt_float,
      F(headset.refresh_hz), NUM(1, 1000, "expected 1..1000 Hz")},

@@ -32,7 +32,7 @@
 static const char *const bench_value_keys[] = {
     "--resolution", "--frames", "--warmup", "--score-every", "--ref-spp", "--seed", "--env",
     "--ipd",        "--refresh", "--device", "--anchor",     "--pose-format", "--baseline",
-    "--start",      HS_ANIM_FLAG,
+    "--start",      HS_ANIM_FLAG, "--blas-update",
 };
 static const char *const bench_flag_keys[] = {"--validation", "--no-plots", "--quiet"};
 /* The sweep's own keys: scene and capture and setting may repeat. */
@@ -537,8 +537,8 @@ static const hs_opt k_sweep_opts[] = {
          "[,name=LABEL] (each repeatable: every scene x capture is a case, benched into\n"
          "OUT/CASE), setting = METHOD[:KEY=VALUE,...] (repeatable; xrsc bench --settings),\n"
          "out = DIR [out/sweep], and xrsc bench's options: resolution, frames, warmup,\n"
-         "score-every, ref-spp, seed, env, animation, ipd, refresh, device, anchor,\n"
-         "pose-format, baseline, start, validation, no-plots, quiet.\n"
+         "score-every, ref-spp, seed, env, animation, blas-update, ipd, refresh, device,\n"
+         "anchor, pose-format, baseline, start, validation, no-plots, quiet.\n"
          "  plan    prints the units: first each case's references (one per scored frame),\n"
          "          then each case's settings\n"
          "  run     does units in the shared folder (a finished unit is skipped; a run unit\n"

@@ -822,6 +822,11 @@ static void bench_config(bench_run *b, const char *device)
              "%s frames=%u warmup=%u score_every=%u device=%s columns=%u%s", b->ref_config,
              b->frames, b->warmup, b->score_every, device,
              HS_BENCH_COLUMN_COUNT, opt->timing_only ? " timing-only" : "");
+    if (opt->scene.blas_update) { /* the blas pass's cost differs (issue 21 item 4) */
+        size_t at = strlen(b->config);
+        snprintf(b->config + at, sizeof(b->config) - at, " blas_update=%s",
+                 opt->scene.blas_update == XRSC_BLAS_UPDATE_REFIT ? "refit" : "rebuild");
+    }
 }
 
 /** The run's sizes and defaults from the options. */

@@ -97,9 +97,8 @@ static const suite_case stability_cases[] = {
      HL_RELMSE},
     {"disocclusion", "scenes/disocclusion.gltf", "poses/sideways.xrpose", 0.0, 60, 0, 0, 1,
      XRSC_REGION_UNCOVERED, HL_RELMSE},
-    /* issue 21: CesiumMan (read in place from ../shared) walking across a textured wall; the
-     * figure's pixels are the object region (its `walker` node is animated). It deforms once
-     * skins are drawn; until then it slides in its bind pose. */
+    /* issue 21: the project's skinned figure (make_character.py) walking across a textured
+     * wall; the figure's pixels are the object region (a skinned instance of a playing clip). */
     {"character", "scenes/character.gltf", "poses/still.xrpose", 0.0, 60, 0, 0, 1,
      XRSC_REGION_OBJECT, HL_RELMSE},
 };

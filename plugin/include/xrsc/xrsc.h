@@ -82,7 +82,17 @@ uint32_t xrsc_context_validation_errors(const xrsc_context *ctx);
  * animation (the file's rest pose); else a clip's name, or its index in `animations` (digits;
  * a clip named so wins). Any other text is XRSC_ERROR_ANIMATION_UNKNOWN (field "animation")
  * with a message listing the file's clips. The keywords win over clip names of the same text.
+ * blas_update (skinned and morphed meshes, issue 21): how their bottom-level acceleration
+ * structures follow the pose each frame: XRSC_BLAS_UPDATE_AUTO (zero, the default) refits
+ * until the pose drifted far from the last build's, then rebuilds; REFIT and REBUILD force
+ * one every frame (to measure which pays, `xrsc bench --blas-update`).
  */
+typedef enum xrsc_blas_update {
+    XRSC_BLAS_UPDATE_AUTO = 0,
+    XRSC_BLAS_UPDATE_REFIT,
+    XRSC_BLAS_UPDATE_REBUILD,
+} xrsc_blas_update;
+
 typedef struct xrsc_scene_options {
     bool env_set;
     float environment[3];
@@ -96,6 +106,7 @@ typedef struct xrsc_scene_options {
     float sun_direction[3];
     bool env_no_importance;
     const char *animation;
+    xrsc_blas_update blas_update;
 } xrsc_scene_options;
 
 typedef struct xrsc_scene_info {

@@ -141,6 +141,12 @@ xrsc_result xrsc_scene_load(xrsc_context *ctx, const char *path,
     res = gpu_scene_create(ctx->gpu, s->cpu, &s->gpu, out_diag);
     if (res != XRSC_OK)
         goto fail;
+    if (options) {
+        _Static_assert((int)XRSC_BLAS_UPDATE_REFIT == (int)GPU_BLAS_REFIT &&
+                           (int)XRSC_BLAS_UPDATE_REBUILD == (int)GPU_BLAS_REBUILD,
+                       "xrsc_blas_update mirrors gpu_blas_mode");
+        gpu_scene_set_blas_mode(s->gpu, (gpu_blas_mode)options->blas_update);
+    }
     double t2 = core_now_ms();
     for (uint32_t i = 0; i < s->cpu->instance_count; i++)
         s->animated = s->animated || s->cpu->instances[i].animated;
@@ -159,6 +165,8 @@ fail:
     xrsc_scene_destroy(&s);
     return res;
 }
+
+struct gpu_scene *xrsc_scene_gpu(const xrsc_scene *scene) { return scene ? scene->gpu : NULL; }
 
 /** The scene's xrsc_scene_info from its CPU copy (all but blas_build_ms). */
 static void scene_info_fill(const sc_scene *c, xrsc_scene_info *info)

@@ -28,6 +28,8 @@ void xrsc_renderer_size(const xrsc_renderer *renderer, uint32_t *out_width,
                         uint32_t *out_height);
 /** The GPU image of an output (layer = eye, GENERAL), NULL if the method offers none. */
 const gpu_image *xrsc_renderer_output_image(const xrsc_renderer *renderer, xrsc_output output);
+/** The scene's GPU side (borrowed; tests read its BLAS update counts, gpu_scene.h). */
+struct gpu_scene *xrsc_scene_gpu(const xrsc_scene *scene);
 
 #ifdef __cplusplus
 }
