@@ -876,8 +876,7 @@ static void pareto_block(const report *rp, const double *err, const bool *front,
 
 /* OUT/pareto.csv (every setting, whether it is on each front) and OUT/plot/pareto*.dat. */
 static xrsc_result write_pareto_data(report *rp, const bool *front_r, const bool *front_t,
-                                     const double *relmse, const double *temporal,
-                                     xrsc_diag *diag)
+                                     const double *relmse, const double *temporal, xrsc_diag *diag)
 {
     char path[HS_BENCH_PATH_MAX + 64], dpath[HS_BENCH_PATH_MAX + 64];
     FILE *f = open_out(rp, "pareto.csv", path, sizeof(path), diag);
@@ -961,16 +960,17 @@ static xrsc_result chart_pareto(report *rp, xrsc_diag *diag)
     char title[512];
     chart_title(rp, title, sizeof(title));
     FILE *g = !rp->pareto ? NULL
-                          : hs_bench_open_script(rp->opt->out_dir, "pareto.gp", "pareto.png",
-                                                 1300, 560, diag);
+                          : hs_bench_open_script(rp->opt->out_dir, "pareto.gp", "pareto.png", 1300,
+                                                 560, diag);
     if (rp->pareto && !g)
         res = diag ? diag->code : XRSC_ERROR_IO;
     if (g) {
-        fprintf(g, "set multiplot layout 1,2 title '%s'\n"
-                   "set logscale y\nset xrange [0:*]\n"
-                   "set offsets 0, graph 0.25, graph 0.1, graph 0.1\n"
-                   "set key top right font ',8' opaque\n"
-                   "set xlabel 'GPU time per stereo frame, ms (mean)'\n",
+        fprintf(g,
+                "set multiplot layout 1,2 title '%s'\n"
+                "set logscale y\nset xrange [0:*]\n"
+                "set offsets 0, graph 0.25, graph 0.1, graph 0.1\n"
+                "set key top right font ',8' opaque\n"
+                "set xlabel 'GPU time per stereo frame, ms (mean)'\n",
                 title);
         pareto_panel(g, "relMSE vs reference (mean, eps 0.01)", 5, 0, defidx);
         pareto_panel(g, "temporal difference (mean squared, reprojected)", 6, 1, defidx);
