@@ -8,6 +8,7 @@
 #include "hs_args.h"
 #include "hs_bench_columns.h"
 #include "hs_bench_report.h"
+#include "hs_pareto.h"
 
 #include "u_diag.h"
 #include "xrsc/xrsc_metrics.h"
@@ -286,6 +287,7 @@ typedef struct report {
     char *counter_names[MAX_COLS]; /* the methods' counters, "c_<name>" columns */
     uint32_t ncounter;
     uint32_t base; /* index of the baseline setting */
+    bool pareto;   /* pareto.gp written: some setting has a relMSE or temporal figure */
     char plotdir[HS_BENCH_PATH_MAX + 16];
 } report;
 
@@ -845,6 +847,141 @@ static xrsc_result chart_passes(const report *rp, xrsc_diag *diag)
     return XRSC_OK;
 }
 
+/* The name of the setting that the pareto chart draws as the product's default. */
+#define PARETO_DEFAULT_NAME "default"
+
+/* One block of plot/pareto_front.dat: the front's settings sorted by GPU time (a staircase),
+ * "gpu_ms error name" per line. */
+static void pareto_block(const report *rp, const double *err, const bool *front, FILE *d)
+{
+    double last = -INFINITY;
+    int last_i = -1;
+    for (;;) {
+        int pick = -1;
+        for (uint32_t j = 0; j < rp->ns; j++) {
+            double c = rp->sum[j].gpu_ms;
+            bool after = c > last || (c == last && (int)j > last_i);
+            if (front[j] && after &&
+                (pick < 0 || c < rp->sum[pick].gpu_ms ||
+                 (c == rp->sum[pick].gpu_ms && (int)j < pick)))
+                pick = (int)j;
+        }
+        if (pick < 0)
+            return;
+        last = rp->sum[pick].gpu_ms;
+        last_i = pick;
+        fprintf(d, "%g %g %s\n", last, err[pick], rp->opt->settings[pick].name);
+    }
+}
+
+/* OUT/pareto.csv (every setting, whether it is on each front) and OUT/plot/pareto*.dat. */
+static xrsc_result write_pareto_data(report *rp, const bool *front_r, const bool *front_t,
+                                     const double *relmse, const double *temporal, xrsc_diag *diag)
+{
+    char path[HS_BENCH_PATH_MAX + 64], dpath[HS_BENCH_PATH_MAX + 64];
+    FILE *f = open_out(rp, "pareto.csv", path, sizeof(path), diag);
+    if (!f)
+        return XRSC_ERROR_IO;
+    snprintf(dpath, sizeof(dpath), "%s/pareto_front.dat", rp->plotdir);
+    FILE *d = fopen(dpath, "w");
+    if (!d) {
+        fclose(f);
+        return u_diag_set(diag, XRSC_ERROR_IO, dpath, 0, "", "cannot create");
+    }
+    fprintf(f, "setting,spec,gpu_ms,relmse,temporal_msd,front_relmse,front_temporal,default\n");
+    for (uint32_t i = 0; i < rp->ns; i++) {
+        const hs_bench_setting *s = &rp->opt->settings[i];
+        fprintf(f, "%s,\"%s\",", s->name, s->spec);
+        fmt_value(f, rp->sum[i].gpu_ms);
+        fputc(',', f);
+        fmt_value(f, relmse[i]);
+        fputc(',', f);
+        fmt_value(f, temporal[i]);
+        fprintf(f, ",%d,%d,%d\n", front_r[i], front_t[i], !strcmp(s->name, PARETO_DEFAULT_NAME));
+    }
+    fprintf(d, "# relMSE front: gpu_ms relmse name\n");
+    pareto_block(rp, relmse, front_r, d);
+    fprintf(d, "\n\n# temporal front: gpu_ms temporal_msd name\n");
+    pareto_block(rp, temporal, front_t, d);
+    bool bad = fclose(d) != 0;
+    xrsc_result res = close_out(f, path, diag);
+    if (res == XRSC_OK && bad)
+        res = u_diag_set(diag, XRSC_ERROR_IO, dpath, 0, "", "writing failed");
+    return res;
+}
+
+/* The gnuplot commands of one pareto panel: every setting as an open circle, the front as a
+ * staircase of filled points, the default as a large cross; every point named. */
+static void pareto_panel(FILE *g, const char *ylabel, int ycol, int block, int defidx)
+{
+    fprintf(g,
+            "set ylabel '%s'\n"
+            "plot 'plot/summary.dat' using 3:%d with points pt 6 ps 1.2 lc 'gray50' "
+            "title 'setting', "
+            "'' using 3:%d:2 with labels left offset 0.6,-0.5 font ',6' tc 'gray40' notitle, "
+            "'plot/pareto_front.dat' index %d using 1:2 with steps lw 2 lc 'dark-red' "
+            "title 'Pareto front', "
+            "'' index %d using 1:2 with points pt 7 ps 1.3 lc 'dark-red' notitle, "
+            "'' index %d using 1:2:3 with labels left offset 0.8,0.6 font ',7' notitle",
+            ylabel, ycol, ycol, block, block, block);
+    if (defidx >= 0)
+        fprintf(g,
+                ", 'plot/summary.dat' every ::%d::%d using 3:%d with points pt 3 ps 3.5 lw 2 "
+                "lc 'blue' title '%s'",
+                defidx, defidx, ycol, PARETO_DEFAULT_NAME);
+    fputc('\n', g);
+}
+
+/* Chart pareto (issue 19 item 4): relMSE and temporal difference against GPU time with the
+ * non-dominated settings (hs_pareto_front: no other setting is as fast and as good, and better
+ * in one) joined and named, and the setting named "default" (the product) marked. */
+static xrsc_result chart_pareto(report *rp, xrsc_diag *diag)
+{
+    double *cost = calloc(rp->ns, 4 * sizeof(double));
+    bool *front = calloc(rp->ns, 2 * sizeof(bool));
+    if (!cost || !front) {
+        free(cost);
+        free(front);
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "pareto");
+    }
+    double *relmse = cost + rp->ns, *temporal = cost + 2 * rp->ns;
+    int defidx = -1;
+    for (uint32_t i = 0; i < rp->ns; i++) {
+        cost[i] = rp->sum[i].gpu_ms;
+        relmse[i] = rp->sum[i].relmse;
+        temporal[i] = rp->sum[i].temporal;
+        if (!strcmp(rp->opt->settings[i].name, PARETO_DEFAULT_NAME))
+            defidx = (int)i;
+    }
+    uint32_t nr = hs_pareto_front(cost, relmse, rp->ns, front);
+    uint32_t nt = hs_pareto_front(cost, temporal, rp->ns, front + rp->ns);
+    xrsc_result res = write_pareto_data(rp, front, front + rp->ns, relmse, temporal, diag);
+    rp->pareto = res == XRSC_OK && nr + nt > 0;
+    char title[512];
+    chart_title(rp, title, sizeof(title));
+    FILE *g = !rp->pareto ? NULL
+                          : hs_bench_open_script(rp->opt->out_dir, "pareto.gp", "pareto.png", 1300,
+                                                 560, diag);
+    if (rp->pareto && !g)
+        res = diag ? diag->code : XRSC_ERROR_IO;
+    if (g) {
+        fprintf(g,
+                "set multiplot layout 1,2 title '%s'\n"
+                "set logscale y\nset xrange [0:*]\n"
+                "set offsets 0, graph 0.25, graph 0.1, graph 0.1\n"
+                "set key top right font ',8' opaque\n"
+                "set xlabel 'GPU time per stereo frame, ms (mean)'\n",
+                title);
+        pareto_panel(g, "relMSE vs reference (mean, eps 0.01)", 5, 0, defidx);
+        pareto_panel(g, "temporal difference (mean squared, reprojected)", 6, 1, defidx);
+        fprintf(g, "unset multiplot\n");
+        fclose(g);
+    }
+    free(cost);
+    free(front);
+    return res;
+}
+
 /* Whether any setting has an R (the stereo_r chart). */
 static bool any_r(const report *rp)
 {
@@ -866,13 +1003,15 @@ static xrsc_result write_charts(report *rp, xrsc_diag *diag)
         (with_r && (res = chart_stereo_r(rp, diag)) != XRSC_OK) ||
         (res = chart_error_vs_time(rp, diag)) != XRSC_OK ||
         (res = chart_sequence(rp, diag)) != XRSC_OK || (res = chart_passes(rp, diag)) != XRSC_OK ||
+        (res = chart_pareto(rp, diag)) != XRSC_OK ||
         (with_base && (res = chart_base_energy(rp, diag)) != XRSC_OK))
         return res;
     if (opt->no_plots)
         return XRSC_OK;
-    const char *scripts[] = {"error_vs_time.gp", "sequence.gp", "passes.gp", "stereo_r.gp"};
-    for (size_t k = 0; k < (with_r ? 4u : 3u); k++)
-        if (!hs_bench_run_gnuplot(opt->out_dir, scripts[k]))
+    const char *scripts[] = {"error_vs_time.gp", "sequence.gp", "passes.gp", "pareto.gp",
+                             "stereo_r.gp"};
+    for (size_t k = 0; k < (with_r ? 5u : 4u); k++)
+        if ((k != 3 || rp->pareto) && !hs_bench_run_gnuplot(opt->out_dir, scripts[k]))
             fprintf(stderr, "xrsc bench: warning: gnuplot %s failed (see %s/gnuplot.log)\n",
                     scripts[k], opt->out_dir);
     if (with_base && !hs_bench_run_gnuplot(opt->out_dir, "base_energy.gp"))
