@@ -38,13 +38,17 @@ static void sample(const image *im, int oh, int x, int y, uint8_t out[3])
 {
     int x0 = (int)((int64_t)x * im->w / im->sw), x1 = (int)((int64_t)(x + 1) * im->w / im->sw);
     int y0 = (int)((int64_t)y * im->h / oh), y1 = (int)((int64_t)(y + 1) * im->h / oh);
-    if (x1 <= x0) x1 = x0 + 1;
-    if (y1 <= y0) y1 = y0 + 1;
+    if (x1 <= x0)
+        x1 = x0 + 1;
+    if (y1 <= y0)
+        y1 = y0 + 1;
     uint32_t sum[3] = {0, 0, 0}, n = 0;
     for (int sy = y0; sy < y1 && sy < im->h; sy++)
         for (int sx = x0; sx < x1 && sx < im->w; sx++, n++)
-            for (int c = 0; c < 3; c++) sum[c] += im->rgb[3 * ((size_t)sy * im->w + sx) + c];
-    for (int c = 0; c < 3; c++) out[c] = (uint8_t)(n ? (sum[c] + n / 2) / n : GAP_GREY);
+            for (int c = 0; c < 3; c++)
+                sum[c] += im->rgb[3 * ((size_t)sy * im->w + sx) + c];
+    for (int c = 0; c < 3; c++)
+        out[c] = (uint8_t)(n ? (sum[c] + n / 2) / n : GAP_GREY);
 }
 
 int main(int argc, char **argv)
@@ -64,12 +68,14 @@ int main(int argc, char **argv)
         int comp;
         im[i].rgb = stbi_load(argv[3 + i], &im[i].w, &im[i].h, &comp, 3);
         if (!im[i].rgb) {
-            fprintf(stderr, "%s: cannot read %s: %s\n", argv[0], argv[3 + i], stbi_failure_reason());
+            fprintf(stderr, "%s: cannot read %s: %s\n", argv[0], argv[3 + i],
+                    stbi_failure_reason());
             status = 1;
             goto done;
         }
         im[i].sw = (int)(((int64_t)im[i].w * oh + im[i].h / 2) / im[i].h);
-        if (im[i].sw < 1) im[i].sw = 1;
+        if (im[i].sw < 1)
+            im[i].sw = 1;
         ow += im[i].sw + (i ? GAP_PX : 0);
     }
     uint8_t *out = malloc((size_t)ow * oh * 3);
@@ -89,6 +95,7 @@ int main(int argc, char **argv)
     }
     free(out);
 done:
-    for (int i = 0; i < n; i++) stbi_image_free(im[i].rgb);
+    for (int i = 0; i < n; i++)
+        stbi_image_free(im[i].rgb);
     return status;
 }

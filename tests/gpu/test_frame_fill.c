@@ -33,7 +33,8 @@
 static void test_tiny_model_fills_and_centres(void)
 {
     xrsc_context *ctx = t_context_open();
-    if (!ctx) return;
+    if (!ctx)
+        return;
     const char *path = t_shared_path(
         "scenes/khronos/MetalRoughSpheresNoTextures/glTF-Binary/MetalRoughSpheresNoTextures.glb");
     char buf[1024];
@@ -43,7 +44,8 @@ static void test_tiny_model_fills_and_centres(void)
     xrsc_result r = xrsc_scene_load(ctx, path, NULL, &scene, &d);
     CHECK_MSG(r == XRSC_OK, "%s", xrsc_diag_format(&d, buf, sizeof buf));
     xrsc_renderer_options ro = {.method = XRSC_METHOD_PRIMARY, .width = T_SIZE, .height = T_SIZE};
-    if (r == XRSC_OK) r = xrsc_renderer_create(ctx, scene, &ro, &rend, &d);
+    if (r == XRSC_OK)
+        r = xrsc_renderer_create(ctx, scene, &ro, &rend, &d);
     CHECK_MSG(r == XRSC_OK, "%s", xrsc_diag_format(&d, buf, sizeof buf));
     float *depth = malloc(T_SIZE * T_SIZE * sizeof(float));
     double mx_sum = 0.0;
@@ -56,7 +58,8 @@ static void test_tiny_model_fills_and_centres(void)
         XrPosef eyes[2];
         xrsc_headset_eye_poses(&hs, hs_view_frame(&info, hs.fov, hs.ipd_m), eyes);
         xrsc_frame frame = {0};
-        for (int e = 0; e < 2; e++) frame.views[e] = (xrsc_view){.pose = eyes[e], .fov = hs.fov[e]};
+        for (int e = 0; e < 2; e++)
+            frame.views[e] = (xrsc_view){.pose = eyes[e], .fov = hs.fov[e]};
         CHECK_EQ_INT(xrsc_renderer_render(rend, &frame), XRSC_OK);
         for (uint32_t e = 0; e < 2; e++) {
             CHECK_EQ_INT(xrsc_renderer_read(rend, e, XRSC_OUTPUT_DEPTH, depth,
