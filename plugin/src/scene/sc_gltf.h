@@ -69,6 +69,7 @@ typedef struct sc_gltf_accessor {
 typedef struct sc_gltf_primitive {
     int32_t mode; /**< glTF mode (default 4 filled in) */
     int32_t position, normal, tangent, texcoord0, indices, material; /**< accessor/material or -1 */
+    int32_t texcoord1; /**< TEXCOORD_1 accessor or -1 (textures whose texCoord is 1 read it) */
 } sc_gltf_primitive;
 
 typedef struct sc_gltf_mesh {
