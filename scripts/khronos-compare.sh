@@ -7,7 +7,8 @@
 # Usage: scripts/khronos-compare.sh [OUT_DIR]        (default build/khronos-compare)
 # For each folder with a .gltf or .glb (glTF-Binary/ preferred, then glTF/): `xrsc replay
 # --direct` over poses/still.xrpose, from the model's first camera (--viewpoint camera:0
-# --fov scene) when it has one, else --frame; the left eye of the last frame is
+# --fov scene, the eye's width made to the camera's aspectRatio so that nothing is squeezed)
+# when it has one, else --frame; the left eye of the last frame is
 # OUT_DIR/MODEL/frame_NNNNN_left.png and OUT_DIR/MODEL-side-by-side.png is it beside
 # screenshot/screenshot.{png,jpg} (else the first image there; a GIF's first frame), both
 # scaled to one height by the project's own xrsc_side_by_side (Debian's stb_image; no
@@ -77,10 +78,17 @@ for dir in "$models"/*/; do
         continue
     fi
     view=(--frame)
-    has_camera "$file" && view=(--viewpoint camera:0 --fov scene)
+    res=$size
+    if has_camera "$file"; then
+        view=(--viewpoint camera:0 --fov scene)
+        aspect=$(LC_ALL=C grep -ao '"aspectRatio"[[:space:]]*:[[:space:]]*[0-9.]*' "$file" |
+            head -n 1 | sed 's/.*://; s/[[:space:]]//g')
+        [ -n "$aspect" ] && res=$(awk -v s="$size" -v a="$aspect" \
+            'BEGIN { split(s, p, "x"); printf "%dx%d", p[2] * a + 0.5, p[2] }')
+    fi
     run=$out/$name
     if ! "$xrsc" replay --direct --quiet --overwrite --scene "$file" --poses "$root/poses/still.xrpose" \
-        --frames "$frames" --method "$method" --spp "$spp" --resolution "$size" --write eyes \
+        --frames "$frames" --method "$method" --spp "$spp" --resolution "$res" --write eyes \
         --out "$run" "${view[@]}" "${extra[@]}" >"$out/$name.log" 2>&1; then
         echo "$name: REFUSED (exit $?): $(grep -m1 -i error "$out/$name.log")"
         status=1
