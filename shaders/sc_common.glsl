@@ -179,9 +179,9 @@ struct sc_tri {
     vec3 p0, p1, p2;
     vec3 ng_unsigned;
     /* with attributes (sc_tri_fetch): the vertex normals in world space, not normalised, and
-     * the vertex uv */
+     * the vertex uv (xy TEXCOORD_0, zw TEXCOORD_1) */
     vec3 n0, n1, n2;
-    vec2 uv0, uv1, uv2;
+    vec4 uv0, uv1, uv2;
 };
 
 void sc_tri_init(out sc_tri tri)
@@ -189,7 +189,7 @@ void sc_tri_init(out sc_tri tri)
     tri.instance = XS_SC_BACKGROUND;
     tri.primitive = 0u;
     tri.p0 = tri.p1 = tri.p2 = tri.ng_unsigned = tri.n0 = tri.n1 = tri.n2 = vec3(0.0);
-    tri.uv0 = tri.uv1 = tri.uv2 = vec2(0.0);
+    tri.uv0 = tri.uv1 = tri.uv2 = vec4(0.0);
 }
 
 /** Makes tri the triangle of surface hit fh (loads it unless it is already); attributes:
@@ -218,9 +218,9 @@ void sc_tri_fetch(inout sc_tri tri, uvec4 fh, bool attributes)
     tri.n0 = n2w * b0.xyz;
     tri.n1 = n2w * b1.xyz;
     tri.n2 = n2w * b2.xyz;
-    tri.uv0 = vec2(a0.w, b0.w);
-    tri.uv1 = vec2(a1.w, b1.w);
-    tri.uv2 = vec2(a2.w, b2.w);
+    tri.uv0 = vec4(a0.w, b0.w, vertices[vi.x].uv1.xy);
+    tri.uv1 = vec4(a1.w, b1.w, vertices[vi.y].uv1.xy);
+    tri.uv2 = vec4(a2.w, b2.w, vertices[vi.z].uv1.xy);
 }
 
 /** The barycentric weights of surface hit fh (corner 0, 1, 2). */
@@ -230,8 +230,8 @@ vec3 sc_tri_weights(uvec4 fh)
     return vec3(1.0 - bary.x - bary.y, bary.x, bary.y);
 }
 
-/** The uv of surface hit fh on tri (fetched with attributes). */
-vec2 sc_tri_uv(sc_tri tri, uvec4 fh)
+/** The uv sets of surface hit fh on tri (fetched with attributes; xs_surface.uv). */
+vec4 sc_tri_uv(sc_tri tri, uvec4 fh)
 {
     vec3 w = sc_tri_weights(fh);
     return w.x * tri.uv0 + w.y * tri.uv1 + w.z * tri.uv2;

@@ -52,8 +52,8 @@ bool rc_specific(xs_mat mt)
 }
 
 /** Albedo (xs_demod_albedo) and emitted radiance towards the eye (xs_emitted) of the sample of
- *  material id at uv, seen from its outside or not. */
-void rc_material_at(inout rc_material c, uint id, vec2 uv, bool outside, out vec3 albedo,
+ *  material id at uv (both sets, xs_surface.uv), seen from its outside or not. */
+void rc_material_at(inout rc_material c, uint id, vec4 uv, bool outside, out vec3 albedo,
                     out vec3 emitted, out bool specific)
 {
     if (c.id != id) {

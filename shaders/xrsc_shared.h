@@ -96,6 +96,15 @@ typedef struct xs_mat4 { float m[16]; } xs_mat4; /* column-major */
 #define XS_TEX_EMISSION 2
 #define XS_TEX_NORMAL 3
 #define XS_TEX_SLOTS 4
+/* bits of xs_material.uv1_mask: (1 << XS_TEX_*) and (1 << XS_UV1_*) = that texture reads
+ * TEXCOORD_1 (xs_vertex.uv1) instead of TEXCOORD_0 */
+#define XS_UV1_TRANSMISSION 4
+#define XS_UV1_SPECULAR 5
+#define XS_UV1_SPECULAR_COLOR 6
+#define XS_UV1_CLEARCOAT 7
+#define XS_UV1_CLEARCOAT_ROUGH 8
+#define XS_UV1_SHEEN_COLOR 9
+#define XS_UV1_SHEEN_ROUGH 10
 
 /* xs_frame.jitter: sub-pixel positions of the samples (spp.rgen) */
 #define XS_JITTER_CENTRE 0u /* every sample through the pixel centre */
@@ -111,6 +120,7 @@ XS_STRUCT(xs_vertex)
     xs_vec4 position_u; /* xyz position (object space), w = uv.x */
     xs_vec4 normal_v;   /* xyz normal (object space), w = uv.y */
     xs_vec4 tangent;    /* xyz tangent (object space, along +u), w = handedness +-1 (glTF) */
+    xs_vec4 uv1;        /* xy TEXCOORD_1 (a copy of TEXCOORD_0 when absent), zw 0 */
 } XS_END(xs_vertex);
 
 XS_STRUCT(xs_instance)
@@ -139,11 +149,11 @@ XS_STRUCT(xs_material)
     xs_uint normal_tex;      /* tangent-space normal map (linear) or XS_NO_TEXTURE */
     xs_float normal_scale;   /* scales the map's x and y (glTF normalTexture.scale) */
     xs_float alpha_cutoff;   /* XS_MAT_ALPHA_MASK: glTF alphaCutoff (default 0.5) */
-    xs_uint pad1;
+    xs_uint uv1_mask;        /* textures that read TEXCOORD_1: bits XS_TEX_* and XS_UV1_* */
     /* slot k's uv' = (dot(uv_rows[2k].xyz, (u, v, 1)), dot(uv_rows[2k+1].xyz, (u, v, 1))) */
     xs_vec4 uv_rows[2 * XS_TEX_SLOTS];
     /* ---- KHR_materials_specular / _clearcoat / _sheen / _volume (xs_bsdf.glsl). Their
-     * textures use TEXCOORD_0 without KHR_texture_transform. All zero = none of them, except
+     * textures use no KHR_texture_transform (their set: uv1_mask). All zero = none of them, except
      * specular (1) and specular_color (1): sc_scene.c fills the defaults. */
     xs_vec4 specular;    /* rgb specularColorFactor, w = specularFactor (1, 1, 1, 1 = plain glTF) */
     xs_vec4 sheen;       /* rgb sheenColorFactor (0 = no sheen), w = sheenRoughnessFactor */
@@ -237,7 +247,7 @@ XS_STRUCT(xs_hit)
 
 #ifndef XRSC_GLSL
 #include <stddef.h>
-_Static_assert(sizeof(xs_vertex) == 48, "xs_vertex layout");
+_Static_assert(sizeof(xs_vertex) == 64, "xs_vertex layout");
 _Static_assert(sizeof(xs_instance) == 208, "xs_instance layout");
 _Static_assert(sizeof(xs_material) == 304, "xs_material layout");
 _Static_assert(offsetof(xs_material, specular) == 208, "xs_material layout");

@@ -20,7 +20,7 @@ struct xs_surface {
     vec3 p;        /* world position */
     vec3 ng;       /* unit geometric normal (outside, or facing wo after xs_surface_orient) */
     vec3 ns;       /* unit shading normal (same) */
-    vec2 uv;
+    vec4 uv;       /* xy TEXCOORD_0, zw TEXCOORD_1 (xs_material.uv1_mask picks per texture) */
     float area;    /* world-space triangle area, m^2 */
     bool outside;  /* after xs_surface_orient: wo lies on the outside */
     uint material;
@@ -47,35 +47,50 @@ struct xs_mat {
     vec3 sigma_a;    /* Beer-Lambert absorption inside the volume, 1/m */
 };
 
-/** Texture t at uv (LOD 0), or `none` without one: the extension textures (TEXCOORD_0, no
- *  KHR_texture_transform). */
-vec4 xs_tex_or(uint t, vec2 uv, vec4 none)
+/** The uv set that texture `bit` (XS_TEX_* or XS_UV1_*) reads: uv.xy (TEXCOORD_0) or uv.zw
+ *  (TEXCOORD_1, when its bit of the material's uv1_mask is set). */
+vec2 xs_uv_set(uint uv1_mask, uint bit, vec4 uv)
 {
-    return t == XS_NO_TEXTURE ? none : textureLod(textures[nonuniformEXT(t)], uv, 0.0);
+    return (uv1_mask & (1u << bit)) != 0u ? uv.zw : uv.xy;
+}
+
+/** Texture t at its uv set (LOD 0), or `none` without one: the extension textures (no
+ *  KHR_texture_transform). */
+vec4 xs_tex_or(uint uv1_mask, uint t, uint bit, vec4 uv, vec4 none)
+{
+    return t == XS_NO_TEXTURE
+               ? none
+               : textureLod(textures[nonuniformEXT(t)], xs_uv_set(uv1_mask, bit, uv), 0.0);
 }
 
 /** The extension values of xs_mat (xs_material_at). */
-void xs_material_extensions(xs_material m, vec2 uv, inout xs_mat r)
+void xs_material_extensions(xs_material m, vec4 uv, inout xs_mat r)
 {
-    r.transmission *= xs_tex_or(m.transmission_tex, uv, vec4(1.0)).r;
-    r.specular = clamp(m.specular.w * xs_tex_or(m.specular_tex, uv, vec4(1.0)).a, 0.0, 1.0);
-    r.spec_color = max(m.specular.rgb * xs_tex_or(m.specular_color_tex, uv, vec4(1.0)).rgb,
-                       vec3(0.0));
-    r.clearcoat = clamp(m.clearcoat * xs_tex_or(m.clearcoat_tex, uv, vec4(1.0)).r, 0.0, 1.0);
+    const vec4 one = vec4(1.0);
+    uint mask = m.uv1_mask;
+    r.transmission *= xs_tex_or(mask, m.transmission_tex, XS_UV1_TRANSMISSION, uv, one).r;
+    r.specular = clamp(m.specular.w * xs_tex_or(mask, m.specular_tex, XS_UV1_SPECULAR, uv, one).a,
+                       0.0, 1.0);
+    vec4 spec_tex = xs_tex_or(mask, m.specular_color_tex, XS_UV1_SPECULAR_COLOR, uv, one);
+    r.spec_color = max(m.specular.rgb * spec_tex.rgb, vec3(0.0));
+    r.clearcoat = clamp(m.clearcoat * xs_tex_or(mask, m.clearcoat_tex, XS_UV1_CLEARCOAT, uv, one).r,
+                        0.0, 1.0);
     r.clearcoat_roughness = clamp(
-        m.clearcoat_roughness * xs_tex_or(m.clearcoat_rough_tex, uv, vec4(1.0)).g, 0.0, 1.0);
-    r.sheen_color = clamp(m.sheen.rgb * xs_tex_or(m.sheen_color_tex, uv, vec4(1.0)).rgb,
-                          vec3(0.0), vec3(1.0));
-    r.sheen_roughness = clamp(m.sheen.w * xs_tex_or(m.sheen_rough_tex, uv, vec4(1.0)).a, 0.0,
-                              1.0);
+        m.clearcoat_roughness *
+            xs_tex_or(mask, m.clearcoat_rough_tex, XS_UV1_CLEARCOAT_ROUGH, uv, one).g,
+        0.0, 1.0);
+    vec4 sheen_tex = xs_tex_or(mask, m.sheen_color_tex, XS_UV1_SHEEN_COLOR, uv, one);
+    r.sheen_color = clamp(m.sheen.rgb * sheen_tex.rgb, vec3(0.0), vec3(1.0));
+    r.sheen_roughness = clamp(
+        m.sheen.w * xs_tex_or(mask, m.sheen_rough_tex, XS_UV1_SHEEN_ROUGH, uv, one).a, 0.0, 1.0);
     r.thin = !(m.attenuation.w > 0.0);
     r.sigma_a = max(m.attenuation.rgb, vec3(0.0));
 }
 
-/** KHR_texture_transform: the uv of texture slot XS_TEX_* of material m. */
-vec2 xs_uv_slot(xs_material m, uint slot, vec2 uv)
+/** KHR_texture_transform: the uv of texture slot XS_TEX_* of material m, from its uv set. */
+vec2 xs_uv_slot(xs_material m, uint slot, vec4 uv)
 {
-    vec3 h = vec3(uv, 1.0);
+    vec3 h = vec3(xs_uv_set(m.uv1_mask, slot, uv), 1.0);
     return vec2(dot(m.uv_rows[2u * slot].xyz, h), dot(m.uv_rows[2u * slot + 1u].xyz, h));
 }
 
@@ -85,7 +100,7 @@ vec2 xs_uv_slot(xs_material m, uint slot, vec2 uv)
  * shading normal N, B = w cross(N, T) taken through the instance transform (so mirrored
  * instances keep the map's handedness). Returns ns unchanged without a normal map.
  */
-vec3 xs_normal_map(xs_instance inst, xs_material m, vec3 ns, vec3 n_obj, vec4 t_obj, vec2 uv)
+vec3 xs_normal_map(xs_instance inst, xs_material m, vec3 ns, vec3 n_obj, vec4 t_obj, vec4 uv)
 {
     if (m.normal_tex == XS_NO_TEXTURE)
         return ns;
@@ -132,8 +147,10 @@ xs_surface xs_surface_at(uint instance, uint primitive, vec2 bary)
     /* Outside = where the vertex normals point (before normal mapping). */
     if (dot(ng, ns) < 0.0)
         ng = -ng;
-    s.uv = w.x * vec2(v0.position_u.w, v0.normal_v.w) + w.y * vec2(v1.position_u.w, v1.normal_v.w) +
-           w.z * vec2(v2.position_u.w, v2.normal_v.w);
+    s.uv.xy = w.x * vec2(v0.position_u.w, v0.normal_v.w) +
+              w.y * vec2(v1.position_u.w, v1.normal_v.w) +
+              w.z * vec2(v2.position_u.w, v2.normal_v.w);
+    s.uv.zw = w.x * v0.uv1.xy + w.y * v1.uv1.xy + w.z * v2.uv1.xy;
     vec4 t_obj = w.x * v0.tangent + w.y * v1.tangent + w.z * v2.tangent;
     t_obj.w = v0.tangent.w;
     ns = xs_normal_map(inst, materials[inst.material], ns, n_obj, t_obj, s.uv);
@@ -156,9 +173,10 @@ float xs_alpha_at(xs_material m, uint instance, uint primitive, vec2 bary)
     xs_vertex v1 = vertices[indices[base + 1u]];
     xs_vertex v2 = vertices[indices[base + 2u]];
     vec3 w = vec3(1.0 - bary.x - bary.y, bary.x, bary.y);
-    vec2 uv = w.x * vec2(v0.position_u.w, v0.normal_v.w) +
-              w.y * vec2(v1.position_u.w, v1.normal_v.w) +
-              w.z * vec2(v2.position_u.w, v2.normal_v.w);
+    vec4 uv;
+    uv.xy = w.x * vec2(v0.position_u.w, v0.normal_v.w) +
+            w.y * vec2(v1.position_u.w, v1.normal_v.w) + w.z * vec2(v2.position_u.w, v2.normal_v.w);
+    uv.zw = w.x * v0.uv1.xy + w.y * v1.uv1.xy + w.z * v2.uv1.xy;
     return a * textureLod(textures[nonuniformEXT(m.base_color_tex)], xs_uv_slot(m, XS_TEX_BASE, uv),
                           0.0).a;
 }
@@ -176,7 +194,8 @@ void xs_surface_orient(inout xs_surface s, vec3 wo)
         s.ns = s.ng;
 }
 
-xs_mat xs_material_at(uint material, vec2 uv)
+/** The material's values at a point with uv sets uv.xy (TEXCOORD_0) and uv.zw (TEXCOORD_1). */
+xs_mat xs_material_at(uint material, vec4 uv)
 {
     xs_material m = materials[material];
     xs_mat r;
@@ -217,6 +236,12 @@ xs_mat xs_material_at(uint material, vec2 uv)
         r.sheen_color = vec3(0.0);
     }
     return r;
+}
+
+/** xs_material_at with TEXCOORD_1 = TEXCOORD_0, for callers that hold one uv set. */
+xs_mat xs_material_at(uint material, vec2 uv)
+{
+    return xs_material_at(material, vec4(uv, uv));
 }
 
 /** Emitted radiance towards the viewer: one-sided (outside only) unless double-sided. */

@@ -116,31 +116,72 @@ static double bounds_sphere(const xrsc_scene_info *info, double c[3])
     return sqrt(r2);
 }
 
-/**
- * Distance along +Z from the centre at which a sphere of radius r fits one side of an eye's
- * frustum: the side's plane through the eye at half-angle ang (towards the side), the centre
- * offset by x towards that side from the eye's axis: D sin(ang) - x cos(ang) >= r.
- */
-static double side_distance(double r, double x, double ang)
+/** Half-angles of a side of the view are clamped to this (a side at 90 degrees or wider
+ *  would never bound the scene): tan(89 degrees). */
+#define HS_FRAME_MAX_TAN 57.29
+/** The nearest corner of the bounds stays at least this fraction of the bounds' radius in
+ *  front of the eyes. */
+#define HS_FRAME_MIN_DEPTH 0.05
+
+/** tan of a side's half-angle towards that side, 0 for a side on the far side of the axis. */
+static double side_tan(double ang)
 {
-    return (r + x * cos(ang)) / sin(ang);
+    return ang > 0.0 ? fmin(tan(fmin(ang, 0.5 * HS_VIEW_PI)), HS_FRAME_MAX_TAN) : 0.0;
+}
+
+/**
+ * The head's offset (x, y) from the bounds' centre that puts the bounds' middle at the middle
+ * of the image rather than on the view axis: the views of headsets are asymmetric (wider
+ * towards the temple and downwards), so a box of half-extents h on the axis would sit off the
+ * image's centre. A flat box fills both sides equally when (h - s) / t_near = (h + s) / t_far,
+ * i.e. s = h (t_a - t_b) / (t_a + t_b), with the tangents averaged over the two eyes.
+ */
+static void frame_offset(const XrFovf fov[2], const double h[3], double s[2])
+{
+    double tl = 0.0, tr = 0.0, tu = 0.0, td = 0.0;
+    for (int e = 0; e < 2; e++) {
+        tl += 0.5 * side_tan(-fov[e].angleLeft), tr += 0.5 * side_tan(fov[e].angleRight);
+        tu += 0.5 * side_tan(fov[e].angleUp), td += 0.5 * side_tan(-fov[e].angleDown);
+    }
+    s[0] = tl + tr > 0.0 ? h[0] * (tl - tr) / (tl + tr) : 0.0;
+    s[1] = tu + td > 0.0 ? h[1] * (td - tu) / (tu + td) : 0.0;
+}
+
+/**
+ * Distance along +Z from the centre's plane at which every corner of the bounds (half-extents
+ * h about the centre) lies inside every side of both eyes' frustums, the head at offset s
+ * from the centre and the eyes ipd_m apart: a corner at depth d and at l beyond the eye's
+ * axis towards a side of half-angle tangent t is inside when d t >= l.
+ */
+static double frame_distance(const XrFovf fov[2], const double h[3], const double s[2],
+                             double ipd_m)
+{
+    double r = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+    double dist = h[2] + HS_FRAME_MIN_DEPTH * r;
+    for (int e = 0; e < 2; e++) {
+        double ex = s[0] + (e == 0 ? -0.5 : 0.5) * ipd_m; /* the eye, from the centre */
+        const double t[4] = {side_tan(-fov[e].angleLeft), side_tan(fov[e].angleRight),
+                             side_tan(fov[e].angleUp), side_tan(-fov[e].angleDown)};
+        for (int k = 0; k < 8; k++) {
+            double x = (k & 1 ? h[0] : -h[0]) - ex, y = (k & 2 ? h[1] : -h[1]) - s[1];
+            double z = k & 4 ? h[2] : -h[2];
+            const double beyond[4] = {-x, x, y, -y};
+            for (int side = 0; side < 4; side++)
+                if (t[side] > 0.0) dist = fmax(dist, z + beyond[side] / t[side]);
+        }
+    }
+    return dist;
 }
 
 XrPosef hs_view_frame(const xrsc_scene_info *info, const XrFovf fov[2], double ipd_m)
 {
-    double c[3], r = bounds_sphere(info, c), dist = 0.0;
-    for (int e = 0; e < 2; e++) {
-        /* the left eye (0) sits at -ipd/2: the centre is ipd/2 to its right */
-        double x = e == 0 ? 0.5 * ipd_m : -0.5 * ipd_m;
-        const double ang[4] = {-fov[e].angleLeft, fov[e].angleRight, fov[e].angleUp,
-                               -fov[e].angleDown};
-        const double off[4] = {-x, x, 0.0, 0.0};
-        for (int k = 0; k < 4; k++)
-            if (ang[k] > 0.0) /* as hs_frame_viewpoint: wider than 90 degrees counts as 90 */
-                dist = fmax(dist, side_distance(r, off[k], fmin(ang[k], 0.5 * HS_VIEW_PI)));
-    }
-    if (!(r > 0.0)) dist = 1.0;
-    float p[3] = {(float)c[0], (float)c[1], (float)(c[2] + dist)};
+    double c[3], h[3], s[2];
+    double r = bounds_sphere(info, c);
+    for (int a = 0; a < 3; a++) h[a] = 0.5 * ((double)info->bounds_max[a] - info->bounds_min[a]);
+    frame_offset(fov, h, s);
+    double dist = r > 0.0 ? frame_distance(fov, h, s, ipd_m) : 1.0;
+    if (!(r > 0.0)) s[0] = s[1] = 0.0;
+    float p[3] = {(float)(c[0] + s[0]), (float)(c[1] + s[1]), (float)(c[2] + dist)};
     return hs_view_at(p, 0.0f);
 }
 

@@ -76,10 +76,14 @@ XrPosef hs_view_inside(const xrsc_scene_info *info);
 double hs_scene_width_m(const xrsc_scene_info *info);
 
 /**
- * --frame with eyes: the head looking down -Z at the centre of the bounds, at the distance
- * where the bounds' enclosing sphere fits every side of both eyes' FOVs with the eyes
- * ipd_m apart (each eye sits ipd_m / 2 to the side of the centre line). With ipd_m 0 this
- * is hs_frame_viewpoint (hs_replay.h): the sphere in the narrowest half-angle.
+ * --frame with eyes: the head looking down -Z at the bounds, at the nearest distance where
+ * every corner of the bounds lies inside every side of both eyes' FOVs with the eyes ipd_m
+ * apart (each eye ipd_m / 2 to the side of the head), so the bounds fill the view on at
+ * least one side. The head is offset from the bounds' centre line so that the bounds'
+ * middle is at the middle of the image, not on the eyes' axes (headset FOVs are asymmetric):
+ * by h (t_a - t_b) / (t_a + t_b) per axis, h the half-extent and t_a, t_b the tangents of the
+ * two sides' half-angles averaged over the eyes (left, right: x; down, up: y). With ipd_m 0
+ * this is hs_frame_viewpoint (hs_replay.h).
  */
 XrPosef hs_view_frame(const xrsc_scene_info *info, const XrFovf fov[2], double ipd_m);
 

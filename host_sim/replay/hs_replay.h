@@ -111,8 +111,8 @@ xrsc_result hs_replay_run(const hs_replay_options *opt, hs_replay_stats *out_sta
                           xrsc_diag *diag);
 
 /**
- * --frame: a viewpoint looking down -Z at the centre of the scene's bounds, at the distance
- * where the bounds' enclosing sphere fits in the narrowest half-angle of both eyes' FOVs.
+ * --frame: hs_view_frame with the eyes together (IPD 0): looking down -Z at the scene's
+ * bounds, every corner of them inside both eyes' FOVs, their middle at the image's middle.
  */
 XrPosef hs_frame_viewpoint(const xrsc_scene_info *info, const XrFovf fov[2]);
 

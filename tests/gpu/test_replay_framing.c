@@ -22,12 +22,17 @@ static void test_frame_viewpoint(void)
         info.bounds_max[a] = 1.0f;
     }
     info.bounds_min[0] = 3.0f, info.bounds_max[0] = 5.0f; /* centre (4, 0, 0), radius sqrt 3 */
-    /* asymmetric FOVs: the narrowest half-angle (30 deg, right eye's left) decides */
+    /* asymmetric FOVs: the head is offset by h (t_a - t_b) / (t_a + t_b) per axis (tangents
+     * averaged over the eyes, h = 1) and backs off until every front corner (z = 1) is inside
+     * every side; the narrowest side (30 deg, right eye's left) decides */
     XrFovf fov[2] = {{-0.8f, 0.7f, 0.9f, -0.75f}, {(float)(-T_PI / 6.0), 0.8f, 0.9f, -0.9f}};
     XrPosef p = hs_frame_viewpoint(&info, fov);
-    CHECK_NEAR(p.position.x, 4.0, 1e-6);
-    CHECK_NEAR(p.position.y, 0.0, 1e-6);
-    CHECK_NEAR(p.position.z, sqrt(3.0) / sin(T_PI / 6.0), 1e-5); /* centre z = 0 */
+    double tl = 0.5 * (tan(0.8) + tan(T_PI / 6.0)), tr = 0.5 * (tan(0.7) + tan(0.8));
+    double tu = tan(0.9), td = 0.5 * (tan(0.75) + tan(0.9));
+    double sx = (tl - tr) / (tl + tr), sy = (td - tu) / (tu + td);
+    CHECK_NEAR(p.position.x, 4.0 + sx, 1e-6);
+    CHECK_NEAR(p.position.y, sy, 1e-6);
+    CHECK_NEAR(p.position.z, 1.0 + (1.0 + sx) / tan(T_PI / 6.0), 1e-5); /* centre z = 0 */
     CHECK_NEAR(p.orientation.w, 1.0, 0.0);
 }
 
@@ -111,9 +116,10 @@ static void test_replay_fov_scene_frame_columns(void)
         CHECK_NEAR(tan(seen.fov[e].angleRight), 2.0 * tan(0.5), 1e-5);
     }
     /* --frame: the viewpoint backs off along +Z from the bounds' centre (cornell: x, z in
-     * [-1, 1], y in [0, 2]; radius sqrt 3; narrowest half-angle 0.5 rad) */
+     * [-1, 1], y in [0, 2]) until the front corners (z = 1) fit the narrowest half-angle
+     * (0.5 rad, up and down: symmetric, so no vertical offset) */
     CHECK_NEAR(seen.pose.position.y, 1.0, 1e-3);
-    CHECK_NEAR(seen.pose.position.z, sqrt(3.0) / sin(0.5), 0.05);
+    CHECK_NEAR(seen.pose.position.z, 1.0 + 1.0 / tan(0.5), 1e-3);
     CHECK_EQ_INT(st.validation_errors, 0);
 }
 

@@ -2,8 +2,9 @@
 /**
  * @file test_view.c
  * @brief Issue 18 (viewpoint), CPU side: --viewpoint parsing and its errors (field
- *        "--viewpoint"), yaw, --viewpoint inside, --frame with eyes (the bounds' sphere inside
- *        every side of both eyes' frusta), the IPD --frame gives a scene narrower than the IPD,
+ *        "--viewpoint"), yaw, --viewpoint inside, --frame with eyes (every corner of the bounds
+ *        inside every side of both eyes' frusta, tightly on one; a flat box centred in an
+ *        asymmetric view and touching both its edges), the IPD --frame gives a scene narrower than the IPD,
  *        and which hint ID each kind of first frame gets.
  */
 #include "hs_view.h"
@@ -86,27 +87,32 @@ static double fit_margin(const double c[3], double r, const double e[3], XrFovf 
 static void test_frame_with_eyes(void)
 {
     XrFovf fov[2] = {{-0.9f, 0.7f, 0.8f, -0.8f}, {-0.7f, 0.9f, 0.8f, -0.8f}};
-    /* a 7 mm model, a 1 m one and a 10 km one, eyes 63 mm apart: the bounds' sphere fits
-     * every side of both eyes, tightly on one of them */
+    /* a 7 mm model, a 1 m one and a 10 km one, eyes 63 mm apart: every corner of the
+     * bounds fits every side of both eyes, tightly on one of them */
     const double sizes[3] = {0.007, 1.0, 1e4};
     for (int s = 0; s < 3; s++) {
         double h = 0.5 * sizes[s];
         xrsc_scene_info info = {.bounds_min = {(float)(5 - h), (float)-h, (float)-h},
                                 .bounds_max = {(float)(5 + h), (float)h, (float)h}};
-        double ipd = 0.063, c[3] = {5, 0, 0}, r = sqrt(3.0) * h;
+        double ipd = 0.063, r = sqrt(3.0) * h;
         XrPosef p = hs_view_frame(&info, fov, ipd);
+        /* the eyes' FOVs mirror each other: no sideways or vertical offset */
         CHECK_NEAR(p.position.x, 5.0, 1e-6 * fmax(1.0, sizes[s]));
+        CHECK_NEAR(p.position.y, 0.0, 1e-6 * fmax(1.0, sizes[s]));
         CHECK_NEAR(p.orientation.w, 1.0, 0.0);
         double m = 1e30;
         for (int e = 0; e < 2; e++) {
             double eye[3] = {p.position.x + (e ? 0.5 : -0.5) * ipd, p.position.y, p.position.z};
-            m = fmin(m, fit_margin(c, r, eye, fov[e]));
+            for (int k = 0; k < 8; k++) {
+                double corner[3] = {5 + (k & 1 ? h : -h), k & 2 ? h : -h, k & 4 ? h : -h};
+                m = fmin(m, fit_margin(corner, 0.0, eye, fov[e]));
+            }
         }
         double tol = 1e-5 * fmax(1.0, sizes[s]); /* float bounds and positions */
         CHECK_MSG(m >= -tol && m <= tol + 1e-4 * r, "size %g: margin %g", sizes[s], m);
-        /* ipd 0: the sphere in the narrowest half-angle (hs_frame_viewpoint) */
+        /* ipd 0: the front corners in the narrowest half-angle (hs_frame_viewpoint) */
         XrPosef q = hs_view_frame(&info, fov, 0.0);
-        CHECK_NEAR(q.position.z, r / sin(0.7), 1e-5 * fmax(1.0, sizes[s]));
+        CHECK_NEAR(q.position.z, h + h / tan(0.7), 1e-5 * fmax(1.0, sizes[s]));
     }
     /* the IPD --frame uses: a tenth of the distance for the 7 mm model, unchanged for 1 m */
     xrsc_scene_info tiny = {.bounds_min = {-0.0035f, -0.0035f, -0.0001f},
@@ -117,6 +123,25 @@ static void test_frame_with_eyes(void)
     xrsc_scene_info metre = {.bounds_min = {-0.5f, -0.5f, -0.5f}, .bounds_max = {0.5f, 0.5f, 0.5f}};
     CHECK_NEAR(hs_frame_ipd_m(&metre, fov, 0.063), 0.063, 0.0);
     CHECK_NEAR(hs_scene_width_m(&tiny), 0.007, 1e-7);
+}
+
+/** A 7 mm tall flat box in a view wider downwards than upwards: --frame centres it in the
+ *  image (not on the view axis) and it touches the top and the bottom edge. */
+static void test_frame_centred(void)
+{
+    XrFovf fov[2] = {{-0.9f, 0.9f, 0.6f, -0.9f}, {-0.9f, 0.9f, 0.6f, -0.9f}};
+    const double hx = 0.001, hy = 0.0035, hz = 0.0001, cy = 0.02;
+    xrsc_scene_info info = {.bounds_min = {(float)-hx, (float)(cy - hy), (float)-hz},
+                            .bounds_max = {(float)hx, (float)(cy + hy), (float)hz}};
+    XrPosef p = hs_view_frame(&info, fov, 0.0);
+    double depth = p.position.z - hz; /* to the front face */
+    double top = (cy + hy - p.position.y) / depth, bottom = (p.position.y - (cy - hy)) / depth;
+    printf("flat box: top edge at tan %.6f (view %.6f), bottom at %.6f (view %.6f)\n", top,
+           tan(0.6), bottom, tan(0.9));
+    CHECK_NEAR(top, tan(0.6), 1e-4);
+    CHECK_NEAR(bottom, tan(0.9), 1e-4);
+    CHECK(p.position.y > cy); /* above the box's centre: the box sits low, where the view is wide */
+    CHECK_NEAR(p.position.x, 0.0, 1e-9);
 }
 
 static void test_hints(void)
@@ -156,6 +181,7 @@ int main(void)
     RUN(test_parse);
     RUN(test_at_and_inside);
     RUN(test_frame_with_eyes);
+    RUN(test_frame_centred);
     RUN(test_hints);
     return t_finish();
 }

@@ -14,7 +14,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-_Static_assert(sizeof(sc_vertex) == 48 && sizeof(xs_vertex) == 48, "vertex sizes");
+_Static_assert(sizeof(sc_vertex) == 56 && sizeof(xs_vertex) == 64, "vertex sizes");
+_Static_assert(SC_UV1_TRANSMISSION == XS_UV1_TRANSMISSION && SC_UV1_SPECULAR == XS_UV1_SPECULAR &&
+                   SC_UV1_SPECULAR_COLOR == XS_UV1_SPECULAR_COLOR &&
+                   SC_UV1_CLEARCOAT == XS_UV1_CLEARCOAT &&
+                   SC_UV1_CLEARCOAT_ROUGH == XS_UV1_CLEARCOAT_ROUGH &&
+                   SC_UV1_SHEEN_COLOR == XS_UV1_SHEEN_COLOR &&
+                   SC_UV1_SHEEN_ROUGH == XS_UV1_SHEEN_ROUGH,
+               "TEXCOORD_1 mask bits");
 _Static_assert(SC_TEX_SLOTS == XS_TEX_SLOTS && SC_TEX_NORMAL == XS_TEX_NORMAL &&
                    SC_TEX_BASE == XS_TEX_BASE && SC_TEX_EMISSION == XS_TEX_EMISSION &&
                    SC_TEX_METAL_ROUGH == XS_TEX_METAL_ROUGH,
@@ -167,6 +174,7 @@ static xrsc_result upload_vertices(gpu_context *ctx, gpu_scene *gs, const sc_sce
             v[i].position_u = (xs_vec4){s->position[0], s->position[1], s->position[2], s->uv[0]};
             v[i].normal_v = (xs_vec4){s->normal[0], s->normal[1], s->normal[2], s->uv[1]};
             v[i].tangent = (xs_vec4){s->tangent[0], s->tangent[1], s->tangent[2], s->tangent[3]};
+            v[i].uv1 = (xs_vec4){s->uv1[0], s->uv1[1], 0.0f, 0.0f};
         }
         res = gpu_buffer_upload(ctx, &gs->vertices, (VkDeviceSize)first * sizeof(*v), v,
                                 (VkDeviceSize)n * sizeof(*v), diag);
@@ -251,6 +259,7 @@ static xrsc_result upload_materials(gpu_context *ctx, gpu_scene *gs, const sc_sc
                    (s->alpha_mode == SC_ALPHA_MASK ? XS_MAT_ALPHA_MASK : 0u) |
                    (s->alpha_mode == SC_ALPHA_BLEND ? XS_MAT_ALPHA_BLEND : 0u);
         d->alpha_cutoff = s->alpha_cutoff;
+        d->uv1_mask = s->uv1_mask;
         d->normal_tex = s->normal_tex < scene->texture_count ? s->normal_tex : XS_NO_TEXTURE;
         d->normal_scale = s->normal_scale;
         for (int k = 0; k < XS_TEX_SLOTS; k++) {

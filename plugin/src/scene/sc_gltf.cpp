@@ -254,7 +254,7 @@ template <typename Info> sc_gltf_texref texref(sc_gltf_doc *doc, const Info &ti)
         if (v.Has("texCoord") && v.Get("texCoord").IsNumber())
             r.tex_coord = value_index(v.Get("texCoord"));
     }
-    if (ti.index >= 0 && r.tex_coord != 0) sc_gltf_note(doc, "texCoord sets other than 0");
+    if (ti.index >= 0 && r.tex_coord > 1) sc_gltf_note(doc, "texCoord sets other than 0 and 1");
     return r;
 }
 
@@ -273,7 +273,7 @@ sc_gltf_texref texref_value(sc_gltf_doc *doc, const tinygltf::Value &v, const ch
     if (t.Has("index") && t.Get("index").IsNumber()) r.texture = value_index(t.Get("index"));
     if (t.Has("texCoord") && t.Get("texCoord").IsNumber())
         r.tex_coord = value_index(t.Get("texCoord"));
-    if (r.texture >= 0 && r.tex_coord != 0) sc_gltf_note(doc, "texCoord sets other than 0");
+    if (r.texture >= 0 && r.tex_coord > 1) sc_gltf_note(doc, "texCoord sets other than 0 and 1");
     if (t.Has("extensions") && t.Get("extensions").IsObject() &&
         t.Get("extensions").Has("KHR_texture_transform"))
         sc_gltf_note(doc, "KHR_texture_transform on material extension textures");
@@ -594,7 +594,7 @@ sc_gltf_texref texref_value_transformed(sc_gltf_doc *doc, const tinygltf::Value 
     if (r.texture < 0) r.texture = INT32_MAX; // present but invalid: sc_scene.c names it
     if (info.Has("texCoord")) r.tex_coord = value_index(info.Get("texCoord"));
     texture_transform(info, &r);
-    if (r.tex_coord != 0) sc_gltf_note(doc, "texCoord sets other than 0");
+    if (r.tex_coord > 1) sc_gltf_note(doc, "texCoord sets other than 0 and 1");
     return r;
 }
 
@@ -793,7 +793,7 @@ xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_glt
             o->mode = pr.mode < 0 ? SC_GLTF_MODE_TRIANGLES : pr.mode;
             o->indices = pr.indices;
             o->material = pr.material;
-            o->position = o->normal = o->tangent = o->texcoord0 = -1;
+            o->position = o->normal = o->tangent = o->texcoord0 = o->texcoord1 = -1;
             auto a = pr.attributes.find("POSITION");
             if (a != pr.attributes.end()) o->position = a->second;
             a = pr.attributes.find("NORMAL");
@@ -802,6 +802,8 @@ xrsc_result fill_doc(const char *name, doc_impl &di, const load_ctx &ctx, sc_glt
             if (a != pr.attributes.end()) o->tangent = a->second;
             a = pr.attributes.find("TEXCOORD_0");
             if (a != pr.attributes.end()) o->texcoord0 = a->second;
+            a = pr.attributes.find("TEXCOORD_1");
+            if (a != pr.attributes.end()) o->texcoord1 = a->second;
         }
     }
 

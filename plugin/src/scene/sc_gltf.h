@@ -75,6 +75,7 @@ typedef struct sc_gltf_primitive {
     /** JOINTS_n and WEIGHTS_n accessors (-1 when absent), n < SC_GLTF_MAX_JOINT_SETS. */
     int32_t joints[SC_GLTF_MAX_JOINT_SETS], weights[SC_GLTF_MAX_JOINT_SETS];
     uint32_t first_target, target_count; /**< morph targets: range in sc_gltf_doc.targets */
+    int32_t texcoord1; /**< TEXCOORD_1 accessor or -1 (textures whose texCoord is 1 read it) */
 } sc_gltf_primitive;
 
 /** One morph target of a primitive: its POSITION / NORMAL / TANGENT delta accessors or -1. */

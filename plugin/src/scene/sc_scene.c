@@ -466,8 +466,8 @@ static bool strip_or_fan_to_list(int32_t mode, double **idx, size_t *icount)
 
 /** Attribute and index arrays of one primitive as read from the file; prim_data_free frees. */
 typedef struct sc_prim_data {
-    double *pos, *nrm, *tan, *uv, *idx;
-    size_t vcount, ncount, tcount, uvcount, icount;
+    double *pos, *nrm, *tan, *uv, *uv1, *idx; /**< uv1: TEXCOORD_1 */
+    size_t vcount, ncount, tcount, uvcount, uv1count, icount;
 } sc_prim_data;
 
 static void prim_data_free(sc_prim_data *pd)
@@ -476,6 +476,7 @@ static void prim_data_free(sc_prim_data *pd)
     free(pd->nrm);
     free(pd->tan);
     free(pd->uv);
+    free(pd->uv1);
     free(pd->idx);
 }
 
@@ -513,7 +514,8 @@ static xrsc_result check_primitive(sc_build *b, uint32_t m, uint32_t p, const sc
     return XRSC_OK;
 }
 
-/** Reads POSITION, NORMAL, TEXCOORD_0 and TANGENT into pd and checks that their counts agree. */
+/** Reads POSITION, NORMAL, TEXCOORD_0, TEXCOORD_1 and TANGENT into pd and checks that their
+ *  counts agree. */
 static xrsc_result read_attributes(sc_build *b, uint32_t m, uint32_t p, const sc_gltf_primitive *pr,
                                    sc_prim_data *pd)
 {
@@ -527,6 +529,13 @@ static xrsc_result read_attributes(sc_build *b, uint32_t m, uint32_t p, const sc
     if (r == XRSC_OK && pr->texcoord0 >= 0) {
         FIELD(field, "meshes[%u].primitives[%u].attributes.TEXCOORD_0", m, p);
         r = read_accessor(b, pr->texcoord0, 2, field, &pd->uv, &pd->uvcount);
+    }
+    if (r == XRSC_OK && pr->texcoord1 >= 0) {
+        FIELD(field, "meshes[%u].primitives[%u].attributes.TEXCOORD_1", m, p);
+        r = read_accessor(b, pr->texcoord1, 2, field, &pd->uv1, &pd->uv1count);
+        if (r == XRSC_OK && pd->uv1count != pd->vcount)
+            r = u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
+                           "TEXCOORD_1 has %zu elements, POSITION %zu", pd->uv1count, pd->vcount);
     }
     /* TANGENT is only used with NORMAL (glTF §3.7.2.1: without normals, tangents are ignored). */
     if (r == XRSC_OK && pd->nrm && pr->tangent >= 0) {
@@ -615,6 +624,16 @@ static xrsc_result reserve_geometry(sc_build *b, const sc_prim_data *pd, sc_prim
     return XRSC_OK;
 }
 
+/** The uv sets of file vertex src: TEXCOORD_0 ((0,0) when absent) and TEXCOORD_1 (a copy of
+ *  set 0 when absent, so that a texture that names set 1 still gets a mapping). */
+static void fill_uv(const sc_prim_data *pd, size_t src, sc_vertex *v)
+{
+    if (pd->uv) v->uv[0] = (float)pd->uv[src * 2], v->uv[1] = (float)pd->uv[src * 2 + 1];
+    const double *uv1 = pd->uv1 ? pd->uv1 + src * 2 : NULL;
+    v->uv1[0] = uv1 ? (float)uv1[0] : v->uv[0];
+    v->uv1[1] = uv1 ? (float)uv1[1] : v->uv[1];
+}
+
 /** With NORMAL: one vertex per file vertex, the file's indices. */
 static void fill_smooth_vertices(const sc_prim_data *pd, sc_prim_out *o)
 {
@@ -626,8 +645,7 @@ static void fill_smooth_vertices(const sc_prim_data *pd, sc_prim_out *o)
             v->normal[c] = (float)pd->nrm[i * 3 + c];
         }
         normalize3(v->normal, up);
-        if (pd->uv)
-            v->uv[0] = (float)pd->uv[i * 2], v->uv[1] = (float)pd->uv[i * 2 + 1];
+        fill_uv(pd, i, v);
         if (pd->tan) {
             for (int c = 0; c < 3; c++)
                 v->tangent[c] = (float)pd->tan[i * 4 + c];
@@ -648,8 +666,7 @@ static void fill_flat_vertices(const sc_prim_data *pd, sc_prim_out *o)
             sc_vertex *v = &verts[3 * t + k];
             for (int c = 0; c < 3; c++)
                 v->position[c] = (float)pd->pos[src * 3 + c];
-            if (pd->uv)
-                v->uv[0] = (float)pd->uv[src * 2], v->uv[1] = (float)pd->uv[src * 2 + 1];
+            fill_uv(pd, src, v);
         }
         float n[3];
         face_normal(verts[3 * t].position, verts[3 * t + 1].position, verts[3 * t + 2].position, n);
@@ -914,7 +931,7 @@ static xrsc_result map_texture(sc_build *b, sc_gltf_texref ref, bool srgb, const
     if ((uint32_t)ref.texture >= d->texture_count)
         return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                           "texture %d does not exist", ref.texture);
-    if (ref.tex_coord != 0) return XRSC_OK; /* noted by sc_gltf.cpp */
+    if (ref.tex_coord > 1) return XRSC_OK; /* noted by sc_gltf.cpp */
     const sc_gltf_image *im = texture_image(b, ref, field);
     if (!im) return XRSC_OK;
     int32_t *slot = &b->tex_map[(size_t)ref.texture * 2 + (srgb ? 1 : 0)];
@@ -1005,7 +1022,7 @@ static xrsc_result spec_gloss_texture(sc_build *b, const sc_gltf_material *g, co
     if ((uint32_t)ref.texture >= b->doc->texture_count)
         return u_diag_set(b->diag, XRSC_ERROR_GLTF_INVALID, b->name, 0, field,
                           "texture %d does not exist", ref.texture);
-    if (ref.tex_coord != 0) return XRSC_OK;
+    if (ref.tex_coord > 1) return XRSC_OK;
     const sc_gltf_image *im = texture_image(b, ref, field);
     if (!im) return XRSC_OK;
     size_t n = (size_t)im->width * im->height;
@@ -1051,7 +1068,7 @@ static xrsc_result spec_gloss_per_texel(sc_build *b, const sc_gltf_material *g,
     const sc_gltf_texref *dr = &g->diffuse_tex, *sr = &g->spec_gloss_tex;
     uint32_t tc = b->doc->texture_count;
     if (dr->texture < 0 || sr->texture < 0 || (uint32_t)dr->texture >= tc ||
-        (uint32_t)sr->texture >= tc || dr->tex_coord != 0 || !same_mapping(dr, sr))
+        (uint32_t)sr->texture >= tc || dr->tex_coord > 1 || !same_mapping(dr, sr))
         return XRSC_OK;
     const sc_gltf_image *di = texture_image(b, *dr, field), *si = texture_image(b, *sr, field);
     if (!di || !si || di->width != si->width || di->height != si->height) return XRSC_OK;
@@ -1176,6 +1193,33 @@ static xrsc_result build_material_extensions(sc_build *b, uint32_t i, sc_materia
     return XRSC_OK;
 }
 
+/** sc_material.uv1_mask: the textures drawn whose texCoord is 1 (spec-gloss's diffuse and
+ *  specular-glossiness textures fill the base colour and metal/rough slots). */
+static uint32_t uv1_mask(const sc_gltf_material *g, const sc_material *mt)
+{
+    const struct {
+        const sc_gltf_texref *ref;
+        uint32_t tex, bit;
+    } t[] = {
+        {g->spec_gloss ? &g->diffuse_tex : &g->base_color_tex, mt->base_color_tex, SC_TEX_BASE},
+        {g->spec_gloss ? &g->spec_gloss_tex : &g->metal_rough_tex, mt->metal_rough_tex,
+         SC_TEX_METAL_ROUGH},
+        {&g->emissive_tex, mt->emission_tex, SC_TEX_EMISSION},
+        {&g->normal_tex, mt->normal_tex, SC_TEX_NORMAL},
+        {&g->transmission_tex, mt->transmission_tex, SC_UV1_TRANSMISSION},
+        {&g->specular_tex, mt->specular_tex, SC_UV1_SPECULAR},
+        {&g->specular_color_tex, mt->specular_color_tex, SC_UV1_SPECULAR_COLOR},
+        {&g->clearcoat_tex, mt->clearcoat_tex, SC_UV1_CLEARCOAT},
+        {&g->clearcoat_rough_tex, mt->clearcoat_rough_tex, SC_UV1_CLEARCOAT_ROUGH},
+        {&g->sheen_color_tex, mt->sheen_color_tex, SC_UV1_SHEEN_COLOR},
+        {&g->sheen_rough_tex, mt->sheen_rough_tex, SC_UV1_SHEEN_ROUGH},
+    };
+    uint32_t mask = 0;
+    for (size_t k = 0; k < sizeof t / sizeof t[0]; k++)
+        if (t[k].tex != SC_NO_TEXTURE && t[k].ref->tex_coord == 1) mask |= 1u << t[k].bit;
+    return mask;
+}
+
 static xrsc_result build_materials(sc_build *b)
 {
     sc_gltf_doc *d = b->doc;
@@ -1226,6 +1270,7 @@ static xrsc_result build_materials(sc_build *b)
         if (g->spec_gloss && (r = convert_spec_gloss(b, i, g, mt)) != XRSC_OK) return r;
         if ((r = build_material_extensions(b, i, mt)) != XRSC_OK)
             return r;
+        mt->uv1_mask = uv1_mask(g, mt);
     }
     /* The glTF default material (§3.9.6): white, metallic 1, roughness 1. */
     sc_material *def = &s->materials[d->material_count];

@@ -33,6 +33,7 @@ typedef struct sc_vertex {
     float position[3];
     float normal[3]; /**< unit; generated (flat) when the file has none */
     float uv[2];     /**< TEXCOORD_0, (0,0) when absent */
+    float uv1[2];    /**< TEXCOORD_1, a copy of uv when absent (textures with texCoord 1) */
     /** Unit tangent (xyz, along +u) and handedness w = +-1 (bitangent = w * cross(normal,
      *  tangent)), as glTF's TANGENT. From the file when it has TANGENT, else generated from
      *  the UV derivatives (see sc_scene.c, sc_tangents). */
@@ -83,6 +84,18 @@ typedef struct sc_skin {
 
 /** Texture slots of a material, in the order of sc_material.uv_transform. */
 enum { SC_TEX_BASE, SC_TEX_METAL_ROUGH, SC_TEX_EMISSION, SC_TEX_NORMAL, SC_TEX_SLOTS };
+/** Bits of sc_material.uv1_mask beyond the slots above (bit SC_TEX_* for those): the
+ *  extensions' textures (xrsc_shared.h XS_UV1_*). */
+enum {
+    SC_UV1_TRANSMISSION = SC_TEX_SLOTS,
+    SC_UV1_SPECULAR,
+    SC_UV1_SPECULAR_COLOR,
+    SC_UV1_CLEARCOAT,
+    SC_UV1_CLEARCOAT_ROUGH,
+    SC_UV1_SHEEN_COLOR,
+    SC_UV1_SHEEN_ROUGH,
+    SC_UV1_BITS
+};
 
 /** glTF 2.0 material.alphaMode. */
 typedef enum sc_alpha_mode {
@@ -110,8 +123,11 @@ typedef struct sc_material {
     /** KHR_texture_transform per slot (SC_TEX_*): uv' = (m[0] u + m[1] v + m[2],
      *  m[3] u + m[4] v + m[5]); identity when the file has none. */
     float uv_transform[SC_TEX_SLOTS][6];
+    /** Which texture reads TEXCOORD_1 (glTF texCoord 1) instead of TEXCOORD_0: bit SC_TEX_*
+     *  or SC_UV1_*. Sets above 1 are not read (their textures are left out, warned). */
+    uint32_t uv1_mask;
     char name[64];
-    /* The extensions below read their textures at TEXCOORD_0 without KHR_texture_transform. */
+    /* The extensions below read their textures without KHR_texture_transform. */
     uint32_t transmission_tex;  /**< KHR_materials_transmission texture (R, linear) */
     float specular;             /**< KHR_materials_specular specularFactor, 1 = plain glTF */
     float specular_color[3];    /**< specularColorFactor, (1, 1, 1) = plain glTF */
@@ -382,7 +398,8 @@ typedef struct sc_load_options {
  * XRSC_MESHOPT; same), EXT_mesh_gpu_instancing (one instance per TRANSLATION/ROTATION/SCALE
  * element), sampler wrap modes and nearest/linear filters per texture,
  * KHR_materials_pbrSpecularGlossiness (converted to metal/rough at load, see sc_scene.c),
- * node hierarchy, materials (baseColor factor
+ * node hierarchy, TEXCOORD_0 and TEXCOORD_1 (each texture reads the set its texCoord names;
+ * a texture naming set 2 or above is left out, warned), materials (baseColor factor
  * and texture, metallicRoughness factor and texture, emissive factor and texture, normal
  * texture (tangent space, TANGENT or generated tangents), KHR_materials_emissive_strength,
  * KHR_materials_transmission (and its texture), KHR_materials_ior, KHR_materials_unlit,
