@@ -11,6 +11,7 @@
 #include "hs_bench.h"
 
 #include "hs_args.h"
+#include "hs_replay.h"
 #include "u_diag.h"
 
 #include <errno.h>
@@ -316,6 +317,10 @@ static const bench_key keys[] = {
 
 void hs_bench_print_keys(FILE *f)
 {
+    fprintf(f, "  method %s: what `xrsc replay` renders without options (%s and\n"
+               "  its default blend); the keys of %s apply\n",
+            HS_BENCH_DEFAULT_SETTING, xrsc_method_name(XRSC_METHOD_SAMPLECACHE),
+            xrsc_method_name(XRSC_METHOD_SAMPLECACHE));
     fprintf(f, "  name=LABEL          label (file name; default derived from the keys)\n");
     for (size_t k = 0; k < KEY_COUNT; k++) {
         char methods[64] = "";
@@ -367,14 +372,19 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
     }
     char *method = text;
     trim(&method);
-    if (xrsc_method_from_name(method, &s->renderer.method) != XRSC_OK)
+    /* "default": what `xrsc replay` renders without options (its method and blend), from the
+     * replay's own defaults (hs_replay_default_renderer), so a chart's default is the product */
+    bool product = !strcmp(method, HS_BENCH_DEFAULT_SETTING);
+    if (product)
+        hs_replay_default_renderer(&s->renderer);
+    else if (xrsc_method_from_name(method, &s->renderer.method) != XRSC_OK)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
                           "unknown method '%s' (xrsc --help lists them)", method);
     snprintf(s->spec, sizeof(s->spec), "%s", method);
     snprintf(s->group, sizeof(s->group), "%s", method);
     char label[HS_BENCH_SPEC_MAX];
-    snprintf(label, sizeof(label), "%s", s->renderer.method == XRSC_METHOD_SAMPLECACHE ? "sc"
-                                                                                         : method);
+    snprintf(label, sizeof(label), "%s",
+             !product && s->renderer.method == XRSC_METHOD_SAMPLECACHE ? "sc" : method);
     char name[HS_BENCH_SPEC_MAX] = "";
     char *save = NULL;
     bool first = true;
