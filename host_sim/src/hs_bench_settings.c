@@ -158,6 +158,19 @@ static const char *set_eps1(xrsc_renderer_options *o, const char *v)
     return parse_pos(v, 1, &o->samplecache.eps1) ? NULL : "(0, 1]";
 }
 
+static const char *set_firefly(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "off")) {
+        o->samplecache.firefly_clamp = 0.0f;
+        return NULL;
+    }
+    float k;
+    if (!parse_pos(v, 1e6, &k) || k < 1.0f)
+        return "off or k in [1, 1e6]";
+    o->samplecache.firefly_clamp = k;
+    return NULL;
+}
+
 static const char *set_shade_rate(xrsc_renderer_options *o, const char *v)
 {
     if (!parse_pos(v, 1600, &o->samplecache.shade_rate))
@@ -298,6 +311,8 @@ static const bench_key keys[] = {
     {"alpha_fixed", M_SC | M_ISRT, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},
     {"cross_eye", M_SC, set_cross_eye, "xeye",
      "on | off: view-independent samples serve both eyes, shaded once [off]"},
+    {"firefly", M_SC | M_ISRT, set_firefly, "ff",
+     "firefly rule: cap a shading at k x the sample's running mean, off | k >= 1 [off]"},
     {"vis_cache", M_SC | M_ISRT, set_vis_cache, "vc",
      "shading pass's shadow visibility cache (seed 002) on | off [off]"},
     {"vis_tolerance", M_SC | M_ISRT, set_vis_tolerance, "ce",
