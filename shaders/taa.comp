@@ -21,10 +21,15 @@
  *    plus XS_TF_SLOPE_PX times the surface's depth step per pixel here (grazing surfaces). The
  *    neighbours make the test blind to sub-pixel flips at edges (a jittered sample lands on
  *    either side of an edge from frame to frame; the clipping of step 3 handles those), while a
- *    surface that was nowhere near (disocclusion) rejects the tap. Fewer than min_weight of
- *    the bilinear weight accepted (disocclusion, off-screen, no history): the output is the
- *    current frame (status REJECTED / NO_HISTORY). Else the history is the accepted taps'
- *    renormalised bilinear mean.
+ *    surface that was nowhere near (disocclusion) rejects the tap. A tap accepted through a
+ *    neighbour is read there (the first in row order), unless the tap's own footprint holds
+ *    the reprojected point: that pixel covered the surface, so its history is a legitimate
+ *    mix at an edge (what antialiases jittered edges); any other such tap may lie wholly on
+ *    another surface, and read at the tap a bright one leaked into a ring around it (the
+ *    Cornell light panel's rim into the ceiling). Fewer than min_weight of the bilinear
+ *    weight accepted (disocclusion,
+ *    off-screen, no history): the output is the current frame (status REJECTED /
+ *    NO_HISTORY). Else the history is the accepted taps' renormalised bilinear mean.
  * 3. ON: the history is clipped towards the mean of the current 3 x 3 neighbourhood to the box
  *    mean +- gamma sigma in YCoCg (variance clipping, [Sal16], [YLS20]) and blended with the
  *    fixed alpha. PFJ23 (seed 004 §4.2): no rectification (seed 004 §5.1 leaves history
@@ -200,6 +205,7 @@ void main()
             float tol_rel = tfp.depth_tolerance * d_exp, tol = -1.0;
             vec2 b = pos - 0.5;
             ivec2 base = ivec2(floor(b));
+            ivec2 home = ivec2(floor(pos)); /* the last frame's pixel holding the point */
             vec2 f = b - vec2(base);
             for (int k = 0; k < 4; k++) {
                 ivec2 o = ivec2(k & 1, k >> 1);
@@ -214,12 +220,20 @@ void main()
                         tol = depth_tolerance(ivec2(g.xy), eye, inst, depth, d_exp);
                     near = same_geo(geo, inst, d_exp, tol);
                 }
-                for (int n = 0; n < 9 && !near; n++)
-                    near = n != 4 && same_surface(p + ivec2(n % 3 - 1, n / 3 - 1), eye, inst,
-                                                  d_exp, max(tol, 0.0));
+                /* a tap accepted through neighbour q is read at q unless its footprint holds
+                 * the point (then it covered the surface: an edge's mix, antialiasing);
+                 * read at the tap, a light panel's rim leaked into the ceiling around it */
+                ivec2 src = p;
+                for (int n = 0; n < 9 && !near; n++) {
+                    ivec2 q = p + ivec2(n % 3 - 1, n / 3 - 1);
+                    if (n != 4 && same_surface(q, eye, inst, d_exp, max(tol, 0.0))) {
+                        near = true;
+                        src = p == home ? p : q;
+                    }
+                }
                 if (!near)
                     continue;
-                x += w * imageLoad(tf_history, ivec3(p, eye)).rgb;
+                x += w * imageLoad(tf_history, ivec3(src, eye)).rgb;
                 wsum += w;
             }
             if (wsum >= tfp.min_weight) {

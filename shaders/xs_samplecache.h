@@ -141,6 +141,10 @@
  * list, whatever its count (sc_shade.rgen). */
 #define XS_SC_SHADE_STRIPES 16u
 
+/* Firefly rule (issue 19 item 3, sc_shade.rgen): observations a sample needs before a new
+ * one is capped relative to its running mean. */
+#define XS_SC_FIREFLY_MIN_COUNT 4.0
+
 /* Compute workgroup size (x, y) of every sample-cache compute shader. */
 #define XS_SC_GROUP 8u
 
@@ -166,7 +170,7 @@ XS_STRUCT(xs_sc_params)
     xs_uint isrt_m; /* `isrt` (mt_isrt.c): M > 0 = slot s is sub-pixel cell (s % M, s / M) of
                        an M x M grid, see XS_SC_ISRT_* (0: the plain sample cache) */
     xs_uint cross_eye; /* 1: cross-eye reuse (XS_SC_BIND_FOREIGN) */
-    xs_uint pad2;
+    xs_float firefly_k; /* firefly rule (sc_shade.rgen): cap / running mean; 0 = off */
 }
 XS_END(xs_sc_params);
 

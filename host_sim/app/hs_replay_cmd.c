@@ -38,26 +38,15 @@
 #define DEFAULT_SCENE XRSC_SOURCE_DIR "/scenes/cornell.gltf"
 #define DEFAULT_POSES XRSC_SOURCE_DIR "/poses/orbit_cornell.xrpose"
 #define DEFAULT_OUT "out/replay"
-#define DEFAULT_WIDTH 256
-#define DEFAULT_HEIGHT 256
-#define DEFAULT_SPP 2
-
-/* The stereo blend when --blend is not given: the raw-moment blend (R = 0) after the methods
- * that keep per-sample radiance and counts (the sample caches, seed 000 §3.6), none after the
- * others (their moments are those of a few fresh samples, or absent). */
-static xrsc_blend default_blend(xrsc_method method)
-{
-    return method == XRSC_METHOD_SAMPLECACHE || method == XRSC_METHOD_ISRT ||
-                   method == XRSC_METHOD_HYBRID
-               ? XRSC_BLEND_MOMENTS
-               : XRSC_BLEND_NONE;
-}
+#define DEFAULT_WIDTH HS_REPLAY_DEFAULT_SIZE_PX
+#define DEFAULT_HEIGHT HS_REPLAY_DEFAULT_SIZE_PX
+#define DEFAULT_SPP HS_REPLAY_DEFAULT_SPP
 
 /* What the command line of `xrsc replay` sets beyond hs_replay_options. */
 typedef struct main_args {
     hs_replay_options opt;
     bool quiet, direct, overwrite;
-    bool blend_given;                             /* --blend: else default_blend(method) */
+    bool blend_given;                             /* --blend: else hs_replay_default_blend(method) */
     bool size_given, ipd_given, refresh_given;    /* these win over --headset */
     const char *pose_columns, *pose_time_unit, *pose_handedness;
     const char *headset_name, *headsets_path; /* --headset, --headsets */
@@ -716,7 +705,7 @@ static int finish_args(main_args *m)
             return r;
     }
     if (!m->blend_given)
-        opt->renderer.blend = default_blend(opt->renderer.method);
+        opt->renderer.blend = hs_replay_default_blend(opt->renderer.method);
     if (opt->frame_bounds && opt->viewpoint.kind != HS_VIEWPOINT_DEFAULT)
         return bad_arg("--viewpoint", NULL, "--frame and --viewpoint both place the view: give one");
     opt->frame_keep_ipd = m->ipd_given;
@@ -777,13 +766,11 @@ int hs_replay_main(int argc, char **argv)
             .write_eyes = true,
             .write_sbs = true,
             .progress = true,
-            /* the main job (seed 000): the per-eye sample cache with the raw-moment stereo
-             * blend at R = 0 (the blend is chosen after parsing: default_blend) */
-            .renderer = {.method = XRSC_METHOD_SAMPLECACHE, .width = DEFAULT_WIDTH,
-                         .height = DEFAULT_HEIGHT,
-                         .spp = {.samples_per_pixel = DEFAULT_SPP}},
         },
     };
+    /* the main job (seed 000), the one source of the replay's defaults and of `xrsc bench`'s
+     * setting `default`; the blend is chosen again after parsing (hs_replay_default_blend) */
+    hs_replay_default_renderer(&m.opt.renderer);
     xrsc_headset_default(&m.opt.headset);
     /* --opt=value and --config FILE (hs_args_prepare); the parse sees "--opt value" pairs. */
     hs_run_info run = {.argc = argc, .argv = argv};

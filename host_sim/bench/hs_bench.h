@@ -44,6 +44,7 @@ extern "C" {
  * 1pass): `moments` at R = 0 (xrsc replay's default) and R = 1, and `pfj23`.
  * Settings text: settings separated by ';', each "METHOD[:KEY=VALUE,KEY=VALUE...]";
  * name=LABEL sets the label (default: derived from method and keys). Keys: hs_bench_print_keys.
+ * METHOD may also be HS_BENCH_DEFAULT_SETTING.
  */
 #define HS_BENCH_DEFAULT_SETTINGS                                                                 \
     "spp:spp=1;spp:spp=4;"                                                                        \
@@ -52,6 +53,11 @@ extern "C" {
     "samplecache:trace=single,reproject=2pass;samplecache:trace=multi,reproject=2pass;"           \
     "samplecache:trace=adaptive,reproject=2pass;"                                                 \
     "samplecache:blend=moments,r=0;samplecache:blend=moments,r=1;samplecache:blend=pfj23"
+
+/** The setting that is what `xrsc replay` renders without options: its renderer options come
+ *  from hs_replay_default_renderer (method, blend, R: the product as shipped), the run's size
+ *  and seed as for every setting; keys of that method may follow ("default:taa=on"). */
+#define HS_BENCH_DEFAULT_SETTING "default"
 
 /** One benchmarked setting. */
 typedef struct hs_bench_setting {

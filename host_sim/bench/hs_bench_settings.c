@@ -11,6 +11,7 @@
 #include "hs_bench.h"
 
 #include "hs_args.h"
+#include "hs_replay.h"
 #include "u_diag.h"
 
 #include <errno.h>
@@ -157,6 +158,19 @@ static const char *set_eps1(xrsc_renderer_options *o, const char *v)
     return parse_pos(v, 1, &o->samplecache.eps1) ? NULL : "(0, 1]";
 }
 
+static const char *set_firefly(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "off")) {
+        o->samplecache.firefly_clamp = 0.0f;
+        return NULL;
+    }
+    float k;
+    if (!parse_pos(v, 1e6, &k) || k < 1.0f)
+        return "off or k in [1, 1e6]";
+    o->samplecache.firefly_clamp = k;
+    return NULL;
+}
+
 static const char *set_shade_rate(xrsc_renderer_options *o, const char *v)
 {
     if (!parse_pos(v, 1600, &o->samplecache.shade_rate))
@@ -297,6 +311,8 @@ static const bench_key keys[] = {
     {"alpha_fixed", M_SC | M_ISRT, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},
     {"cross_eye", M_SC, set_cross_eye, "xeye",
      "on | off: view-independent samples serve both eyes, shaded once [off]"},
+    {"firefly", M_SC | M_ISRT, set_firefly, "ff",
+     "firefly rule: cap a shading at k x the sample's running mean, off | k >= 1 [off]"},
     {"vis_cache", M_SC | M_ISRT, set_vis_cache, "vc",
      "shading pass's shadow visibility cache (seed 002) on | off [off]"},
     {"vis_tolerance", M_SC | M_ISRT, set_vis_tolerance, "ce",
@@ -316,6 +332,10 @@ static const bench_key keys[] = {
 
 void hs_bench_print_keys(FILE *f)
 {
+    fprintf(f, "  method %s: what `xrsc replay` renders without options (%s and\n"
+               "  its default blend); the keys of %s apply\n",
+            HS_BENCH_DEFAULT_SETTING, xrsc_method_name(XRSC_METHOD_SAMPLECACHE),
+            xrsc_method_name(XRSC_METHOD_SAMPLECACHE));
     fprintf(f, "  name=LABEL          label (file name; default derived from the keys)\n");
     for (size_t k = 0; k < KEY_COUNT; k++) {
         char methods[64] = "";
@@ -367,14 +387,19 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
     }
     char *method = text;
     trim(&method);
-    if (xrsc_method_from_name(method, &s->renderer.method) != XRSC_OK)
+    /* "default": what `xrsc replay` renders without options (its method and blend), from the
+     * replay's own defaults (hs_replay_default_renderer), so a chart's default is the product */
+    bool product = !strcmp(method, HS_BENCH_DEFAULT_SETTING);
+    if (product)
+        hs_replay_default_renderer(&s->renderer);
+    else if (xrsc_method_from_name(method, &s->renderer.method) != XRSC_OK)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
                           "unknown method '%s' (xrsc --help lists them)", method);
     snprintf(s->spec, sizeof(s->spec), "%s", method);
     snprintf(s->group, sizeof(s->group), "%s", method);
     char label[HS_BENCH_SPEC_MAX];
-    snprintf(label, sizeof(label), "%s", s->renderer.method == XRSC_METHOD_SAMPLECACHE ? "sc"
-                                                                                         : method);
+    snprintf(label, sizeof(label), "%s",
+             !product && s->renderer.method == XRSC_METHOD_SAMPLECACHE ? "sc" : method);
     char name[HS_BENCH_SPEC_MAX] = "";
     char *save = NULL;
     bool first = true;

@@ -585,3 +585,20 @@ done:
     st->total_s = now_s() - t_start;
     return res;
 }
+
+xrsc_blend hs_replay_default_blend(xrsc_method method)
+{
+    return method == XRSC_METHOD_SAMPLECACHE || method == XRSC_METHOD_ISRT ||
+                   method == XRSC_METHOD_HYBRID
+               ? XRSC_BLEND_MOMENTS
+               : XRSC_BLEND_NONE;
+}
+
+void hs_replay_default_renderer(xrsc_renderer_options *out)
+{
+    *out = (xrsc_renderer_options){.method = XRSC_METHOD_SAMPLECACHE,
+                                   .width = HS_REPLAY_DEFAULT_SIZE_PX,
+                                   .height = HS_REPLAY_DEFAULT_SIZE_PX,
+                                   .spp = {.samples_per_pixel = HS_REPLAY_DEFAULT_SPP}};
+    out->blend = hs_replay_default_blend(out->method);
+}

@@ -183,6 +183,25 @@ void hs_replay_stats_average(hs_replay_stats *st);
 void hs_replay_stats_add(hs_replay_stats *st, xrsc_renderer *r, double render_ms,
                          xrsc_pass_timing passes[XRSC_MAX_PASSES], uint32_t *out_np);
 
+/** `xrsc replay`'s eye size and samples per pixel when no option says otherwise. */
+#define HS_REPLAY_DEFAULT_SIZE_PX 256
+#define HS_REPLAY_DEFAULT_SPP 2
+
+/**
+ * The stereo blend when --blend is not given: the raw-moment blend (R = 0) after the methods
+ * that keep per-sample radiance and counts (the sample caches, seed 000 §3.6), none after the
+ * others (their moments are those of a few fresh samples, or absent).
+ */
+xrsc_blend hs_replay_default_blend(xrsc_method method);
+
+/**
+ * The renderer options `xrsc replay` runs when no option is given: the main job (seed 000),
+ * the per-eye sample cache with the blend of ::hs_replay_default_blend, at
+ * HS_REPLAY_DEFAULT_SIZE_PX with HS_REPLAY_DEFAULT_SPP. The one source of the replay's
+ * defaults and of `xrsc bench`'s setting `default` (the product as shipped).
+ */
+void hs_replay_default_renderer(xrsc_renderer_options *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -5,7 +5,9 @@
 # the values and the summary's means to the bench's printed precision (6 significant digits:
 # relative 1e-5); the OpenXR path writes views.csv too (frames 1..3) and its figures agree
 # with the bench's within 1e-4 (the runtime's pose arithmetic rounds floats differently);
-# a folder holding only a views.csv counts as an earlier run.
+# a folder holding only a views.csv counts as an earlier run. Issue 19 item 1: the bench's
+# setting `default` and a replay given no method or blend render the same frames (the
+# same figures to that precision; a bench `samplecache` has no blend, the replay's does).
 # Inputs: -DXRSC_EXE=<the built program> -DOUT_DIR=<scratch folder, wiped first>.
 if(NOT XRSC_EXE OR NOT OUT_DIR)
   message(FATAL_ERROR "usage: cmake -DXRSC_EXE=... -DOUT_DIR=... -P metrics_stereo_test.cmake")
@@ -144,7 +146,7 @@ endfunction()
 
 set(size --resolution 48x48)
 # The bench: both settings over frames 0..3 (frame 0 warm-up, one scored frame, cheap refs).
-file(WRITE ${OUT_DIR}/settings.txt "spp:spp=1,name=spp1\nsamplecache:name=sc\n") # ';' would split the argument
+file(WRITE ${OUT_DIR}/settings.txt "spp:spp=1,name=spp1\nsamplecache:name=sc\ndefault:name=default\n") # ';' would split the argument
 run(bench bench --settings @${OUT_DIR}/settings.txt --frames 4 --warmup 1 --score-every 100
     ${size} --ref-spp 4 --anchor first --out ${OUT_DIR}/b --no-plots --quiet --validation)
 # The same frames through the replay (direct path), and scored from the files.
@@ -152,10 +154,14 @@ run(rep_spp replay --direct --method spp --spp 1 ${size} --frames 4 --write exr
     --out ${OUT_DIR}/spp --quiet --validation)
 run(rep_sc replay --direct --method samplecache --blend none ${size} --frames 4 --write exr
     --out ${OUT_DIR}/sc --quiet --validation)
+# Issue 19 item 1: the bench's setting `default` is what `xrsc replay` renders without a
+# method or blend option (its figures equal the replay's, as for the other settings).
+run(rep_def replay --direct ${size} --frames 4 --write exr --out ${OUT_DIR}/def --quiet
+    --validation)
 # OpenXR path: frames 1..3 of the same stream.
 run(rep_xr replay --method spp --spp 1 ${size} --frames 3 --write exr --out ${OUT_DIR}/xr
     --quiet --validation)
-foreach(d spp sc xr)
+foreach(d spp sc xr def)
   run(m_${d} metrics --stereo ${OUT_DIR}/${d} --warmup 1 --csv ${OUT_DIR}/${d}.csv --quiet)
 endforeach()
 
@@ -201,9 +207,10 @@ endfunction()
 compare(spp spp1 ${BENCH_REL_TOL} TRUE)
 compare(sc sc ${BENCH_REL_TOL} TRUE)
 compare(xr spp1 ${XR_REL_TOL} FALSE)
+compare(def default ${BENCH_REL_TOL} TRUE)
 
 # The means printed by `xrsc metrics --stereo` against the bench summary's.
-foreach(pair "spp;spp1" "sc;sc")
+foreach(pair "spp;spp1" "sc;sc" "def;default")
   list(GET pair 0 run)
   list(GET pair 1 setting)
   set(srow "")

@@ -379,6 +379,15 @@ typedef struct xrsc_samplecache_options {
     uint32_t max_bounces;
     bool cross_eye;
     xrsc_sc_visibility_options visibility; /**< the shading pass's shadow visibility cache */
+    /**
+     * Firefly rule (issue 19 item 3, beyond seed 000): k >= 1 caps each new shading of a
+     * sample that has XS_SC_FIREFLY_MIN_COUNT (4) observations at k times the luminance of
+     * its running mean L_s (the colour kept, scaled down) before it is blended in, so one
+     * caustic path cannot light a diffuse sample for dozens of frames. Biased (energy of
+     * rare bright paths is lost); references (`spp`) are never clamped. 0: off (default; see
+     * bench/results/issue19-defaults/ for why). Other values: XRSC_ERROR_INVALID_ARGUMENT.
+     */
+    float firefly_clamp;
 } xrsc_samplecache_options;
 
 /**

@@ -459,6 +459,7 @@ static xrsc_result check_options(const mt_env *env, const xrsc_samplecache_optio
                           env->cpu_scene->material_count, XS_SC_MAX_MATERIALS);
     if (o->n_target < 1.0f || o->delta < 0.0f || o->eps0 < 0.0f || o->eps1 < 0.0f ||
         o->shade_rate < 0.0f || !(o->alpha_fixed > 0.0f && o->alpha_fixed <= 1.0f) ||
+        !(o->firefly_clamp == 0.0f || o->firefly_clamp >= 1.0f) ||
         o->trace > XRSC_SC_TRACE_ADAPTIVE || o->reproject > XRSC_SC_REPROJECT_2PASS ||
         o->shade > XRSC_SC_SHADE_ADAPTIVE_VARIANCE || o->alpha > XRSC_SC_ALPHA_FIXED)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "samplecache",
@@ -628,6 +629,7 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         .shade_rate = o.shade_rate,
         .alpha_fixed = o.alpha_fixed,
         .cross_eye = o.cross_eye ? 1u : 0u,
+        .firefly_k = o.firefly_clamp,
     };
     s->p.shade_capacity = shade_capacity(&o, env->width, env->height);
     s->p.isrt_m = var.isrt_m;
