@@ -19,8 +19,8 @@ extern "C" {
  *  is the command's parser, which calls hs_light_parse with the row's name. */
 #define HS_LIGHT_OPTS(parse)                                                                       \
     {"--env-map", "FILE",                                                                          \
-     "equirectangular Radiance .hdr environment (centre = -Z, top = +Y),\n"                       \
-     "importance-sampled; replaces --env and the scene's environment",                             \
+     "equirectangular Radiance .hdr or OpenEXR .exr environment (centre = -Z,\n"                  \
+     "top = +Y), importance-sampled; replaces --env and the scene's environment",                  \
      parse, 0, NULL},                                                                              \
         {"--env-intensity", "X", "scales --env-map, or --sky's sun and sky [1]", parse, 0, NULL},  \
         {"--env-rotation", "DEG",                                                                  \

@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file hs_exr.c
- * @brief OpenEXR writer and reader (hs_exr.h) on OpenEXRCore's chunk encode/decode pipelines.
+ * @brief OpenEXR writer (hs_exr.h) on OpenEXRCore's chunk encode pipeline; the reader is
+ *        u_exr.h's (plugin/src/util), shared with the plugin's environment maps.
  */
 #include "hs_exr.h"
 
 #include "hs_file.h"
 #include "u_diag.h"
+#include "u_exr.h"
 
 #include <openexr.h>
 
@@ -14,8 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/** Largest side hs_read_exr accepts (as hs_read_pfm). */
-#define EXR_MAX_SIDE 65536
+/** Largest side hs_write_exr accepts (the reader's, as hs_read_pfm). */
+#define EXR_MAX_SIDE U_EXR_MAX_SIDE
 
 /** The library's last error message for one context (its error handler's user data). */
 typedef struct exr_msg {
@@ -37,7 +39,7 @@ static xrsc_result exr_fail(xrsc_diag *diag, xrsc_result code, const char *path,
                       msg->text[0] ? msg->text : exr_get_default_error_message(rv));
 }
 
-/** One channel's source (write) or destination (read) in the caller's interleaved layout. */
+/** One channel's source in the caller's interleaved layout. */
 typedef struct exr_plane {
     const char *name;
     uint8_t *base;        /**< first pixel of row 0 */
@@ -55,7 +57,7 @@ static const exr_plane *find_plane(const exr_plane *p, int n, const char *name)
 
 /* Points each channel of a chunk at its rows in the caller's buffers (start row y0). */
 static void bind_channels(exr_coding_channel_info_t *ch, int16_t count, const exr_plane *planes,
-                          int nplanes, int32_t y0, bool encode)
+                          int nplanes, int32_t y0)
 {
     for (int16_t c = 0; c < count; c++) {
         const exr_plane *p = find_plane(planes, nplanes, ch[c].channel_name);
@@ -64,10 +66,7 @@ static void bind_channels(exr_coding_channel_info_t *ch, int16_t count, const ex
         ch[c].user_pixel_stride = p ? p->pixel_stride : 4;
         ch[c].user_line_stride = p ? p->line_stride : 0;
         uint8_t *row = p ? p->base + (size_t)y0 * (size_t)p->line_stride : NULL;
-        if (encode)
-            ch[c].encode_from_ptr = row;
-        else
-            ch[c].decode_to_ptr = row;
+        ch[c].encode_from_ptr = row;
     }
 }
 
@@ -87,7 +86,7 @@ static exr_result_t write_chunks(exr_context_t ctx, uint32_t h, const exr_plane 
         if (rv != EXR_ERR_SUCCESS)
             break;
         started = true;
-        bind_channels(enc.channels, enc.channel_count, planes, nplanes, ci.start_y, true);
+        bind_channels(enc.channels, enc.channel_count, planes, nplanes, ci.start_y);
         rv = exr_encoding_choose_default_routines(ctx, 0, &enc);
         if (rv == EXR_ERR_SUCCESS)
             rv = exr_encoding_run(ctx, 0, &enc);
@@ -163,104 +162,22 @@ xrsc_result hs_stage_exr(const char *path, const float *rgba, const float *depth
     return write_exr(path, true, rgba, depth, w, h, diag);
 }
 
-static exr_result_t read_chunks(exr_context_t ctx, const exr_attr_box2i_t *dw,
-                                const exr_plane *planes, int nplanes)
-{
-    int32_t lines = 0;
-    exr_result_t rv = exr_get_scanlines_per_chunk(ctx, 0, &lines);
-    exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
-    bool started = false;
-    for (int32_t y = dw->min.y; rv == EXR_ERR_SUCCESS && y <= dw->max.y; y += lines) {
-        exr_chunk_info_t ci;
-        rv = exr_read_scanline_chunk_info(ctx, 0, y, &ci);
-        if (rv == EXR_ERR_SUCCESS)
-            rv = started ? exr_decoding_update(ctx, 0, &ci, &dec)
-                         : exr_decoding_initialize(ctx, 0, &ci, &dec);
-        if (rv != EXR_ERR_SUCCESS)
-            break;
-        started = true;
-        bind_channels(dec.channels, dec.channel_count, planes, nplanes, ci.start_y - dw->min.y,
-                      false);
-        rv = exr_decoding_choose_default_routines(ctx, 0, &dec);
-        if (rv == EXR_ERR_SUCCESS)
-            rv = exr_decoding_run(ctx, 0, &dec);
-    }
-    if (started)
-        exr_decoding_destroy(ctx, &dec);
-    return rv;
-}
-
-static bool has_channel(const exr_attr_chlist_t *cl, const char *name)
-{
-    for (int i = 0; i < cl->num_channels; i++)
-        if (strcmp(cl->entries[i].name.str, name) == 0)
-            return true;
-    return false;
-}
-
+/* Reading lives in the plugin's util (u_exr.h), which environment maps use as well. */
 xrsc_result hs_read_exr(const char *path, float **out_rgba, float **out_depth, uint32_t *out_w,
                         uint32_t *out_h, xrsc_diag *diag)
 {
     *out_rgba = NULL;
     if (out_depth)
         *out_depth = NULL;
-    exr_msg msg = {{0}};
-    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = on_exr_error;
-    init.user_data = &msg;
-    exr_context_t ctx = NULL;
-    exr_result_t rv = exr_start_read(&ctx, path, &init);
-    if (rv != EXR_ERR_SUCCESS) {
-        xrsc_result code = rv == EXR_ERR_FILE_ACCESS ? XRSC_ERROR_IO : XRSC_ERROR_BAD_HEADER;
-        exr_finish(&ctx);
-        return exr_fail(diag, code, path, "not a readable EXR", rv, &msg);
-    }
-    exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
-    exr_attr_box2i_t dw;
-    memset(&dw, 0, sizeof(dw));
-    dw.max.x = dw.max.y = -1; /* empty unless the header says otherwise */
-    const exr_attr_chlist_t *cl = NULL;
-    exr_get_storage(ctx, 0, &storage);
-    exr_get_data_window(ctx, 0, &dw);
-    exr_get_channels(ctx, 0, &cl);
-    int64_t w = (int64_t)dw.max.x - dw.min.x + 1, h = (int64_t)dw.max.y - dw.min.y + 1;
-    if (storage != EXR_STORAGE_SCANLINE || !cl || w < 1 || h < 1 || w > EXR_MAX_SIDE ||
-        h > EXR_MAX_SIDE) {
-        exr_finish(&ctx);
-        return u_diag_set(diag, XRSC_ERROR_BAD_HEADER, path, 0, "exr",
-                          "only scanline EXRs with sides 1..%d are read", EXR_MAX_SIDE);
-    }
-    size_t n = (size_t)w * (size_t)h;
-    float *rgba = calloc(n * 4, sizeof(float));
-    float *depth = out_depth && has_channel(cl, "Z") ? malloc(n * sizeof(float)) : NULL;
-    if (!rgba || (out_depth && has_channel(cl, "Z") && !depth)) {
-        free(rgba);
-        free(depth);
-        exr_finish(&ctx);
-        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, path, 0, "exr", "out of memory");
-    }
-    if (!has_channel(cl, "A"))
-        for (size_t i = 0; i < n; i++)
-            rgba[i * 4 + 3] = 1.0f;
-    const int32_t px = 4 * sizeof(float), line = (int32_t)w * px;
-    exr_plane planes[5] = {
-        {"R", (uint8_t *)(rgba + 0), px, line},
-        {"G", (uint8_t *)(rgba + 1), px, line},
-        {"B", (uint8_t *)(rgba + 2), px, line},
-        {"A", (uint8_t *)(rgba + 3), px, line},
-        {"Z", (uint8_t *)depth, sizeof(float), (int32_t)(w * sizeof(float))},
-    };
-    rv = read_chunks(ctx, &dw, planes, 5);
-    exr_finish(&ctx);
-    if (rv != EXR_ERR_SUCCESS) {
-        free(rgba);
-        free(depth);
-        return exr_fail(diag, XRSC_ERROR_IO, path, "reading failed", rv, &msg);
-    }
-    *out_rgba = rgba;
+    u_exr_options opt = {.want_depth = out_depth != NULL};
+    u_exr_image img;
+    xrsc_result r = u_exr_read(path, &opt, &img, diag);
+    if (r != XRSC_OK)
+        return r;
+    *out_rgba = img.rgba;
     if (out_depth)
-        *out_depth = depth;
-    *out_w = (uint32_t)w;
-    *out_h = (uint32_t)h;
+        *out_depth = img.depth;
+    *out_w = img.width;
+    *out_h = img.height;
     return XRSC_OK;
 }

@@ -2,7 +2,8 @@
 /**
  * @file hs_exr.h
  * @brief OpenEXR output of linear frames (RGB and depth as the standard Z channel) and a reader
- *        for them, through OpenEXR's C library (OpenEXRCore, libopenexr-dev).
+ *        for them, through OpenEXR's C library (OpenEXRCore, libopenexr-dev); the reader is
+ *        u_exr.h's (plugin/src/util, shared with the plugin's environment maps).
  *
  * Files are single-part scanline EXRs with 32-bit float channels B, G, R and, when depth is
  * given, Z (the channel names tev, Blender and Nuke read as colour and depth), ZIP compressed

@@ -65,7 +65,8 @@ uint32_t xrsc_context_validation_errors(const xrsc_context *ctx);
  * keep_triangle_order: skip the Morton sort of each mesh's triangles done before the BLAS
  * build (for benchmarks of its effect; primitive ids then follow the file).
  * Environment map and sky (these replace the constant environment; env_map_path wins):
- * - env_map_path: an equirectangular Radiance .hdr (centre of the image = -Z, top = +Y),
+ * - env_map_path: an equirectangular Radiance .hdr or OpenEXR .exr (R, G, B of its first
+ *   part, alpha ignored; recognised by its magic; centre of the image = -Z, top = +Y),
  *   importance-sampled by luminance; env_intensity scales it (or the sky's sun and sky;
  *   0 means 1);
  *   env_rotation_deg turns it (or the sky) about +Y, counter-clockwise seen from above.

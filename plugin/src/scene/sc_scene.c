@@ -13,6 +13,7 @@
 #include "sc_scene.h"
 #include "sc_xform.h"
 #include "u_diag.h"
+#include "u_exr.h"
 
 #include <errno.h>
 #include <float.h>
@@ -2194,6 +2195,42 @@ static bool wants_studio(const sc_build *b, int32_t scene_index)
     return !(scene_index >= 0 && b->doc->scenes[scene_index].has_environment);
 }
 
+/** The four bytes every OpenEXR file starts with (20000630 little-endian). */
+static const uint8_t exr_magic[4] = {0x76, 0x2f, 0x31, 0x01};
+
+/** True when path names an OpenEXR file: a `.exr` suffix (any case), so that a cut or garbage
+ *  .exr gets the EXR reader's error, or the EXR magic (an EXR under another name). */
+static bool is_exr_path(const char *path)
+{
+    size_t len = strlen(path);
+    const char *ext = len >= 4 ? path + len - 4 : "";
+    if (ext[0] == '.' && (ext[1] | 0x20) == 'e' && (ext[2] | 0x20) == 'x' &&
+        (ext[3] | 0x20) == 'r')
+        return true;
+    uint8_t head[4] = {0};
+    FILE *f = fopen(path, "rb");
+    size_t n = f ? fread(head, 1, sizeof head, f) : 0;
+    if (f) fclose(f);
+    return n == sizeof head && memcmp(head, exr_magic, sizeof head) == 0;
+}
+
+/** An equirectangular map file, OpenEXR (u_exr.h: R, G, B; alpha dropped) or Radiance .hdr,
+ *  as RGB floats; the .hdr reader's pixel limit holds for both. */
+static xrsc_result load_env_image(const char *path, sc_hdr_image *out, xrsc_diag *diag)
+{
+    if (!is_exr_path(path)) return sc_hdr_load(path, out, diag);
+    memset(out, 0, sizeof(*out));
+    u_exr_options opt = {.max_pixels = SC_HDR_MAX_PIXELS};
+    u_exr_image img;
+    xrsc_result r = u_exr_read(path, &opt, &img, diag);
+    if (r != XRSC_OK) return r;
+    size_t n = (size_t)img.width * img.height;
+    for (size_t i = 0; i < n; i++) /* RGBA to RGB in place: i*3 never passes i*4 */
+        for (int k = 0; k < 3; k++) img.rgba[i * 3 + k] = img.rgba[i * 4 + k];
+    *out = (sc_hdr_image){img.width, img.height, img.rgba};
+    return XRSC_OK;
+}
+
 /** A map (--env-map, else --sky, else the studio) into s->env_map, scaled, rotated. */
 static xrsc_result set_env_map(sc_build *b)
 {
@@ -2204,7 +2241,7 @@ static xrsc_result set_env_map(sc_build *b)
     uint32_t w = SC_SKY_WIDTH, h = SC_SKY_HEIGHT;
     xrsc_result r;
     if (o->env_map_path) {
-        r = sc_hdr_load(o->env_map_path, &img, b->diag);
+        r = load_env_image(o->env_map_path, &img, b->diag);
         w = img.width, h = img.height;
     } else if (o->sky) {
         r = set_sky(b, &baked);

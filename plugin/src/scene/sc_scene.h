@@ -353,7 +353,8 @@ typedef struct sc_scene {
  * triangles and point/spot lights notwithstanding: glTF models without a sun expect
  * image-based lighting, which viewers keep on beside lamps), else 0.
  * env_set with (1, 1, 1) gives the grey of earlier versions.
- * env_map_path (a Radiance .hdr, equirectangular) or sky replace the constant environment;
+ * env_map_path (a Radiance .hdr or an OpenEXR .exr, equirectangular) or sky replace the
+ * constant environment;
  * env_map_path wins over sky.
  */
 typedef struct sc_load_options {
