@@ -81,6 +81,15 @@ typedef struct xs_mat4 { float m[16]; } xs_mat4; /* column-major */
  * runs for them only. */
 #define XS_MAT_ALPHA_MASK 4u
 #define XS_MAT_ALPHA_BLEND 8u
+/* Smooth thin-walled transmission lets shadow rays through (xs_path.glsl, xs_glass_
+ * transmittance): set for non-BLEND materials without KHR_materials_volume with transmission
+ * > 0, metallic < 1 and roughness factor below XS_GLASS_SMOOTH_ROUGHNESS (or a metal/rough
+ * texture that may make it so); the shader checks the values at each point. */
+#define XS_MAT_GLASS_SHADOW 16u
+/* Glass with perceptual roughness below this is treated as perfectly smooth (delta lobes). */
+#define XS_GLASS_SMOOTH_ROUGHNESS 0.05
+/* Most glass surfaces one shadow ray passes through; behind more it counts as occluded. */
+#define XS_GLASS_MAX_LAYERS 8u
 
 /* TLAS instance masks (cullMask of traceRayEXT): every instance is in XS_CULL_ALL; BLEND
  * instances are in XS_CULL_BLEND only, the others in XS_CULL_SOLID only. The sample cache's
@@ -89,6 +98,11 @@ typedef struct xs_mat4 { float m[16]; } xs_mat4; /* column-major */
 #define XS_CULL_ALL 0xFFu
 #define XS_CULL_SOLID 0x01u
 #define XS_CULL_BLEND 0x02u
+/* Instances of XS_MAT_GLASS_SHADOW materials are in XS_CULL_GLASS only (not SOLID): a shadow
+ * ray first tests XS_CULL_NO_GLASS and then walks the glass it passes (xs_path.glsl); the sample
+ * cache's retraces test XS_CULL_SOLID | XS_CULL_GLASS. */
+#define XS_CULL_GLASS 0x04u
+#define XS_CULL_NO_GLASS (XS_CULL_ALL & ~XS_CULL_GLASS)
 
 /* texture slots of xs_material.uv_rows (KHR_texture_transform, one 2x3 matrix per slot) */
 #define XS_TEX_BASE 0
@@ -208,7 +222,8 @@ XS_STRUCT(xs_frame)
     xs_float env_rotation;    /* radians about +Y (sc_env.h) */
     xs_float sun_cos_max;     /* cos of the sun disk's angular radius; 0 = a delta sun */
     xs_uint light_count;      /* entries of XS_BIND_LIGHTS; 0: no punctual light, no RNG draw */
-    xs_uint light_pad0, light_pad1, light_pad2;
+    xs_uint glass_instances;  /* XS_CULL_GLASS instances; 0: a shadow ray is one ray, as before */
+    xs_uint light_pad1, light_pad2;
 } XS_END(xs_frame);
 
 /* xs_light.type: KHR_lights_punctual's three kinds */

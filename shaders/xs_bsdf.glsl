@@ -57,8 +57,7 @@
 
 /* Smallest GGX alpha of reflective lobes: keeps D finite (D <= 1/(pi alpha^2) ~ 3e5). */
 #define XS_MIN_ALPHA 1e-3
-/* Glass with perceptual roughness below this is treated as perfectly smooth (delta lobes). */
-#define XS_GLASS_SMOOTH_ROUGHNESS 0.05
+/* XS_GLASS_SMOOTH_ROUGHNESS (xrsc_shared.h): glass below it is smooth (delta lobes). */
 /* Lower clamp of the probability of sampling the specular lobe of an opaque dielectric when
  * both lobes can contribute (keeps either lobe reachable by BSDF sampling). */
 #define XS_MIN_LOBE_PROB 0.05
@@ -325,6 +324,33 @@ float xs_sheen_albedo(float cos_o, float roughness)
     float top = mix(XS_SHEEN_E[i], XS_SHEEN_E[i + 1], fx);
     float bottom = mix(XS_SHEEN_E[i + XS_SHEEN_E_COLS], XS_SHEEN_E[i + XS_SHEEN_E_COLS + 1], fx);
     return mix(top, bottom, fy);
+}
+
+/**
+ * What a smooth thin wall lets through at cosine cos_o (a shadow ray passing it straight,
+ * xs_path.glsl): the expected weight of a path's delta transmission there (wi = -wo), i.e.
+ * the pick probability of the glass component in xs_bsdf_make ((1 - c Fc)(1 - s)(1 -
+ * metallic) transmission) times xs_bsdf_sample_delta's transmission (1 - F) base. 0 where the
+ * point is not smooth thin glass (a volume refracts, so no straight line passes it; rough or
+ * metal: no delta transmission).
+ */
+vec3 xs_glass_pass(xs_bsdf_in m, float cos_o)
+{
+    if (!m.thin || !(m.transmission > 0.0) || m.metallic >= 1.0 ||
+        m.roughness >= XS_GLASS_SMOOTH_ROUGHNESS)
+        return vec3(0.0);
+    float w = (1.0 - m.metallic) * m.transmission;
+    if (m.clearcoat > 0.0)
+        w *= 1.0 - m.clearcoat * xs_fresnel_dielectric(cos_o, XS_CLEARCOAT_IOR);
+    float sc = xs_max3(m.sheen_color);
+    if (sc > 0.0)
+        w *= 1.0 - min(sc * xs_sheen_albedo(cos_o, m.sheen_roughness), 1.0);
+    xs_bsdf b;
+    b.spec_color = m.spec_color;
+    b.specular = m.specular;
+    vec3 tint;
+    float f = xs_glass_fresnel(b, xs_fresnel_dielectric(cos_o, m.ior), tint);
+    return m.base * (w * (1.0 - f));
 }
 
 /** Probability that the opaque component samples its specular lobe. */

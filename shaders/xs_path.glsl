@@ -18,7 +18,8 @@
  * are delta lights that BSDF sampling never finds, so their weight is 1 and no other MIS
  * weight changes.
  *
- * Light samples ask XS_LIGHT_VISIBLE for their shadow ray: sc_shade.rgen (XS_PATH_VISCACHE)
+ * Light samples queue their shadow query (xs_shadow_push); after the estimators the loop asks
+ * XS_LIGHT_VISIBLE for each, from one call site: sc_shade.rgen (XS_PATH_VISCACHE)
  * routes it to the visibility cache of seed 002 (xs_viscache.glsl), everyone else traces.
  *
  * Declares the two ray payloads at locations XS_PAYLOAD_PRIMARY / XS_PAYLOAD_SHADOW. Requires
@@ -38,14 +39,92 @@ layout(location = XS_PAYLOAD_SHADOW) rayPayloadEXT uint shadow_visible;
 #define XS_RR_MIN_SURVIVAL 0.05
 #define XS_RR_MAX_SURVIVAL 1.0
 
-/** 1 when the segment from (offset) origin o along unit d is free up to tmax. */
-float xs_visible(vec3 o, vec3 d, float tmax, inout uint rays)
+/** The BSDF's view of a material (xs_bsdf.glsl). */
+xs_bsdf_in xs_bsdf_input(xs_mat m)
 {
+    xs_bsdf_in b;
+    b.base = m.base;
+    b.metallic = m.metallic;
+    b.roughness = m.roughness;
+    b.transmission = m.transmission;
+    b.ior = m.ior;
+    b.spec_color = m.spec_color;
+    b.specular = m.specular;
+    b.clearcoat = m.clearcoat;
+    b.clearcoat_roughness = m.clearcoat_roughness;
+    b.sheen_color = m.sheen_color;
+    b.sheen_roughness = m.sheen_roughness;
+    b.thin = m.thin;
+    return b;
+}
+
+/**
+ * Transmittance of the smooth thin glass on a segment already free of everything else: walks
+ * the XS_CULL_GLASS surfaces (closest-hit rays of that mask only) and multiplies what each
+ * lets through (xs_glass_pass). More than XS_GLASS_MAX_LAYERS surfaces count as opaque. Uses
+ * the primary payload: callers hold no hit in it (xs_path_trace has copied what it needs).
+ */
+vec3 xs_glass_transmittance(vec3 o, vec3 d, float tmax, inout uint rays)
+{
+    vec3 tr = vec3(1.0);
+    for (uint k = 0u; k <= XS_GLASS_MAX_LAYERS; k++) {
+        payload.instance = XS_MISS_INSTANCE;
+        traceRayEXT(xs_tlas, XS_RAY_FLAGS_BOUNCE, XS_CULL_GLASS, 0, 0, XS_MISS_INDEX_PRIMARY, o,
+                    0.0, d, tmax, XS_PAYLOAD_PRIMARY);
+        rays++;
+        if (payload.instance == XS_MISS_INSTANCE)
+            return tr;
+        if (k == XS_GLASS_MAX_LAYERS)
+            break;
+        float t = payload.t;
+        xs_surface s =
+            xs_surface_at(payload.instance, payload.primitive, vec2(payload.bary_u, payload.bary_v));
+        xs_surface_orient(s, -d);
+        xs_mat m = xs_material_at(s.material, s.uv);
+        tr *= xs_glass_pass(xs_bsdf_input(m), dot(-d, s.ns));
+        if (!(xs_max3(tr) > 0.0))
+            break;
+        o = xs_offset_ray(s.p, -s.ng); /* s.ng faces -d: continue behind the surface */
+        tmax -= t;
+    }
+    return vec3(0.0);
+}
+
+/**
+ * Visibility of a light sample: the segment from (offset) origin o along unit d up to tmax.
+ * Shadow rules (issue 18): opaque, MASK and BLEND surfaces block as their any-hit shader says
+ * (hit.rahit); smooth thin-walled glass (XS_MAT_GLASS_SHADOW) lets the light through, tinted
+ * (xs_glass_transmittance): exact, since its delta transmission goes straight on.
+ * xs_path_trace treats a path's delta transmission through the same glass as a null event for
+ * MIS, so the light is counted once. A refracting volume (KHR_materials_volume) and rough
+ * glass block, as physics says for a straight line: the light they pass comes by BSDF
+ * sampling (caustics) and by rough glass's own light sampling. Without such glass in the
+ * scene this is the one shadow ray of before.
+ */
+vec3 xs_visible(vec3 o, vec3 d, float tmax, inout uint rays)
+{
+    bool glass = frame.glass_instances > 0u;
     shadow_visible = 0u;
-    traceRayEXT(xs_tlas, XS_RAY_FLAGS_SHADOW, XS_CULL_ALL, 0, 0, XS_MISS_INDEX_SHADOW, o, 0.0, d,
-                tmax, XS_PAYLOAD_SHADOW);
+    traceRayEXT(xs_tlas, XS_RAY_FLAGS_SHADOW, glass ? XS_CULL_NO_GLASS : XS_CULL_ALL, 0, 0,
+                XS_MISS_INDEX_SHADOW, o, 0.0, d, tmax, XS_PAYLOAD_SHADOW);
     rays++;
-    return float(shadow_visible);
+    if (shadow_visible == 0u)
+        return vec3(0.0);
+    return glass ? xs_glass_transmittance(o, d, tmax, rays) : vec3(1.0);
+}
+
+/** glTF alpha coverage at point bary of a triangle: MASK 0 in a hole and 1 elsewhere, BLEND
+ *  alpha (the probability that a ray stops there, hit.rahit), OPAQUE 1. Scales a light
+ *  sample's emission, so that holes emit nothing, as rays through them find nothing. */
+float xs_coverage(uint instance, uint primitive, vec2 bary)
+{
+    xs_material m = materials[instances[instance].material];
+    if ((m.flags & (XS_MAT_ALPHA_MASK | XS_MAT_ALPHA_BLEND)) == 0u)
+        return 1.0;
+    float a = xs_alpha_at(m, instance, primitive, bary);
+    if ((m.flags & XS_MAT_ALPHA_MASK) != 0u)
+        return a >= m.alpha_cutoff ? 1.0 : 0.0;
+    return clamp(a, 0.0, 1.0);
 }
 
 /* The shadow query of a light sample. With XS_PATH_VISCACHE (sc_shade.rgen) it goes to the
@@ -53,14 +132,51 @@ float xs_visible(vec3 o, vec3 d, float tmax, inout uint rays)
  * density, seed 002 §3.5), which answers at the first vertex; otherwise (spp.rgen) it is a
  * plain xs_visible and the extra arguments are never evaluated. */
 #ifdef XS_PATH_VISCACHE
-float xs_vc_visible(vec3 o, vec3 d, float tmax, uint bounce, xs_surface s, bool below,
-                    uint kind, vec3 lp, vec3 ln, float density, inout uint rays);
+vec3 xs_vc_visible(vec3 o, vec3 d, float tmax, uint bounce, xs_surface s, bool below,
+                   uint kind, vec3 lp, vec3 ln, float density, inout uint rays);
 #define XS_LIGHT_VISIBLE(o, d, tmax, bounce, s, below, kind, lp, ln, density, rays)            \
     xs_vc_visible(o, d, tmax, bounce, s, below, kind, lp, ln, density, rays)
 #else
 #define XS_LIGHT_VISIBLE(o, d, tmax, bounce, s, below, kind, lp, ln, density, rays)            \
     xs_visible(o, d, tmax, rays)
 #endif
+
+/* The light samples of one vertex (at most one per estimator) wait here for their shadow
+ * queries, which the path loop makes from one call site: the driver inlines every call site
+ * of xs_visible with its walk through glass; with six of them a cold compile of spp.rgen's
+ * pipeline on lavapipe ran past 10 minutes on the loaded build machine. */
+#define XS_MAX_SHADOW_QUERIES 5u
+struct xs_shadow_query {
+    vec3 c; /* the contribution if visible */
+    vec3 o, d;
+    float tmax;
+    bool below;
+    uint kind;
+    vec3 lp, ln;
+    float density;
+};
+xs_shadow_query xs_sq[XS_MAX_SHADOW_QUERIES];
+uint xs_sq_count;
+
+/** Queues the shadow query of a light sample (XS_LIGHT_VISIBLE's arguments, contribution c). */
+void xs_shadow_push(vec3 c, vec3 o, vec3 d, float tmax, bool below, uint kind, vec3 lp, vec3 ln,
+                    float density)
+{
+    if (xs_sq_count >= XS_MAX_SHADOW_QUERIES)
+        return;
+    xs_shadow_query q;
+    q.c = c;
+    q.o = o;
+    q.d = d;
+    q.tmax = tmax;
+    q.below = below;
+    q.kind = kind;
+    q.lp = lp;
+    q.ln = ln;
+    q.density = density;
+    xs_sq[xs_sq_count] = q;
+    xs_sq_count++;
+}
 
 /** Index of the emitter whose cdf interval holds u (first i with cdf[i] > u). */
 uint xs_pick_emitter(float u)
@@ -124,25 +240,6 @@ bool xs_side_ok(vec3 wi_world, vec3 ng, float wi_local_z)
     return dot(wi_world, ng) * wi_local_z > 0.0;
 }
 
-/** The BSDF's view of a material (xs_bsdf.glsl). */
-xs_bsdf_in xs_bsdf_input(xs_mat m)
-{
-    xs_bsdf_in b;
-    b.base = m.base;
-    b.metallic = m.metallic;
-    b.roughness = m.roughness;
-    b.transmission = m.transmission;
-    b.ior = m.ior;
-    b.spec_color = m.spec_color;
-    b.specular = m.specular;
-    b.clearcoat = m.clearcoat;
-    b.clearcoat_roughness = m.clearcoat_roughness;
-    b.sheen_color = m.sheen_color;
-    b.sheen_roughness = m.sheen_roughness;
-    b.thin = m.thin;
-    return b;
-}
-
 struct xs_path_out {
     vec3 radiance;
     vec3 albedo; /* xs_demod_albedo of the first hit (1 for a miss) */
@@ -168,8 +265,8 @@ void xs_add_light_sample(inout xs_path_out r, vec3 throughput, vec3 wi, float pl
     if (!xs_finite(c))
         return;
     vec3 o = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
-    r.radiance += c * XS_LIGHT_VISIBLE(o, wi, XS_RAY_TMAX, bounce, s, wi_l.z <= 0.0,
-                                       XS_VC_LIGHT_SOLID_ANGLE, wi, vec3(0.0), pl, r.rays);
+    xs_shadow_push(c, o, wi, XS_RAY_TMAX, wi_l.z <= 0.0, XS_VC_LIGHT_SOLID_ANGLE, wi, vec3(0.0),
+                   pl);
 }
 
 /** Next-event estimation of one punctual light picked by u (a delta light: weight 1, divided
@@ -207,16 +304,14 @@ void xs_add_punctual_light(inout xs_path_out r, vec3 throughput, float u, xs_bsd
     vec3 o = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
     bool below = wi_l.z <= 0.0;
     if (l.type == XS_LIGHT_DIRECTIONAL) {
-        r.radiance += c * XS_LIGHT_VISIBLE(o, wi, XS_RAY_TMAX, bounce, s, below,
-                                           XS_VC_LIGHT_DIRECTION, wi, vec3(0.0), 1.0, r.rays);
+        xs_shadow_push(c, o, wi, XS_RAY_TMAX, below, XS_VC_LIGHT_DIRECTION, wi, vec3(0.0), 1.0);
         return;
     }
     vec3 seg = l.position.xyz - o; /* the shadow ray ends at the light */
     float len = length(seg);
     if (len > 0.0)
-        r.radiance += c * XS_LIGHT_VISIBLE(o, seg / len, len, bounce, s, below,
-                                           XS_VC_LIGHT_POINT, l.position.xyz, vec3(0.0), 1.0,
-                                           r.rays);
+        xs_shadow_push(c, o, seg / len, len, below, XS_VC_LIGHT_POINT, l.position.xyz,
+                       vec3(0.0), 1.0);
 }
 
 /**
@@ -238,6 +333,7 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
     vec3 throughput = vec3(1.0);
     float prev_pdf = 0.0;  /* BSDF pdf of the ray just traced (solid angle) */
     bool prev_delta = true; /* camera rays and delta lobes: emission counts fully */
+    float glass_t = 0.0;    /* distance through glass passed as shadow rays pass it (below) */
     uint max_bounces = frame.max_bounces;
 
     for (uint bounce = 0u;; bounce++) {
@@ -279,7 +375,8 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
             uint ebase = instances[instance].emitter_base;
             if (!prev_delta && ebase != XS_NO_EMITTER && frame.emitter_count > 0u) {
                 float pmf = emitters[ebase + primitive].pmf;
-                float pl = xs_light_pdf(pmf, s.area, t_hit * t_hit, abs(dot(wo, s.ng)));
+                float dl = glass_t + t_hit;
+                float pl = xs_light_pdf(pmf, s.area, dl * dl, abs(dot(wo, s.ng)));
                 w = xs_mis_power(prev_pdf, pl);
             }
             r.radiance += throughput * le * w;
@@ -294,6 +391,7 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
         bool delta = xs_bsdf_is_delta(bsdf);
         vec3 o_up = xs_offset_ray(s.p, s.ng);
 
+        xs_sq_count = 0u;
         if (!delta) {
             /* the sky's sun disk and the environment map: light samples with MIS */
             if (frame.sun_direction.w > 0.0 && frame.sun_cos_max > 0.0) {
@@ -317,10 +415,8 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
                 vec3 fc = xs_bsdf_eval(bsdf, wo_l, wi_l, pdf_b);
                 if (any(greaterThan(fc, vec3(0.0))) && xs_side_ok(wi, s.ng, wi_l.z)) {
                     vec3 o = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
-                    r.radiance += throughput * fc * frame.sun_radiance.rgb *
-                                  XS_LIGHT_VISIBLE(o, wi, XS_RAY_TMAX, bounce, s, wi_l.z <= 0.0,
-                                                   XS_VC_LIGHT_DIRECTION, wi, vec3(0.0), 1.0,
-                                                   r.rays);
+                    xs_shadow_push(throughput * fc * frame.sun_radiance.rgb, o, wi, XS_RAY_TMAX,
+                                   wi_l.z <= 0.0, XS_VC_LIGHT_DIRECTION, wi, vec3(0.0), 1.0);
                 }
             }
             /* one emissive triangle */
@@ -328,14 +424,16 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
                 float ue = xs_rng_next(rng);
                 vec2 ut = xs_rng_next2(rng);
                 xs_emitter e = emitters[xs_pick_emitter(ue)];
-                xs_surface ls = xs_surface_at(e.instance, e.primitive, xs_sample_triangle(ut));
+                vec2 lbary = xs_sample_triangle(ut);
+                xs_surface ls = xs_surface_at(e.instance, e.primitive, lbary);
                 vec3 to_l = ls.p - s.p;
                 float dist2 = dot(to_l, to_l);
                 if (dist2 > 0.0 && e.pmf > 0.0) {
                     vec3 wi = to_l * inversesqrt(dist2);
                     xs_surface_orient(ls, -wi);
                     xs_mat lm = xs_material_at(ls.material, ls.uv);
-                    vec3 lle = xs_emitted(lm, ls.outside);
+                    vec3 lle = xs_emitted(lm, ls.outside) *
+                               xs_coverage(e.instance, e.primitive, lbary);
                     float pl = xs_light_pdf(e.pmf, ls.area, dist2, dot(-wi, ls.ng));
                     vec3 wi_l = xs_to_local(wi, tb, bb, s.ns);
                     float pdf_b;
@@ -350,10 +448,8 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
                             float w = xs_mis_power(pl, pdf_b);
                             vec3 c = throughput * fc * lle * (w / pl);
                             if (xs_finite(c))
-                                r.radiance +=
-                                    c * XS_LIGHT_VISIBLE(o, seg / len, len, bounce, s,
-                                                         wi_l.z <= 0.0, XS_VC_LIGHT_AREA, ls.p,
-                                                         ls.ng, e.pmf / ls.area, r.rays);
+                                xs_shadow_push(c, o, seg / len, len, wi_l.z <= 0.0,
+                                               XS_VC_LIGHT_AREA, ls.p, ls.ng, e.pmf / ls.area);
                         }
                     }
                 }
@@ -362,6 +458,12 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
             if (frame.light_count > 0u)
                 xs_add_punctual_light(r, throughput, xs_rng_next(rng), bsdf, wo_l, tb, bb, s,
                                       o_up, bounce);
+        }
+        /* the shadow queries, in the order the estimators made them */
+        for (uint i = 0u; i < xs_sq_count; i++) {
+            xs_shadow_query q = xs_sq[i];
+            r.radiance += q.c * XS_LIGHT_VISIBLE(q.o, q.d, q.tmax, bounce, s, q.below, q.kind,
+                                                 q.lp, q.ln, q.density, r.rays);
         }
 
         /* BSDF sampling of the bounce ray */
@@ -393,8 +495,18 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
 
         origin = wi_l.z > 0.0 ? o_up : xs_offset_ray(s.p, -s.ng);
         dir = wi;
-        prev_pdf = pdf;
-        prev_delta = is_delta;
+        /* A delta transmission through glass that shadow rays pass (xs_visible) is a null
+         * event for MIS: the emission found behind it is weighted against the light sample
+         * of the last scattering vertex, whose shadow ray came through the same glass, with
+         * the distance summed over the straight segments. */
+        if (is_delta && wi_l.z < 0.0 && frame.glass_instances > 0u &&
+            (materials[s.material].flags & XS_MAT_GLASS_SHADOW) != 0u) {
+            glass_t += t_hit;
+        } else {
+            prev_pdf = pdf;
+            prev_delta = is_delta;
+            glass_t = 0.0;
+        }
     }
     if (!xs_finite(r.radiance))
         r.radiance = vec3(0.0);

@@ -215,24 +215,28 @@ uint vc_lookup(uint64_t d, out uint index, out uint64_t word)
                : 0u;
 }
 
-float vc_trace(vec3 o, vec3 d, float tmax, inout uint rays)
+vec3 vc_trace(vec3 o, vec3 d, float tmax, inout uint rays)
 {
     vc_n_shadow++;
     return xs_visible(o, d, tmax, rays);
 }
 
 /** Alg. 2 lines 4-7: claims the entry (overwriting whatever was there, §4.1), traces this
- *  query's ray as the cluster's representative and stores it unless the claim was lost. */
-float vc_trace_insert(uint64_t d, uint index, uint64_t seen, vec3 o, vec3 dir, float tmax,
+ *  query's ray as the cluster's representative and stores it unless the claim was lost. A
+ *  ray through glass (neither 0 nor 1, xs_visible) is not a binary state: the entry is given
+ *  back as it was, and the cluster's queries trace. */
+vec3 vc_trace_insert(uint64_t d, uint index, uint64_t seen, vec3 o, vec3 dir, float tmax,
                       inout uint rays)
 {
     uint64_t fp = vc_fingerprint(d);
     uint64_t pending = fp | uint64_t(XS_VC_PENDING);
     bool claimed = atomicCompSwap(vc_words[index], seen, pending) == seen;
-    float v = vc_trace(o, dir, tmax, rays);
+    vec3 v = vc_trace(o, dir, tmax, rays);
+    bool binary = all(equal(v, vec3(0.0))) || all(equal(v, vec3(1.0)));
     if (claimed)
         atomicCompSwap(vc_words[index], pending,
-                       fp | uint64_t(v > 0.0 ? XS_VC_VISIBLE : XS_VC_OCCLUDED));
+                       binary ? fp | uint64_t(v.x > 0.0 ? XS_VC_VISIBLE : XS_VC_OCCLUDED)
+                              : seen);
     return v;
 }
 
@@ -262,8 +266,8 @@ bool vc_neighbours_agree(uint64_t prefix, ivec4 c, uint st, bool strict)
  * POINT: the light's position); ln: Y's normal (AREA); density: the light sample's pdf
  * (solid angle, or per m^2 for AREA; delta lights pass 1).
  */
-float xs_vc_visible(vec3 o, vec3 d, float tmax, uint bounce, xs_surface s, bool below,
-                    uint kind, vec3 lp, vec3 ln, float density, inout uint rays)
+vec3 xs_vc_visible(vec3 o, vec3 d, float tmax, uint bounce, xs_surface s, bool below,
+                   uint kind, vec3 lp, vec3 ln, float density, inout uint rays)
 {
     if (vc.p.enabled == 0u || bounce != 0u || !(density > 0.0) || !(vc_first_t > 0.0))
         return vc_trace(o, d, tmax, rays);
@@ -298,7 +302,7 @@ float xs_vc_visible(vec3 o, vec3 d, float tmax, uint bounce, xs_surface s, bool 
     if (!agreed && strict) /* zero tolerance: disagreement down to the last level traces */
         return vc_trace(o, d, tmax, rays);
     vc_n_cached++; /* adaptive without agreement: Alg. 2 returns the finest cluster's value */
-    return finest == XS_VC_VISIBLE ? 1.0 : 0.0;
+    return vec3(finest == XS_VC_VISIBLE ? 1.0 : 0.0);
 }
 
 #endif

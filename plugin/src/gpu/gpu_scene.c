@@ -69,6 +69,7 @@ struct gpu_scene {
 
     xs_instance *host_instances; /**< CPU copy of instances[] */
     uint32_t emitter_count;
+    uint32_t glass_instance_count; /**< instances in XS_CULL_GLASS (xs_frame.glass_instances) */
     double blas_ms, tlas_ms;
 
     /* skins and morph targets (gpu_deform.h): posed into vertices[], then their BLAS updated */
@@ -119,8 +120,20 @@ static void fill_instance_transform(const float world[16], VkTransformMatrixKHR 
             t->matrix[r][col] = world[col * 4 + r];
 }
 
+/** XS_MAT_GLASS_SHADOW's rule (xrsc_shared.h): a thin-walled material whose smooth
+ *  transmission may let shadow rays through somewhere (the shader decides per point from the
+ *  textured values, which only lower the factors). */
+static bool material_glass_shadow(const sc_material *m)
+{
+    bool smooth_dielectric = m->roughness < XS_GLASS_SMOOTH_ROUGHNESS && m->metallic < 1.0f;
+    return m->alpha_mode != SC_ALPHA_BLEND && !m->unlit && m->transmission > 0.0f &&
+           !(m->thickness > 0.0f) &&
+           (smooth_dielectric || m->metal_rough_tex != SC_NO_TEXTURE);
+}
+
 static void write_tlas_instances(gpu_scene *gs, const sc_scene *scene)
 {
+    gs->glass_instance_count = 0;
     VkAccelerationStructureInstanceKHR *inst = gs->tlas_instances.mapped;
     for (uint32_t i = 0; i < scene->instance_count; i++) {
         const sc_instance *si = &scene->instances[i];
@@ -128,7 +141,10 @@ static void write_tlas_instances(gpu_scene *gs, const sc_scene *scene)
         fill_instance_transform(si->world, &inst[i].transform);
         inst[i].instanceCustomIndex = i;
         const sc_material *mat = &scene->materials[scene->meshes[si->mesh].material];
-        inst[i].mask = mat->alpha_mode == SC_ALPHA_BLEND ? XS_CULL_BLEND : XS_CULL_SOLID;
+        inst[i].mask = mat->alpha_mode == SC_ALPHA_BLEND ? XS_CULL_BLEND
+                       : material_glass_shadow(mat)     ? XS_CULL_GLASS
+                                                        : XS_CULL_SOLID;
+        gs->glass_instance_count += inst[i].mask == XS_CULL_GLASS ? 1u : 0u;
         inst[i].instanceShaderBindingTableRecordOffset = 0;
         /* Facing: no FLIP_FACING / FRONT_COUNTERCLOCKWISE bit. Vulkan determines facing in
          * object space, and its default front (clockwise in a left-handed system) is the
@@ -257,7 +273,8 @@ static xrsc_result upload_materials(gpu_context *ctx, gpu_scene *gs, const sc_sc
                                                                  : XS_NO_TEXTURE;
         d->flags = (s->double_sided ? XS_MAT_DOUBLE_SIDED : 0u) | (s->unlit ? XS_MAT_UNLIT : 0u) |
                    (s->alpha_mode == SC_ALPHA_MASK ? XS_MAT_ALPHA_MASK : 0u) |
-                   (s->alpha_mode == SC_ALPHA_BLEND ? XS_MAT_ALPHA_BLEND : 0u);
+                   (s->alpha_mode == SC_ALPHA_BLEND ? XS_MAT_ALPHA_BLEND : 0u) |
+                   (material_glass_shadow(s) ? XS_MAT_GLASS_SHADOW : 0u);
         d->alpha_cutoff = s->alpha_cutoff;
         d->uv1_mask = s->uv1_mask;
         d->normal_tex = s->normal_tex < scene->texture_count ? s->normal_tex : XS_NO_TEXTURE;
@@ -1255,5 +1272,7 @@ void gpu_scene_write_descriptors(gpu_context *ctx, const gpu_scene *gs, gpu_desc
 
 uint32_t gpu_scene_emitter_count(const gpu_scene *gs) { return gs->emitter_count; }
 uint32_t gpu_scene_light_count(const gpu_scene *gs) { return gs->light_count; }
+
+uint32_t gpu_scene_glass_count(const gpu_scene *gs) { return gs->glass_instance_count; }
 double gpu_scene_blas_build_ms(const gpu_scene *gs) { return gs->blas_ms; }
 double gpu_scene_tlas_build_ms(const gpu_scene *gs) { return gs->tlas_ms; }

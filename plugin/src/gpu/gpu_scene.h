@@ -105,6 +105,8 @@ void gpu_scene_write_descriptors(gpu_context *ctx, const gpu_scene *gs, gpu_desc
 uint32_t gpu_scene_emitter_count(const gpu_scene *gs);
 /** Number of punctual lights in lights[] (xs_frame.light_count). */
 uint32_t gpu_scene_light_count(const gpu_scene *gs);
+/** Number of instances in XS_CULL_GLASS (xs_frame.glass_instances). */
+uint32_t gpu_scene_glass_count(const gpu_scene *gs);
 /** GPU time of the BLAS builds and of the TLAS build at load (updates are timed by the
  *  frame that records them, pass "tlas"). */
 double gpu_scene_blas_build_ms(const gpu_scene *gs);

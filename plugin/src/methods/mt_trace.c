@@ -142,6 +142,7 @@ void mt_trace_frame_constants(const mt_trace *t, const xrsc_frame *frame, xs_fra
     xf->samples_per_pixel = 1;
     xf->emitter_count = gpu_scene_emitter_count(t->env.scene);
     xf->light_count = gpu_scene_light_count(t->env.scene);
+    xf->glass_instances = gpu_scene_glass_count(t->env.scene);
     xf->jitter = 0;
     xf->seed = t->env.seed;
 }
