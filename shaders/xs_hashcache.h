@@ -128,7 +128,8 @@ XS_END(xs_hc_stats);
  * running mean of the voxel of the hit's LAST-frame position (same triangle and barycentrics
  * on XS_HC_BIND_PREV_POS, through prev_object_to_world; same LoD, normal axis and jitter) is
  * carried into it: the new voxel starts at that (mean, count) plus this frame's sample, so a
- * walking figure keeps its history instead of restarting every voxel it moves into. The old
+ * walking figure keeps its history instead of restarting every voxel it moves into (a pixel
+ * whose voxel holds no value yet uses that carried mean plus its own path likewise). The old
  * voxel is only read (its stamp is not refreshed). Rigid meshes and still vertices never take
  * this path (their motion is 0). */
 
