@@ -288,6 +288,37 @@ hc_slot hc_lookup(hc_key k, bool insert)
     return r;
 }
 
+/**
+ * The key's written (mean, count) without touching the table: no stamp refresh, no insert, not
+ * counted as a lookup; vec4(0) when absent, pending or empty. `hashcache` reads the voxel of a
+ * deforming hit's last-frame position with it (xs_hashcache.h, deforming surfaces).
+ */
+vec4 hc_peek(hc_key k)
+{
+    uvec2 uv = hc_plane_axes(k.axis);
+    int cu = k.c[uv.x], cv = k.c[uv.y], cw = k.c[k.axis];
+    uint axis6 = k.axis * 2u + k.neg;
+    uint tile0 = hc_chain(HC_SEED_INDEX, ivec3(cu >> XS_HC_TILE_SHIFT, cv >> XS_HC_TILE_SHIFT, cw),
+                          k.lod, axis6) % hcp.tiles;
+    uint in_tile = uint(cu & int(XS_HC_TILE - 1u)) + XS_HC_TILE * uint(cv & int(XS_HC_TILE - 1u));
+    uint check = hc_chain(HC_SEED_CHECK, k.c, k.lod, axis6) & XS_HC_CHECKSUM_MASK;
+    for (uint i = 0u; i < XS_HC_MAX_PROBE; i++) {
+        uint e = ((tile0 + i) % hcp.tiles) * XS_HC_TILE_ENTRIES + in_tile;
+        uint64_t w = atomicLoad(hc_words[e], gl_ScopeDevice, gl_StorageSemanticsBuffer,
+                                gl_SemanticsRelaxed);
+        if (hc_word_stamp(w) == 0u)
+            break;
+        if (hc_word_check(w) != check)
+            continue;
+        if (hc_word_pending(w))
+            break;
+        memoryBarrierBuffer(); /* acquire, as hc_read */
+        vec4 v = hc_rad[e];
+        return v.w > 0.0 && xs_finite(v.rgb) ? v : vec4(0.0);
+    }
+    return vec4(0.0);
+}
+
 /** The entry's demodulated radiance mean and count; count 0 when pending (nothing written). */
 vec4 hc_read(hc_slot s)
 {
@@ -304,12 +335,22 @@ vec4 hc_read(hc_slot s)
  * min(c + 1, XS_HC_MAX_COUNT). Non-finite l leaves the mean (a fresh entry: count 0).
  * Returns the new (mean, count).
  */
-vec4 hc_store(hc_slot s, vec3 l)
+vec4 hc_store_carry(hc_slot s, vec3 l, vec4 prior);
+vec4 hc_store(hc_slot s, vec3 l) { return hc_store_carry(s, l, vec4(0.0)); }
+
+/**
+ * hc_store, but a fresh entry starts from prior (a mean and count carried from another voxel,
+ * count 0: none) as an existing entry would: (mix(prior, l, 1 / c), c = min(prior count + 1,
+ * XS_HC_MAX_COUNT)); non-finite l leaves prior.
+ */
+vec4 hc_store_carry(hc_slot s, vec3 l, vec4 prior)
 {
     bool ok = xs_finite(l);
     vec4 v;
     if (s.fresh) {
-        v = ok ? vec4(l, 1.0) : vec4(0.0);
+        float c = min(prior.w + 1.0, XS_HC_MAX_COUNT);
+        v = ok ? vec4(prior.w > 0.0 ? mix(prior.rgb, l, 1.0 / c) : l, prior.w > 0.0 ? c : 1.0)
+               : prior;
         hc_rad[s.entry] = v;
         memoryBarrierBuffer(); /* release: the radiance before the cleared flag (hc_read) */
         atomicAnd(hc_words[s.entry], ~uint64_t(XS_HC_PENDING));

@@ -5,6 +5,7 @@
  *        (sc_scene_posed_vertex), a morph target at weight 0.5, and the sample cache following
  *        a skinned surface (validation with synchronization validation on).
  */
+#include "mt_hashcache.h"
 #include "mt_method.h"
 #include "test_samplecache_util.h"
 #include "tf_taa.h"
@@ -407,6 +408,62 @@ static void test_taa_follows_skin(void)
     CHECK(err < err_rigid);
 }
 
+/* ---- the hash cache follows the walking figure (issue 21 item 3) ---- */
+
+#define T_HC_SCENE "scenes/character.gltf"
+#define T_HC_W 32u
+#define T_HC_FRAMES 6u
+#define T_HC_DT (1.0 / 30.0) /* s per frame: the figure walks 1 m/s */
+
+/** `hashcache` on character.gltf (walk), T_HC_FRAMES frames from 0.3 s: over the frames after
+ *  the first, the share of the figure's cache lookups whose voxel holds earlier frames'
+ *  samples (mt_hashcache_deform_stats); follow false: the test-only switch off. */
+static double run_hashcache(bool follow)
+{
+    tsc_rig r = {.width = T_HC_W, .height = T_HC_W};
+    xrsc_diag diag = {0};
+    gpu_context_options go = {.validation = true};
+    xrsc_result res = gpu_context_create(&go, &r.gpu, &diag);
+    if (res == XRSC_OK)
+        res = sc_scene_load(t_source_path(T_HC_SCENE), NULL, &r.cpu, &diag);
+    if (res == XRSC_OK)
+        res = gpu_scene_create(r.gpu, r.cpu, &r.gs, &diag);
+    mt_env env = {.gpu = r.gpu, .scene = r.gs, .cpu_scene = r.cpu, .width = T_HC_W,
+                  .height = T_HC_W};
+    xrsc_hashcache_options o = {.table_entries = 1u << 16};
+    if (res == XRSC_OK)
+        res = mt_hashcache_create(&env, &o, &r.m, &diag);
+    CHECK_EQ_INT(res, XRSC_OK);
+    if (res != XRSC_OK)
+        tsc_print_diag(&diag);
+    else
+        mt_hashcache_set_deform_follow(r.m, follow);
+    uint64_t lookups = 0, history = 0;
+    for (uint32_t k = 0; res == XRSC_OK && k < T_HC_FRAMES; k++) {
+        double t = 0.3 + k * T_HC_DT;
+        xrsc_frame f = rp_frame(r.cpu, k, t);
+        tsc_set_time(&r, t);
+        res = tsc_render(r.m, &f) ? XRSC_OK : XRSC_ERROR_VULKAN;
+        uint32_t l = 0, h = 0;
+        if (res == XRSC_OK && k > 0) {
+            mt_hashcache_deform_stats(r.m, &l, &h);
+            lookups += l, history += h;
+        }
+    }
+    CHECK_MSG(lookups > 100, "only %llu lookups on the figure", (unsigned long long)lookups);
+    tsc_close(&r);
+    return lookups ? (double)history / lookups : 0.0;
+}
+
+static void test_hashcache_follows_skin(void)
+{
+    double on = run_hashcache(true), off = run_hashcache(false);
+    printf("  hashcache on %s (walk): figure lookups finding history %.1f %% following the "
+           "skin, %.1f %% keyed by this frame's position only\n",
+           T_HC_SCENE, 100.0 * on, 100.0 * off);
+    CHECK(on > off + 0.1);
+}
+
 /* ---- every JOINTS_n / WEIGHTS_n set; bad joints refused ---- */
 
 /** One triangle skinned by two sets: JOINTS_0 = joint 0 (identity) with weight 0.5, JOINTS_1 =
@@ -486,5 +543,6 @@ int main(void)
     RUN(test_two_joint_sets);
     RUN(test_reprojection_follows_skin);
     RUN(test_taa_follows_skin);
+    RUN(test_hashcache_follows_skin);
     return t_finish();
 }

@@ -22,6 +22,7 @@ typedef struct mt_hashcache {
     mt_trace trace;       /**< hc_trace.rgen + outputs, frame UBO, ray counter, timer */
     gpu_rt_program shade; /**< hc_shade.rgen */
     gpu_buffer hits;      /**< uvec4 per pixel of both eyes */
+    gpu_buffer no_prev_pos; /**< bound as XS_HC_BIND_PREV_POS when no mesh deforms */
     mt_hctable table;
 } mt_hashcache;
 
@@ -112,6 +113,7 @@ static void hc_destroy(mt_method *m)
         vkDeviceWaitIdle(ctx->device);
         gpu_rt_program_destroy(ctx, &s->shade);
         gpu_buffer_destroy(ctx, &s->hits);
+        gpu_buffer_destroy(ctx, &s->no_prev_pos);
     }
     mt_hctable_fini(&s->table);
     mt_trace_fini(&s->trace);
@@ -150,13 +152,16 @@ xrsc_result mt_hashcache_create(const mt_env *env, const xrsc_hashcache_options 
         .counters = hc_counters,
     };
     /* from here on hc_destroy frees whatever was created */
-    gpu_binding shade_set1[MT_HCTABLE_BINDING_COUNT + 1];
+    gpu_binding shade_set1[MT_HCTABLE_BINDING_COUNT + 2];
     uint32_t n = mt_hctable_bindings(shade_set1);
     shade_set1[n++] = hits_binding;
+    shade_set1[n++] = (gpu_binding){XS_HC_BIND_PREV_POS, GPU_BINDING_STORAGE_BUFFER, 1};
     gpu_rt_program_desc shade_desc = {
         .raygen = "hc_shade.rgen", .set1 = shade_set1, .set1_count = n};
     VkDeviceSize hits_size = 2ull * env->width * env->height * 4 * sizeof(uint32_t);
     if ((res = gpu_buffer_create_storage(ctx, hits_size, &s->hits, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEMORY_DEVICE,
+                                 &s->no_prev_pos, diag)) != XRSC_OK ||
         (res = gpu_rt_program_create(ctx, &shade_desc, &s->shade, diag)) != XRSC_OK) {
         hc_destroy(&s->base);
         return res;
@@ -166,6 +171,24 @@ xrsc_result mt_hashcache_create(const mt_env *env, const xrsc_hashcache_options 
     mt_trace_write_set0(&s->trace, &s->shade.set0);
     mt_hctable_write(&s->table, &s->shade.set1);
     gpu_descriptors_write_buffer(ctx, &s->shade.set1, XS_HC_BIND_HITS, &s->hits);
+    /* deforming surfaces follow their last-frame position (xs_hashcache.h) */
+    const gpu_buffer *prev_pos = gpu_scene_prev_positions(env->scene);
+    s->table.p.deform = prev_pos != NULL;
+    s->table.p.deform_follow = 1;
+    gpu_descriptors_write_buffer(ctx, &s->shade.set1, XS_HC_BIND_PREV_POS,
+                                 prev_pos ? prev_pos : &s->no_prev_pos);
     *out = &s->base;
     return XRSC_OK;
+}
+
+void mt_hashcache_set_deform_follow(mt_method *m, bool follow)
+{
+    ((mt_hashcache *)m)->table.p.deform_follow = follow ? 1u : 0u;
+}
+
+void mt_hashcache_deform_stats(const mt_method *m, uint32_t *out_lookups, uint32_t *out_history)
+{
+    const mt_hctable *t = &((const mt_hashcache *)m)->table;
+    *out_lookups = t->have_last ? t->last.deform_lookups : 0u;
+    *out_history = t->have_last ? t->last.deform_history : 0u;
 }

@@ -20,6 +20,9 @@
  * touches the table; its outgoing radiance depends on the view direction, so a voxel mean
  * shared between pixels, eyes, frames and (hybrid) levels is wrong there. In `hybrid` the
  * own path travels from shade to reconstruct in the unused XS_BIND_ACCUM image.
+ * `hashcache` follows deforming (skinned, morphed) surfaces: a voxel inserted for a hit that
+ * moved since the last frame starts from the running mean of the voxel of the hit's last-frame
+ * position (xs_hashcache.h, issue 21 item 3); `hybrid` keys by this frame's position only.
  * Both report the table's counters (mt_hctable.h) through mt_method.counters.
  */
 #pragma once
@@ -40,6 +43,14 @@ extern "C" {
  */
 xrsc_result mt_hashcache_create(const mt_env *env, const xrsc_hashcache_options *options,
                                 mt_method **out, xrsc_diag *diag);
+
+/** Tests (issue 21 item 3): false stops deforming surfaces from following their last-frame
+ *  position (xs_hashcache.h): their voxels are keyed by this frame's position only. */
+void mt_hashcache_set_deform_follow(mt_method *hashcache, bool follow);
+/** The last frame's lookups of hits on deforming surfaces and, of those, the ones whose voxel
+ *  holds earlier frames' samples (xs_hc_stats deform_lookups, deform_history). */
+void mt_hashcache_deform_stats(const mt_method *hashcache, uint32_t *out_lookups,
+                               uint32_t *out_history);
 
 /**
  * `hybrid`: visibility from the sample cache with sc (its trace, reprojection, density and
