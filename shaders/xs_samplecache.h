@@ -166,7 +166,9 @@ XS_STRUCT(xs_sc_params)
     xs_uint isrt_m; /* `isrt` (mt_isrt.c): M > 0 = slot s is sub-pixel cell (s % M, s / M) of
                        an M x M grid, see XS_SC_ISRT_* (0: the plain sample cache) */
     xs_uint cross_eye; /* 1: cross-eye reuse (XS_SC_BIND_FOREIGN) */
-    xs_uint pad2;
+    xs_uint debug_permute; /* tests only (XRSC_DEBUG_PERMUTE, mt_samplecache.c): 1 = the
+                              reproject, shade select and shade launches take their work items
+                              in reverse order (sc_work_item, sc_list_entry) */
 }
 XS_END(xs_sc_params);
 

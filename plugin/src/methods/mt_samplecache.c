@@ -487,6 +487,15 @@ static xrsc_result create_viscache(mt_samplecache *s, xrsc_diag *diag)
                             rate, s->trace.env.width, s->trace.env.height, diag);
 }
 
+/* Tests only: XRSC_DEBUG_PERMUTE=1 runs the order-sensitive passes' work items in reverse
+ * (xs_sc_params.debug_permute), so a result that depends on invocation order shows up on
+ * lavapipe, which runs them in a fixed order (tests/gpu/test_order.c). */
+static uint32_t debug_permute(void)
+{
+    const char *v = getenv("XRSC_DEBUG_PERMUTE");
+    return v && strcmp(v, "1") == 0 ? 1u : 0u;
+}
+
 /* The cache's buffers (xs_samplecache.h) and the moment images. */
 static xrsc_result create_buffers(mt_samplecache *s, xrsc_diag *diag)
 {
@@ -628,6 +637,7 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         .shade_rate = o.shade_rate,
         .alpha_fixed = o.alpha_fixed,
         .cross_eye = o.cross_eye ? 1u : 0u,
+        .debug_permute = debug_permute(),
     };
     s->p.shade_capacity = shade_capacity(&o, env->width, env->height);
     s->p.isrt_m = var.isrt_m;
