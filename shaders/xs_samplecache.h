@@ -114,9 +114,11 @@
 /* Instance value of a background sample (fh.xyz = unit world direction as float bits). */
 #define XS_SC_BACKGROUND XS_MISS_INSTANCE
 
-/* 2-pass source word: bit 31 = the source sample is visible, bits 0..30 = source address + 1
- * (address = slot * plane + pix in the previous copy); 0 = nothing reserved. */
-#define XS_SC_SRC_VISIBLE 0x80000000u
+/* Reservation key per target slot (sc_reproject.comp offer_sorted, sc_copy.comp): bit 31 =
+ * the source sample is INVISIBLE, bits 0..30 = source address + 1 (address = slot * plane +
+ * pix in the previous copy); XS_SC_SRC_NONE (the fill value) = nothing arrived. */
+#define XS_SC_SRC_INVISIBLE 0x80000000u
+#define XS_SC_SRC_NONE 0xFFFFFFFFu
 #define XS_SC_SRC_ADDR_MASK 0x7FFFFFFFu
 
 /* `isrt` [DSK*17] (seed 000 §5, Fig. 10): the reprojection's key per slot (64-bit atomicMin in
