@@ -10,7 +10,9 @@
  * the same frames (the head sliding sideways, so reprojection piles several samples onto some
  * pixels, and the visibility cache on) with the identity and the reversed order and asserts
  * the same colour bits and the same visibility cache counters. Before the order-independent
- * reservation (sc_reproject.comp) and insertion (xs_viscache.glsl), both cases failed here.
+ * reservation (sc_reproject.comp) and insertion (xs_viscache.glsl), every case failed (the
+ * commit that added this test: 2757 of 8192 floats differed with default options at 32 x 32,
+ * and the visibility cache's counters differed from frame 0 on).
  */
 #include "test_samplecache_util.h"
 
@@ -105,14 +107,11 @@ static void test_order(void)
         tsc_close(&rig);
         return;
     }
-    xrsc_samplecache_options plain = {0};
+    /* cross-eye reuse adds the copies from the other eye to the reservation */
+    xrsc_samplecache_options cross = {.cross_eye = true};
     xrsc_samplecache_options vis = {.visibility = {.enabled = true}};
-    xrsc_samplecache_options cross = {.cross_eye = true,
-                                      .reproject = XRSC_SC_REPROJECT_2PASS,
-                                      .visibility = {.enabled = true}};
-    check_case(&rig, "defaults", &plain, false);
+    check_case(&rig, "cross-eye", &cross, false);
     check_case(&rig, "visibility cache", &vis, true);
-    check_case(&rig, "cross-eye, 2pass, visibility cache", &cross, true);
     tsc_close(&rig);
 }
 
