@@ -125,6 +125,17 @@ vec3 sc_eye_pos(uint eye) { return frame.eyes[eye].view_inv[3].xyz; }
 /** `isrt` [DSK*17]: slot s of a pixel is the fixed sub-pixel cell (s % M, s / M) of an M x M
  *  grid (seed 000 §5, Fig. 10). */
 bool sc_isrt() { return scp.isrt_m != 0u; }
+
+/** The work item (x, y, eye) of invocation g of a per-pixel pass whose result must not depend
+ *  on the order its invocations run in: g itself, or under scp.debug_permute (tests) the
+ *  reverse order, so a test on lavapipe (which runs them in a fixed order) sees a different
+ *  one. g must be inside the image. */
+uvec3 sc_work_item(uvec3 g)
+{
+    if (scp.debug_permute == 0u)
+        return g;
+    return uvec3(frame.width - 1u - g.x, frame.height - 1u - g.y, 1u - g.z);
+}
 /** The slot (cell) of a sub-pixel position: pos in pixels, its fraction picks the cell. */
 uint sc_isrt_slot(vec2 pos)
 {
@@ -373,8 +384,11 @@ bool sc_list_entry(out uint entry)
     uint row = (gl_LaunchIDEXT.y % q) * XS_SC_SHADE_STRIPES + gl_LaunchIDEXT.y / q;
     uint idx = row * gl_LaunchSizeEXT.x + gl_LaunchIDEXT.x;
     entry = 0u;
-    if (idx >= min(sc_shade_count, scp.shade_capacity))
+    uint n = min(sc_shade_count, scp.shade_capacity);
+    if (idx >= n)
         return false;
+    if (scp.debug_permute != 0u) /* tests: the reverse order (sc_work_item) */
+        idx = n - 1u - idx;
     entry = sc_shade_list[idx];
     return true;
 }

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file sc_copy.comp
- * @brief Sample cache pass "reproject", second half of the 2-pass variant (seed 000 §3.1):
- *        copies each reserved slot's sample from the source address sc_reproject.comp wrote.
+ * @brief Sample cache pass "reproject", second half (seed 000 §3.1): copies each slot's sample
+ *        from the source address of the key sc_reproject.comp left there (XS_SC_SRC_*).
  *
- * One invocation per target pixel (x, y, eye), looping over its slots; data and the mask's
- * occupancy/visibility bits then always belong to the same sample. Counts importance (§3.5).
+ * One invocation per target pixel (x, y, eye), looping over its slots; it writes the pixel's
+ * mask (and the foreign bits of cross-eye copies: sources in the other eye), which nothing
+ * else touches in this pass, so data and the mask's occupancy/visibility bits always belong to
+ * the same sample. Counts importance (§3.5).
  *
  * `isrt` (scp.isrt_m > 0) always runs this pass: each cell's winning key (sc_reproject.comp,
  * XS_SC_ISRT_KEY_*) names the sample to copy, and this invocation writes the pixel's mask,
@@ -61,9 +63,19 @@ void main()
         copy_isrt(eye, pix);
         return;
     }
+    uint m = 0u, foreign = 0u, per_eye = frame.width * frame.height;
     for (uint s = 0u; s < scp.slots; s++) {
         uint w = sc_src[s * sc_plane() + pix];
-        if (w != 0u)
-            copy_sample(eye, pix, s, (w & XS_SC_SRC_ADDR_MASK) - 1u, (w & XS_SC_SRC_VISIBLE) != 0u);
+        if (w == XS_SC_SRC_NONE)
+            break; /* the keys fill the slots from 0 */
+        bool visible = (w & XS_SC_SRC_INVISIBLE) == 0u;
+        uint addr = (w & XS_SC_SRC_ADDR_MASK) - 1u;
+        copy_sample(eye, pix, s, addr, visible);
+        m |= sc_obit(s) | (visible ? sc_vbit(s) : 0u);
+        if ((addr % sc_plane()) / per_eye != eye)
+            foreign |= sc_obit(s);
     }
+    sc_mask[sc_mask_at(scp.cur, pix)] = m;
+    if (scp.cross_eye != 0u)
+        sc_foreign[sc_mask_at(scp.cur, pix)] = foreign;
 }

@@ -6,27 +6,26 @@
  *
  * One invocation per source pixel (x, y, eye). Each occupied slot's world position is rebuilt
  * from its first hit with the CURRENT instance transforms (App. D) (background samples: their
- * direction), projected into this frame's view of the eye, and stored in a slot reserved on
- * the target pixel's mask (Listing 2, with a compare-and-swap for its atomic OR: see
- * try_reserve): a lost race is retried; when all slots are taken a visible sample takes an
- * invisible one's slot; an invisible sample that finds no free slot is dropped.
- *
- * 1-pass (scp.two_pass = 0): the winner writes fh and rad at once (the two benign races of
- * §3.1 are accepted, as the paper does). 2-pass: the winner writes only its source address
- * into src[] with atomicMax of (visible << 31 | address + 1), so a visible sample that took
- * over an invisible one's slot always wins, and sc_copy.comp copies the data.
+ * direction) and projected into this frame's view of the eye. Listing 2 reserves a slot of
+ * the target pixel for it in order of arrival (first come, first served; a visible sample may
+ * take an invisible one's slot), which on a GPU, where the invocations run in no fixed order,
+ * makes the kept samples, their slots and so the image differ from run to run. Here every
+ * arrival offers a key instead (offer_sorted: visible first, then the lowest source address)
+ * and the target keeps the N smallest, sorted: the same min(V + I, N) samples of which
+ * min(V, N) visible as Listing 2 keeps, chosen and placed the same way in any order;
+ * sc_copy.comp then copies them and writes the mask. Both variants (scp.two_pass 0 and 1) do
+ * this now: Listing 2's 1-pass writes during the reservation cannot be order-independent.
  *
  * Visible samples also update the target pixel's closest distance + slope (Eq. 1) in one
- * 64-bit atomicMin and its farthest distance (atomicMax on the float bits), §3.4; the 1-pass
- * variant counts importance (§3.5) here, the 2-pass one in sc_copy.comp.
+ * 64-bit atomicMin and its farthest distance (atomicMax on the float bits), §3.4 (both
+ * order-independent); sc_copy.comp counts importance (§3.5).
  *
  * Cross-eye reuse (scp.cross_eye): after its own samples, each invocation sends a copy of every
  * visible sample whose radiance does not depend on the eye (background, or a surface that is
  * not xs_sc_eye_specific) into the OTHER eye's view, reserved there like any visible sample
- * and marked foreign (xs_samplecache.h); the previous copy's foreign samples are not carried
- * (their owner sent fresh copies). A copy carries the radiance the owner's last shading left.
- * The copies are sent after the own samples' loop, so with cross-eye reuse off the order of
- * the atomics, and the images, are those of before.
+ * and marked foreign by sc_copy.comp (its source is in the other eye); the previous copy's
+ * foreign samples are not carried (their owner sent fresh copies). A copy carries the
+ * radiance the owner's last shading left.
  *
  * `isrt` (scp.isrt_m = M > 0, [DSK*17] as seed 000 §5 / Fig. 10 uses it): no reservation; the
  * slot is the sub-pixel cell of the M x M grid that contains the reprojected position, and of
@@ -48,42 +47,6 @@ layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1)
 /* Reservation attempts: each failed one means another sample added mask bits (at most 2 N). */
 #define SC_MAX_RESERVE_TRIES (2u * XS_SC_MAX_SLOTS + 1u)
 
-/** Listing 2, choose_target_slot: a free slot, else (visible samples only) an invisible one. */
-int choose_target_slot(bool visible, uint m)
-{
-    uint free_slots = ~sc_occ(m) & sc_all_slots();
-    if (free_slots != 0u)
-        return findLSB(free_slots);
-    if (visible) {
-        uint invisible = sc_occ(m) & ~sc_vis(m) & sc_all_slots();
-        if (invisible != 0u)
-            return findLSB(invisible);
-    }
-    return -1;
-}
-
-/**
- * Listing 2, try_reserve, as one compare-and-swap of the target mask: slot i's occupancy bit
- * (and visibility bit for a visible sample) are set only if the mask is still m, the value the
- * slot was chosen from; otherwise m becomes the current mask and the caller chooses again.
- *
- * Listing 2 itself ORs the bits in and lets a visible sample keep a slot whose occupant turned
- * out to be invisible. With a stale m that happens while free slots remain (two samples chose
- * the same "free" slot, the invisible one got there first): an eviction without need, whose
- * count depends on the order of arrival. The compare-and-swap evicts only in a full pixel, so
- * a pixel receiving V visible and I invisible samples keeps min(V + I, N) of them, min(V, N)
- * visible, in any order. The mask only gains bits during the pass (at most 2 N changes), so
- * SC_MAX_RESERVE_TRIES attempts always suffice.
- */
-bool try_reserve(uint tmask, uint i, bool visible, inout uint m)
-{
-    uint want = m | sc_obit(i) | (visible ? sc_vbit(i) : 0u);
-    uint seen = atomicCompSwap(sc_mask[tmask], m, want);
-    bool success = seen == m;
-    m = success ? want : seen;
-    return success;
-}
-
 /** The target pixel's depth words (§3.4): closest distance + slope, farthest distance. */
 void update_depth_words(uint tpix, bool background, float t, float slope)
 {
@@ -104,22 +67,23 @@ void isrt_offer(uint s, uint pix, uint tpix, vec2 pos, bool visible, float t)
     atomicMin(sc_src_key[key_at], key);
 }
 
-/** Listing 2, write_sample's reservation: a slot of target mask tmask for a (visible) sample;
- *  false when none is left. */
-bool reserve_slot(uint tmask, bool visible, out uint slot)
+/**
+ * Listing 2's reservation, made independent of the order of arrival: source sample (slot s of
+ * pix) offers its key (XS_SC_SRC_*: visible first, then the lowest source address) to target
+ * pixel tpix's slots, which keep the N smallest keys sorted. Each atomicMin leaves the smaller
+ * of (word, key) in slot i and carries the larger one on to slot i + 1, so every word ends as
+ * the minimum of what reached it and the rest moves on: the words end as the N smallest keys
+ * of all arrivals, in order, whichever order they came in (sc_copy.comp copies them).
+ */
+void offer_sorted(uint tpix, uint s, uint pix, bool visible)
 {
-    uint m = sc_mask[tmask];
-    slot = 0u;
-    for (uint tries = 0u; tries < SC_MAX_RESERVE_TRIES; tries++) {
-        int i = choose_target_slot(visible, m);
-        if (i < 0)
-            return false;
-        if (try_reserve(tmask, uint(i), visible, m)) {
-            slot = uint(i);
-            return true;
-        }
+    uint key = (visible ? 0u : XS_SC_SRC_INVISIBLE) | (s * sc_plane() + pix + 1u);
+    for (uint i = 0u; i < scp.slots; i++) {
+        uint old = atomicMin(sc_src[i * sc_plane() + tpix], key);
+        if (old == XS_SC_SRC_NONE)
+            return;
+        key = max(old, key);
     }
-    return false;
 }
 
 /** Cross-eye reuse: whether the surface sample fh on tri (fetched with attributes) is shaded
@@ -148,24 +112,6 @@ bool project_sample(uint teye, vec4 pw, sc_tri tri, out vec2 pos, out float t, o
     return true;
 }
 
-/** Listing 2, write_sample after the reservation: source sample (slot s of pix in the previous
- *  copy, first hit fh) into slot `slot` of target pixel tpix of eye teye. */
-void write_sample(uint teye, uint tpix, uint slot, uint s, uint pix, uvec4 fh, bool visible)
-{
-    uint prev = sc_prev();
-    if (scp.two_pass != 0u) {
-        uint addr = s * sc_plane() + pix;
-        atomicMax(sc_src[slot * sc_plane() + tpix],
-                  (visible ? XS_SC_SRC_VISIBLE : 0u) | (addr + 1u));
-    } else {
-        sc_fh[sc_slot_at(scp.cur, slot, tpix)] = fh;
-        uvec2 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_at(prev, s, pix)] : uvec2(0u);
-        sc_rad[sc_rad_at(scp.cur, slot, tpix)] = rad; /* the halves as they are */
-        if (visible && !sc_is_background(fh) && scp.shade_mode == XS_SC_SHADE_ADAPTIVE)
-            sc_count_importance(teye, xs_sc_importance(unpackHalf2x16(rad.y).y));
-    }
-}
-
 /**
  * Cross-eye reuse: a copy of visible source sample (slot s of pix, first hit fh, world position
  * or direction pw, on tri unless background) in eye teye, the other eye, marked foreign. It is
@@ -179,11 +125,7 @@ void send_copy(uint teye, uint s, uint pix, uvec4 fh, vec4 pw, sc_tri tri)
     if (!project_sample(teye, pw, tri, pos, t, slope))
         return;
     uint tpix = sc_pix(teye, uvec2(pos));
-    uint slot;
-    if (!reserve_slot(sc_mask_at(scp.cur, tpix), true, slot))
-        return;
-    atomicOr(sc_foreign[sc_mask_at(scp.cur, tpix)], sc_obit(slot));
-    write_sample(teye, tpix, slot, s, pix, fh, true);
+    offer_sorted(tpix, s, pix, true); /* foreign: sc_copy.comp sees the source's eye */
     update_depth_words(tpix, background, t, slope);
 }
 
@@ -214,6 +156,7 @@ void main()
     uvec3 g = gl_GlobalInvocationID;
     if (g.x >= frame.width || g.y >= frame.height)
         return;
+    g = sc_work_item(g);
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
     uint prev = sc_prev();
@@ -242,7 +185,6 @@ void main()
         if (!project_sample(eye, pw, tri, pos, t, slope))
             continue;
         uint tpix = sc_pix(eye, uvec2(pos));
-        uint tmask = sc_mask_at(cur, tpix);
         if (sc_isrt()) {
             isrt_offer(s, pix, tpix, pos, visible, t);
             if (visible)
@@ -250,12 +192,8 @@ void main()
             continue;
         }
 
-        /* Listing 2, write_sample */
-        uint slot;
-        if (!reserve_slot(tmask, visible, slot))
-            continue;
-
-        write_sample(eye, tpix, slot, s, pix, fh, visible);
+        /* Listing 2, write_sample: the reservation; sc_copy.comp writes */
+        offer_sorted(tpix, s, pix, visible);
         if (visible)
             update_depth_words(tpix, background, t, slope);
     }

@@ -63,6 +63,7 @@ void main()
     uvec3 g = gl_GlobalInvocationID;
     if (g.x >= frame.width || g.y >= frame.height)
         return;
+    g = sc_work_item(g);
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
     uint cur = scp.cur;

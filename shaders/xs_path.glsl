@@ -136,7 +136,11 @@ vec3 xs_vc_visible(vec3 o, vec3 d, float tmax, uint bounce, xs_surface s, bool b
                    uint kind, vec3 lp, vec3 ln, float density, inout uint rays);
 #define XS_LIGHT_VISIBLE(o, d, tmax, bounce, s, below, kind, lp, ln, density, rays)            \
     xs_vc_visible(o, d, tmax, bounce, s, below, kind, lp, ln, density, rays)
+/* a visibility cache pre-pass launch: the path stops after the first vertex's light samples */
+bool xs_vc_prepass();
+#define XS_PATH_STOP_AFTER_LIGHTS(bounce) ((bounce) == 0u && xs_vc_prepass())
 #else
+#define XS_PATH_STOP_AFTER_LIGHTS(bounce) false
 #define XS_LIGHT_VISIBLE(o, d, tmax, bounce, s, below, kind, lp, ln, density, rays)            \
     xs_visible(o, d, tmax, rays)
 #endif
@@ -466,6 +470,8 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
                                                  q.lp, q.ln, q.density, r.rays);
         }
 
+        if (XS_PATH_STOP_AFTER_LIGHTS(bounce))
+            break;
         /* BSDF sampling of the bounce ray */
         vec3 u3 = vec3(xs_rng_next2(rng), xs_rng_next(rng));
         vec3 wi_l, weight;

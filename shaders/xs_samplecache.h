@@ -114,9 +114,11 @@
 /* Instance value of a background sample (fh.xyz = unit world direction as float bits). */
 #define XS_SC_BACKGROUND XS_MISS_INSTANCE
 
-/* 2-pass source word: bit 31 = the source sample is visible, bits 0..30 = source address + 1
- * (address = slot * plane + pix in the previous copy); 0 = nothing reserved. */
-#define XS_SC_SRC_VISIBLE 0x80000000u
+/* Reservation key per target slot (sc_reproject.comp offer_sorted, sc_copy.comp): bit 31 =
+ * the source sample is INVISIBLE, bits 0..30 = source address + 1 (address = slot * plane +
+ * pix in the previous copy); XS_SC_SRC_NONE (the fill value) = nothing arrived. */
+#define XS_SC_SRC_INVISIBLE 0x80000000u
+#define XS_SC_SRC_NONE 0xFFFFFFFFu
 #define XS_SC_SRC_ADDR_MASK 0x7FFFFFFFu
 
 /* `isrt` [DSK*17] (seed 000 §5, Fig. 10): the reprojection's key per slot (64-bit atomicMin in
@@ -171,6 +173,10 @@ XS_STRUCT(xs_sc_params)
                        an M x M grid, see XS_SC_ISRT_* (0: the plain sample cache) */
     xs_uint cross_eye; /* 1: cross-eye reuse (XS_SC_BIND_FOREIGN) */
     xs_float firefly_k; /* firefly rule (sc_shade.rgen): cap / running mean; 0 = off */
+    xs_uint debug_permute; /* tests only (XRSC_DEBUG_PERMUTE, mt_samplecache.c): 1 = the
+                              reproject, shade select and shade launches take their work items
+                              in reverse order (sc_work_item, sc_list_entry) */
+    xs_uint pad_a, pad_b, pad_c; /* std140: the block is a multiple of 16 bytes */
 }
 XS_END(xs_sc_params);
 
@@ -210,7 +216,7 @@ XS_STRUCT(xs_sc_selftest_io)
 XS_END(xs_sc_selftest_io);
 
 #ifndef XRSC_GLSL
-_Static_assert(sizeof(xs_sc_params) == 80, "xs_sc_params layout (std140)");
+_Static_assert(sizeof(xs_sc_params) == 96, "xs_sc_params layout (std140)");
 _Static_assert(offsetof(xs_sc_params, phi_left) == 56, "xs_sc_params layout (std140)");
 _Static_assert(sizeof(xs_sc_stats) == 80, "xs_sc_stats layout (std430)");
 _Static_assert(sizeof(xs_sc_selftest_io) == 96, "xs_sc_selftest_io layout (std430)");

@@ -30,10 +30,18 @@
  * is hashed to a 64-bit digest with §4.1's second scheme (d <- A(C(d)) xor j: an LCG C then a
  * xor-shift A): the table index from its high 32 bits, a 62-bit fingerprint from a further mix.
  *
- * Alg. 2 (C_MSR = vc.p.levels levels, C_E halved per level): an empty (or foreign) entry is
- * claimed with atomicCompSwap as XS_VC_PENDING, the ray is traced from this query's own X and
- * Y (the cluster's representatives, §3.4) and the result stored; a pending entry (another
- * invocation's ray in flight) makes this query trace its own ray without storing. A known
+ * Alg. 2 (C_MSR = vc.p.levels levels, C_E halved per level), made independent of the order
+ * in which the invocations of a launch run (a GPU runs them all at once, so "the first query of
+ * a cluster inserts, the later ones read" caches nothing there): the frame's shading launch is
+ * preceded by C_MSR rounds of two pre-pass launches (XS_VC_PHASE_*, mt_viscache.c), each
+ * stopping after the first vertex's light samples. Round r, request: a query whose walk
+ * reaches level r at an empty entry atomicMin's its claim key (vc_claim_key: list entry, query
+ * number, level) into the entry's claim word; insert: the query holding the claim traces its
+ * ray (the cluster's representative, §3.4) and stores the result. Entries of levels < r are
+ * final during round r and entries of level r are never read in it, so no launch reads what
+ * it writes. The shading launch then only reads: a query whose cluster is empty or foreign
+ * (its index went to another cluster, §4.1) traces its own ray; the winner uses its own
+ * stored ray (not cached); a known entry answers when its X neighbours agree:
  * entry answers when its X neighbours agree:
  * - adaptive (Alg. 2): the 4 neighbours (u +- 1, v +- 1) agree or are unknown; after the last
  *   level the finest cluster's value answers;
@@ -75,10 +83,20 @@ vec3 vc_view_dir = vec3(0.0);
 
 /* This invocation's counters, added to vc once by vc_flush. */
 uint vc_n_queries = 0u, vc_n_cached = 0u, vc_n_shadow = 0u, vc_n_refined = 0u;
+/* This invocation's list entry and its cache queries so far, every pass (the claim keys). */
+uint vc_entry = 0u, vc_n_paths_queries = 0u;
+
+/** Whether this launch is one of the frame's pre-passes (xs_path_trace stops after the first
+ *  vertex's light samples, sc_shade.rgen stores nothing). */
+bool xs_vc_prepass()
+{
+    return vc.p.enabled != 0u && vc.p.phase != XS_VC_PHASE_SHADE;
+}
 
 /** The shading sample's eye, distance to and unit direction of its first hit. */
-void vc_begin(uint eye, float t, vec3 dir)
+void vc_begin(uint entry, uint eye, float t, vec3 dir)
 {
+    vc_entry = entry;
     float tan_px = eye == 0u ? vc.p.pixel_tan_left : vc.p.pixel_tan_right;
     vc_first_t = t;
     vc_view_dir = dir;
@@ -221,23 +239,38 @@ vec3 vc_trace(vec3 o, vec3 d, float tmax, inout uint rays)
     return xs_visible(o, d, tmax, rays);
 }
 
-/** Alg. 2 lines 4-7: claims the entry (overwriting whatever was there, §4.1), traces this
- *  query's ray as the cluster's representative and stores it unless the claim was lost. A
- *  ray through glass (neither 0 nor 1, xs_visible) is not a binary state: the entry is given
- *  back as it was, and the cluster's queries trace. */
-vec3 vc_trace_insert(uint64_t d, uint index, uint64_t seen, vec3 o, vec3 dir, float tmax,
-                      inout uint rays)
+/** The claim word of table entry index (the second half of the table, xs_viscache.h). */
+uint64_t vc_claim_at(uint index)
 {
-    uint64_t fp = vc_fingerprint(d);
-    uint64_t pending = fp | uint64_t(XS_VC_PENDING);
-    bool claimed = atomicCompSwap(vc_words[index], seen, pending) == seen;
+    return vc_words[vc.p.entries + index];
+}
+
+/** This query's claim key at a level: its list entry (pixel and slot, fixed by the sample,
+ *  not by the invocation running it), its number among the path's queries and the level, so
+ *  the smallest key, the winner, is the same whatever order the invocations run in. */
+uint64_t vc_claim_key(uint query, uint level)
+{
+    return (uint64_t(vc_entry) << 24) | (uint64_t(query) << 8) | uint64_t(level);
+}
+
+/** Round `round`'s pre-pass at a query's cluster of that level (index, fingerprint of d):
+ *  request (an empty entry: atomicMin of the key, order-independent) or insert (the winner
+ *  traces its ray, the cluster's representative, §3.4, and stores it). A ray through glass
+ *  (neither 0 nor 1, xs_visible) is not a binary state: nothing is stored, the entry stays
+ *  empty and the cluster's queries trace. */
+void vc_prepass_at(bool insert, uint64_t d, uint index, uint64_t key, vec3 o, vec3 dir,
+                   float tmax, inout uint rays)
+{
+    if (!insert) {
+        if (vc_words[index] == 0ul) /* stable: nothing writes words in a request pass */
+            atomicMin(vc_words[vc.p.entries + index], key);
+        return;
+    }
+    if (vc_claim_at(index) != key)
+        return;
     vec3 v = vc_trace(o, dir, tmax, rays);
-    bool binary = all(equal(v, vec3(0.0))) || all(equal(v, vec3(1.0)));
-    if (claimed)
-        atomicCompSwap(vc_words[index], pending,
-                       binary ? fp | uint64_t(v.x > 0.0 ? XS_VC_VISIBLE : XS_VC_OCCLUDED)
-                              : seen);
-    return v;
+    if (all(equal(v, vec3(0.0))) || all(equal(v, vec3(1.0))))
+        vc_words[index] = vc_fingerprint(d) | uint64_t(v.x > 0.0 ? XS_VC_VISIBLE : XS_VC_OCCLUDED);
 }
 
 /** §3.6: do X's neighbouring clusters agree with state st? Adaptive: the 4 edge neighbours,
@@ -251,8 +284,6 @@ bool vc_neighbours_agree(uint64_t prefix, ivec4 c, uint st, bool strict)
             uint index;
             uint64_t word;
             uint n = vc_lookup(vc_digest(prefix, c + ivec4(dx, dy, 0, 0)), index, word);
-            if (n == XS_VC_PENDING)
-                n = 0u;
             if (n == 0u ? strict : n != st)
                 return false;
         }
@@ -269,9 +300,15 @@ bool vc_neighbours_agree(uint64_t prefix, ivec4 c, uint st, bool strict)
 vec3 xs_vc_visible(vec3 o, vec3 d, float tmax, uint bounce, xs_surface s, bool below,
                    uint kind, vec3 lp, vec3 ln, float density, inout uint rays)
 {
+    uint phase = vc.p.phase;
+    bool pre = phase != XS_VC_PHASE_SHADE;
     if (vc.p.enabled == 0u || bounce != 0u || !(density > 0.0) || !(vc_first_t > 0.0))
-        return vc_trace(o, d, tmax, rays);
-    vc_n_queries++;
+        return pre ? vec3(0.0) : vc_trace(o, d, tmax, rays);
+    uint round = (phase - 1u) >> 1; /* pre-passes: XS_VC_PHASE_* */
+    bool insert = (phase & 1u) == 0u;
+    uint query = vc_n_paths_queries++;
+    if (!pre)
+        vc_n_queries++;
     vc_grid gx = vc_grid_of(s.ng);
     uint64_t prefix = vc_light_digest(kind, below, lp, ln, density);
     prefix = vc_step(vc_step(vc_step(prefix, gx.bins.x), gx.bins.y), gx.bins.z);
@@ -282,23 +319,30 @@ vec3 xs_vc_visible(vec3 o, vec3 d, float tmax, uint bounce, xs_surface s, bool b
     uint finest = 0u; /* the state of the last level's cluster */
     bool agreed = false;
     for (uint level = 0u; level < vc.p.levels; level++) {
-        if (level == 1u)
+        if (level == 1u && !pre)
             vc_n_refined++;
         ivec4 c = vc_cell(gx, s.p, ce * foot);
         uint64_t dg = vc_digest(prefix, c);
-        uint index;
+        uint64_t key = vc_claim_key(query, level);
+        uint index = vc_index(dg);
+        if (pre && level == round) { /* this round's clusters: not looked up while written */
+            vc_prepass_at(insert, dg, index, key, o, d, tmax, rays);
+            return vec3(0.0);
+        }
         uint64_t word;
         uint st = vc_lookup(dg, index, word);
-        if (st == 0u)
-            return vc_trace_insert(dg, index, word, o, d, tmax, rays);
-        if (st == XS_VC_PENDING)
-            return vc_trace(o, d, tmax, rays);
+        if (st == 0u) /* not inserted (lost to another cluster of its index): its own ray */
+            return pre ? vec3(0.0) : vc_trace(o, d, tmax, rays);
+        if (vc_claim_at(index) == key) /* this query's ray, traced by its insert pass */
+            return vec3(st == XS_VC_VISIBLE ? 1.0 : 0.0);
         finest = st;
         agreed = vc.p.refine == XS_VC_REFINE_NONE || vc_neighbours_agree(prefix, c, st, strict);
         if (agreed)
             break;
         ce *= 0.5; /* §3.6: halve C_E and recurse */
     }
+    if (pre)
+        return vec3(0.0);
     if (!agreed && strict) /* zero tolerance: disagreement down to the last level traces */
         return vc_trace(o, d, tmax, rays);
     vc_n_cached++; /* adaptive without agreement: Alg. 2 returns the finest cluster's value */

@@ -8,12 +8,14 @@
  * Storage (set 1 of sc_shade.rgen, beside the sample cache's XS_SC_BIND_* bindings):
  *   state    xs_vc_state: the frame's parameters (written by the host with vkCmdUpdateBuffer
  *            at the start of the shade pass, which also zeroes the counters)
- *   table    uint64 words[entries], cleared (vkCmdFillBuffer 0) before every frame's shade
- *            pass (seed 002 Alg. 1 line 1: "initialized to nil on every frame"), so no
- *            visibility outlives its frame and animated scenes never read stale entries.
+ *   table    uint64 words[2 entries]: the entries, cleared (vkCmdFillBuffer 0) before every
+ *            frame's shade pass (seed 002 Alg. 1 line 1: "initialized to nil on every frame"),
+ *            so no visibility outlives its frame and animated scenes never read stale
+ *            entries; then one claim word per entry (all ones = unclaimed), the smallest
+ *            claim key of the queries that asked to insert there (xs_viscache.glsl).
  * Word: 0 = empty (nil); else bits 2..63 = the cluster's 62-bit fingerprint (the §4.1
  * message digest, here wider than the paper's 31 bits so that a false match is ~2^-62),
- * bits 0..1 = XS_VC_PENDING (inserted, ray in flight), XS_VC_OCCLUDED or XS_VC_VISIBLE.
+ * bits 0..1 = XS_VC_OCCLUDED or XS_VC_VISIBLE (XS_VC_PENDING is never stored any more).
  */
 #ifndef XS_VISCACHE_H
 #define XS_VISCACHE_H
@@ -28,6 +30,12 @@
 #define XS_VC_OCCLUDED 2u
 #define XS_VC_VISIBLE 3u
 #define XS_VC_STATE_MASK 3u
+
+/* xs_vc_params.phase: the shading launch (0), or a pre-pass launch of round r (0-based, r <
+ * levels): 2 r + 1 = request, 2 r + 2 = insert (xs_viscache.glsl). */
+#define XS_VC_PHASE_SHADE 0u
+#define XS_VC_PHASE_REQUEST(r) (2u * (r) + 1u)
+#define XS_VC_PHASE_INSERT(r) (2u * (r) + 2u)
 
 /* Refinement (xs_vc_params.refine; public value - 1, checked in C). */
 #define XS_VC_REFINE_ADAPTIVE 0u /* seed 002 Alg. 2 */
@@ -74,6 +82,8 @@ XS_STRUCT(xs_vc_params)
     xs_float pixel_tan_left;  /* per eye: sqrt of the tan-space area of a pixel at the centre */
     xs_float pixel_tan_right;
     xs_float eye_samples_per_px; /* shaded samples per pixel per frame (P(p_e) N_S, Eq. 7) */
+    xs_uint phase;    /* XS_VC_PHASE_*: set by the host before each launch of the frame */
+    xs_uint pad0, pad1, pad2;
 }
 XS_END(xs_vc_params);
 
@@ -88,8 +98,8 @@ XS_STRUCT(xs_vc_state)
 XS_END(xs_vc_state);
 
 #ifndef XRSC_GLSL
-_Static_assert(sizeof(xs_vc_params) == 48, "xs_vc_params layout (std430)");
-_Static_assert(sizeof(xs_vc_state) == 64, "xs_vc_state layout (std430)");
+_Static_assert(sizeof(xs_vc_params) == 64, "xs_vc_params layout (std430)");
+_Static_assert(sizeof(xs_vc_state) == 80, "xs_vc_state layout (std430)");
 #endif
 
 #endif /* XS_VISCACHE_H */

@@ -271,10 +271,13 @@ typedef enum xrsc_sc_trace {
     XRSC_SC_TRACE_MULTI,       /**< every sample, every frame */
     XRSC_SC_TRACE_ADAPTIVE,    /**< one per block x block pixels + all samples at edges (Eq. 2) */
 } xrsc_sc_trace;
-/** Forward reprojection variant (seed 000 §3.1, Fig. 6). */
+/** Forward reprojection variant (seed 000 §3.1, Fig. 6). Both now reserve target slots
+ *  independently of the order the GPU runs invocations in (each target keeps the N smallest
+ *  keys: visible first, then the lowest source address) and copy in a second pass, so they
+ *  give the same images; Listing 2's writes during the reservation could not be made so. */
 typedef enum xrsc_sc_reproject {
     XRSC_SC_REPROJECT_DEFAULT = 0, /**< 1pass */
-    XRSC_SC_REPROJECT_1PASS,       /**< reserve and write in one pass (Listing 2) */
+    XRSC_SC_REPROJECT_1PASS,       /**< Listing 2 (now the same as 2pass, see above) */
     XRSC_SC_REPROJECT_2PASS,       /**< reserve (source addresses), then copy */
 } xrsc_sc_reproject;
 /** Which cached samples are re-shaded each frame (seed 000 §3.3, §3.5). */

@@ -216,7 +216,8 @@ static void cmd_trace_list(gpu_context *ctx, VkCommandBuffer cmd, const gpu_rt_p
 }
 
 /* Stage "reproject": this copy's masks, statistics and depth words cleared (and on the first
- * frame the previous copy's), then sc_reproject.comp (+ sc_copy.comp: 2-pass, isrt). */
+ * frame the previous copy's), then sc_reproject.comp and sc_copy.comp (every variant: the
+ * order-independent reservation of sc_reproject.comp leaves keys that sc_copy.comp copies). */
 static void record_reproject(mt_samplecache *s, VkCommandBuffer cmd)
 {
     VkDeviceSize plane = s->plane, cur = s->p.cur;
@@ -235,16 +236,27 @@ static void record_reproject(mt_samplecache *s, VkCommandBuffer cmd)
     }
     cmd_fill(cmd, &s->depth_min, 0, VK_WHOLE_SIZE, MT_SC_DEPTH_MIN_NONE);
     cmd_fill(cmd, &s->depth_max, 0, VK_WHOLE_SIZE, 0);
-    if (s->p.two_pass)
-        cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0);
-    if (s->p.isrt_m) /* the isrt keys: all ones = nothing arrived (XS_SC_ISRT_KEY_*) */
-        cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+    /* the keys: all ones = nothing arrived (XS_SC_SRC_NONE, XS_SC_ISRT_KEY_*) */
+    cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
     mt_trace_cmd_rays_reset(&s->trace, cmd);
     gpu_cmd_barrier_all(cmd);
     dispatch(cmd, s, PROG_REPROJECT);
-    if (s->p.two_pass || s->p.isrt_m) {
-        gpu_cmd_barrier_all(cmd);
-        dispatch(cmd, s, PROG_COPY);
+    gpu_cmd_barrier_all(cmd);
+    dispatch(cmd, s, PROG_COPY);
+}
+
+/* The shade launches: the visibility cache's pre-passes (none when it is off or hybrid), then
+ * the shading launch, each reading the same shade list. */
+static void record_shade_launches(mt_samplecache *s, VkCommandBuffer cmd)
+{
+    gpu_context *ctx = s->trace.env.gpu;
+    uint32_t pre = s->hybrid ? 0u : mt_viscache_prepasses(&s->vis);
+    for (uint32_t i = 0; i <= pre; i++) {
+        if (i > 0) {
+            gpu_cmd_barrier_all(cmd);
+            mt_viscache_cmd_phase(&s->vis, cmd, i);
+        }
+        cmd_trace_list(ctx, cmd, &s->shade, s->trace.env.width, s->p.shade_capacity);
     }
 }
 
@@ -282,7 +294,7 @@ static void record_stage(mt_samplecache *s, VkCommandBuffer cmd, uint32_t stage)
         }
         dispatch(cmd, s, PROG_SHADE_SELECT);
         gpu_cmd_barrier_all(cmd);
-        cmd_trace_list(ctx, cmd, &s->shade, w, s->p.shade_capacity);
+        record_shade_launches(s, cmd);
         break;
     case STAGE_RECONSTRUCT:
         dispatch(cmd, s, PROG_RECONSTRUCT);
@@ -488,14 +500,22 @@ static xrsc_result create_viscache(mt_samplecache *s, xrsc_diag *diag)
                             rate, s->trace.env.width, s->trace.env.height, diag);
 }
 
+/* Tests only: XRSC_DEBUG_PERMUTE=1 runs the order-sensitive passes' work items in reverse
+ * (xs_sc_params.debug_permute), so a result that depends on invocation order shows up on
+ * lavapipe, which runs them in a fixed order (tests/gpu/test_order.c). */
+static uint32_t debug_permute(void)
+{
+    const char *v = getenv("XRSC_DEBUG_PERMUTE");
+    return v && strcmp(v, "1") == 0 ? 1u : 0u;
+}
+
 /* The cache's buffers (xs_samplecache.h) and the moment images. */
 static xrsc_result create_buffers(mt_samplecache *s, xrsc_diag *diag)
 {
     gpu_context *ctx = s->trace.env.gpu;
     VkDeviceSize plane = s->plane, slot_plane = (VkDeviceSize)s->opt.slots * plane;
-    /* the 2-pass address buffer only when used (a 16-byte stub keeps the binding valid); isrt
-     * keeps its 64-bit keys there */
-    VkDeviceSize src_size = s->p.two_pass ? slot_plane * sizeof(uint32_t) : 0;
+    /* the reservation keys (XS_SC_SRC_*); isrt keeps its 64-bit keys there */
+    VkDeviceSize src_size = slot_plane * sizeof(uint32_t);
     if (s->p.isrt_m)
         src_size = slot_plane * sizeof(uint64_t);
     VkDeviceSize rad_size =
@@ -630,6 +650,7 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         .alpha_fixed = o.alpha_fixed,
         .cross_eye = o.cross_eye ? 1u : 0u,
         .firefly_k = o.firefly_clamp,
+        .debug_permute = debug_permute(),
     };
     s->p.shade_capacity = shade_capacity(&o, env->width, env->height);
     s->p.isrt_m = var.isrt_m;
@@ -677,10 +698,9 @@ void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, do
     /* per copy: mask 4 B, first hits 16 B per slot, radiance XS_SC_RAD_BYTES per slot */
     *out_resident = 2.0 * (4.0 + 16.0 * n) + rad_copies * XS_SC_RAD_BYTES * n +
                     (s->p.cross_eye ? 2.0 * 4.0 : 0.0); /* the foreign masks */
-    /* depth_min 8 + depth_max 4 + plan 16, 4 B per slot for 2-pass addresses, the shade list */
+    /* depth_min 8 + depth_max 4 + plan 16, 4 B per slot for reservation keys, the shade list */
     double plane = 2.0 * s->trace.env.width * s->trace.env.height;
-    *out_working = 8.0 + 4.0 + 16.0 + (s->p.two_pass ? 4.0 * n : 0.0) +
-                   (s->p.isrt_m ? 8.0 * n : 0.0) + 4.0 * s->p.shade_capacity / plane +
+    *out_working = 8.0 + 4.0 + 16.0 + (s->p.isrt_m ? 8.0 * n : 4.0 * n) + 4.0 * s->p.shade_capacity / plane +
                    (s->vis.p.enabled ? sizeof(uint64_t) * (double)s->vis.p.entries / plane : 0.0);
 }
 

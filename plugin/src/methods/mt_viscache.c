@@ -9,6 +9,7 @@
 #include "u_diag.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 _Static_assert(XS_VC_REFINE_ADAPTIVE == XRSC_SC_VIS_REFINE_ADAPTIVE - 1 &&
@@ -97,7 +98,7 @@ xrsc_result mt_viscache_init(mt_viscache *v, gpu_context *ctx, const xrsc_sc_vis
         .eye_samples_per_px = eye_samples_per_px,
     };
     VkDeviceSize table =
-        o->enabled ? (VkDeviceSize)v->p.entries * sizeof(uint64_t) : MT_VC_STUB_BYTES;
+        o->enabled ? 2u * (VkDeviceSize)v->p.entries * sizeof(uint64_t) : MT_VC_STUB_BYTES;
     xrsc_result res;
     if ((res = gpu_buffer_create_storage(ctx, sizeof(xs_vc_state), &v->state, diag)) != XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, table, &v->table, diag)) != XRSC_OK ||
@@ -134,12 +135,38 @@ void mt_viscache_set_views(mt_viscache *v, const xrsc_frame *frame, uint32_t w, 
     v->p.pixel_tan_right = pixel_tan(&frame->views[1].fov, w, h);
 }
 
+/* The phase of shade launch i of a frame with the cache on: request and insert of round 0,
+ * 1, ..., then the shading launch. */
+static uint32_t launch_phase(const mt_viscache *v, uint32_t launch)
+{
+    if (launch >= mt_viscache_prepasses(v))
+        return XS_VC_PHASE_SHADE;
+    return launch % 2u ? XS_VC_PHASE_INSERT(launch / 2u) : XS_VC_PHASE_REQUEST(launch / 2u);
+}
+
 void mt_viscache_cmd_begin(const mt_viscache *v, VkCommandBuffer cmd)
 {
     xs_vc_state st = {.p = v->p}; /* counters 0 */
+    st.p.phase = launch_phase(v, 0);
     vkCmdUpdateBuffer(cmd, v->state.buffer, 0, sizeof(st), &st);
-    if (v->p.enabled) /* Alg. 1 line 1: nil on every frame */
-        vkCmdFillBuffer(cmd, v->table.buffer, 0, VK_WHOLE_SIZE, 0);
+    if (v->p.enabled) { /* Alg. 1 line 1: nil on every frame; claim words all ones */
+        VkDeviceSize half = (VkDeviceSize)v->p.entries * sizeof(uint64_t);
+        vkCmdFillBuffer(cmd, v->table.buffer, 0, half, 0);
+        vkCmdFillBuffer(cmd, v->table.buffer, half, half, 0xFFFFFFFFu);
+    }
+    gpu_cmd_barrier_all(cmd);
+}
+
+uint32_t mt_viscache_prepasses(const mt_viscache *v)
+{
+    return v->p.enabled ? 2u * v->p.levels : 0u;
+}
+
+void mt_viscache_cmd_phase(const mt_viscache *v, VkCommandBuffer cmd, uint32_t launch)
+{
+    uint32_t phase = launch_phase(v, launch);
+    vkCmdUpdateBuffer(cmd, v->state.buffer, offsetof(xs_vc_state, p.phase), sizeof(phase),
+                      &phase);
     gpu_cmd_barrier_all(cmd);
 }
 

@@ -48,6 +48,11 @@ void mt_viscache_write(const mt_viscache *v, gpu_context *ctx, gpu_descriptors *
 void mt_viscache_set_views(mt_viscache *v, const xrsc_frame *frame, uint32_t w, uint32_t h);
 /** Before the shade pass: parameters + zero counters, table cleared (then a barrier). */
 void mt_viscache_cmd_begin(const mt_viscache *v, VkCommandBuffer cmd);
+/** Pre-pass launches of the frame (xs_viscache.glsl): 2 per refinement level, 0 when off. */
+uint32_t mt_viscache_prepasses(const mt_viscache *v);
+/** Before launch i of the frame's shade launches (pre-passes 0 .. mt_viscache_prepasses - 1,
+ *  then the shading launch): its XS_VC_PHASE_* (then a barrier). Launch 0 needs no call. */
+void mt_viscache_cmd_phase(const mt_viscache *v, VkCommandBuffer cmd, uint32_t launch);
 /** After the shade pass: the counters to the read-back buffer (then a barrier). */
 void mt_viscache_cmd_copy(const mt_viscache *v, VkCommandBuffer cmd);
 /** After the frame's wait: reads the counters. */
