@@ -98,6 +98,10 @@ typedef struct xs_mat4 { float m[16]; } xs_mat4; /* column-major */
 #define XS_CULL_ALL 0xFFu
 #define XS_CULL_SOLID 0x01u
 #define XS_CULL_BLEND 0x02u
+/* Specialization constant (raygen shaders, xs_path.glsl): the scene has XS_CULL_GLASS
+ * instances (gpu_rt_program_desc.glass). */
+#define XS_SPEC_GLASS_ID 0
+
 /* Instances of XS_MAT_GLASS_SHADOW materials are in XS_CULL_GLASS only (not SOLID): a shadow
  * ray first tests XS_CULL_NO_GLASS and then walks the glass it passes (xs_path.glsl); the sample
  * cache's retraces test XS_CULL_SOLID | XS_CULL_GLASS. */

@@ -37,6 +37,9 @@ layout(location = XS_PAYLOAD_SHADOW) rayPayloadEXT uint shadow_visible;
 #define XS_RAY_TMAX 1e30
 /* Survival probability bounds of Russian roulette. */
 #define XS_RR_MIN_SURVIVAL 0.05
+/* Whether the pipeline may meet smooth thin glass (gpu_rt_program_desc.glass): false compiles
+ * shadow rays without their glass walk. True when a raygen is built without the constant. */
+layout(constant_id = XS_SPEC_GLASS_ID) const bool XS_SPEC_GLASS = true;
 #define XS_RR_MAX_SURVIVAL 1.0
 
 /** The BSDF's view of a material (xs_bsdf.glsl). */
@@ -103,7 +106,7 @@ vec3 xs_glass_transmittance(vec3 o, vec3 d, float tmax, inout uint rays)
  */
 vec3 xs_visible(vec3 o, vec3 d, float tmax, inout uint rays)
 {
-    bool glass = frame.glass_instances > 0u;
+    bool glass = XS_SPEC_GLASS && frame.glass_instances > 0u;
     shadow_visible = 0u;
     traceRayEXT(xs_tlas, XS_RAY_FLAGS_SHADOW, glass ? XS_CULL_NO_GLASS : XS_CULL_ALL, 0, 0,
                 XS_MISS_INDEX_SHADOW, o, 0.0, d, tmax, XS_PAYLOAD_SHADOW);
@@ -505,7 +508,7 @@ xs_path_out xs_path_trace(vec3 origin, vec3 dir, bool have_first, xs_hit first,
          * event for MIS: the emission found behind it is weighted against the light sample
          * of the last scattering vertex, whose shadow ray came through the same glass, with
          * the distance summed over the straight segments. */
-        if (is_delta && wi_l.z < 0.0 && frame.glass_instances > 0u &&
+        if (is_delta && wi_l.z < 0.0 && XS_SPEC_GLASS && frame.glass_instances > 0u &&
             (materials[s.material].flags & XS_MAT_GLASS_SHADOW) != 0u) {
             glass_t += t_hit;
         } else {

@@ -361,6 +361,9 @@ xrsc_result gpu_rt_program_create(gpu_context *ctx, const gpu_rt_program_desc *d
         goto fail;
 
     VkPipelineShaderStageCreateInfo stages[STAGE_COUNT];
+    const VkBool32 glass = desc->glass ? VK_TRUE : VK_FALSE;
+    const VkSpecializationMapEntry glass_entry = {XS_SPEC_GLASS_ID, 0, sizeof(glass)};
+    const VkSpecializationInfo spec = {1, &glass_entry, sizeof(glass), &glass};
     for (int i = 0; i < STAGE_COUNT; i++) {
         if (i == 0 && desc->raygen_spirv) {
             VkShaderModuleCreateInfo ci = {
@@ -378,6 +381,7 @@ xrsc_result gpu_rt_program_create(gpu_context *ctx, const gpu_rt_program_desc *d
             .stage = stage_bits[i],
             .module = modules[i],
             .pName = "main",
+            .pSpecializationInfo = i == STAGE_RGEN ? &spec : NULL,
         };
     }
     VkRayTracingShaderGroupCreateInfoKHR groups[GROUP_COUNT];

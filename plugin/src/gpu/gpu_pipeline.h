@@ -88,6 +88,10 @@ typedef struct gpu_rt_program_desc {
     const gpu_binding *set1;
     uint32_t set1_count;
     uint32_t push_constant_size;
+    /** The scene has smooth thin glass (XS_CULL_GLASS instances): the raygen's specialization
+     *  constant XS_SPEC_GLASS_ID. Without it the driver compiles no glass walk into shadow
+     *  rays (xs_path.glsl), which halves lavapipe's cold compile of the shading pipelines. */
+    bool glass;
 } gpu_rt_program_desc;
 
 typedef struct gpu_rt_program {

@@ -157,7 +157,8 @@ xrsc_result mt_hashcache_create(const mt_env *env, const xrsc_hashcache_options 
     shade_set1[n++] = hits_binding;
     shade_set1[n++] = (gpu_binding){XS_HC_BIND_PREV_POS, GPU_BINDING_STORAGE_BUFFER, 1};
     gpu_rt_program_desc shade_desc = {
-        .raygen = "hc_shade.rgen", .set1 = shade_set1, .set1_count = n};
+        .raygen = "hc_shade.rgen", .set1 = shade_set1, .set1_count = n,
+        .glass = gpu_scene_glass_count(env->scene) > 0};
     VkDeviceSize hits_size = 2ull * env->width * env->height * 4 * sizeof(uint32_t);
     if ((res = gpu_buffer_create_storage(ctx, hits_size, &s->hits, diag)) != XRSC_OK ||
         (res = gpu_buffer_create(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEMORY_DEVICE,

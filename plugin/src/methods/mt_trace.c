@@ -24,7 +24,9 @@ xrsc_result mt_trace_init_program(mt_trace *t, const mt_env *env,
     gpu_context *ctx = env->gpu;
     uint32_t w = env->width, h = env->height;
     xrsc_result res;
-    if ((res = gpu_rt_program_create(ctx, desc, &t->program, diag)) != XRSC_OK)
+    gpu_rt_program_desc d = *desc;
+    d.glass = gpu_scene_glass_count(env->scene) > 0;
+    if ((res = gpu_rt_program_create(ctx, &d, &t->program, diag)) != XRSC_OK)
         goto fail;
     /* Formats per xrsc_shared.h: XS_BIND_OUT_* and XS_BIND_ACCUM. */
     if ((res = gpu_image_create_storage(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, w, h, 2, &t->color,
