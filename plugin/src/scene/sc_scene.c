@@ -1491,7 +1491,8 @@ static xrsc_result finish_mesh_deform(sc_build *b, sc_mesh *mesh, uint32_t *nm, 
     const sc_node *n = &s->nodes[mesh->deform_node];
     if (n->skin < 0) mesh->skin_sets = 0;
     mesh->skin_joint_count = mesh->skin_sets ? s->skins[n->skin].joint_count : 0;
-    sc_skin_influence *in = s->influences + mesh->first_influence;
+    /* NULL when no mesh of the file is skinned (morph targets only): no offset from it */
+    sc_skin_influence *in = mesh->skin_sets ? s->influences + mesh->first_influence : NULL;
     for (size_t i = 0; i < (size_t)mesh->skin_sets * mesh->vertex_count; i++)
         for (int c = 0; c < 4; c++) {
             if (in[i].weights[c] == 0.0f) in[i].joints[c] = 0;
