@@ -9,58 +9,22 @@
 #include "hs_file.h"
 #include "u_diag.h"
 #include "u_exr.h"
+#include "u_exr_common.h"
 
 #include <openexr.h>
 
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 /** Largest side hs_write_exr accepts (the reader's, as hs_read_pfm). */
 #define EXR_MAX_SIDE U_EXR_MAX_SIDE
 
-/** The library's last error message for one context (its error handler's user data). */
-typedef struct exr_msg {
-    char text[512];
-} exr_msg;
-
-static void on_exr_error(exr_const_context_t ctxt, exr_result_t code, const char *msg)
-{
-    void *ud = NULL;
-    if (exr_get_user_data(ctxt, &ud) == EXR_ERR_SUCCESS && ud)
-        snprintf(((exr_msg *)ud)->text, sizeof(((exr_msg *)ud)->text), "%s (%s)", msg ? msg : "",
-                 exr_get_error_code_as_string(code));
-}
-
-static xrsc_result exr_fail(xrsc_diag *diag, xrsc_result code, const char *path, const char *what,
-                            exr_result_t rv, const exr_msg *msg)
-{
-    return u_diag_set(diag, code, path, 0, "exr", "%s: %s", what,
-                      msg->text[0] ? msg->text : exr_get_default_error_message(rv));
-}
-
-/** One channel's source in the caller's interleaved layout. */
-typedef struct exr_plane {
-    const char *name;
-    uint8_t *base;        /**< first pixel of row 0 */
-    int32_t pixel_stride; /**< bytes */
-    int32_t line_stride;  /**< bytes */
-} exr_plane;
-
-static const exr_plane *find_plane(const exr_plane *p, int n, const char *name)
-{
-    for (int i = 0; i < n; i++)
-        if (p[i].base && strcmp(p[i].name, name) == 0)
-            return &p[i];
-    return NULL;
-}
-
 /* Points each channel of a chunk at its rows in the caller's buffers (start row y0). */
-static void bind_channels(exr_coding_channel_info_t *ch, int16_t count, const exr_plane *planes,
+static void bind_channels(exr_coding_channel_info_t *ch, int16_t count, const u_exr_plane *planes,
                           int nplanes, int32_t y0)
 {
     for (int16_t c = 0; c < count; c++) {
-        const exr_plane *p = find_plane(planes, nplanes, ch[c].channel_name);
+        const u_exr_plane *p = u_exr_find_plane(planes, nplanes, ch[c].channel_name);
         ch[c].user_bytes_per_element = 4;
         ch[c].user_data_type = EXR_PIXEL_FLOAT;
         ch[c].user_pixel_stride = p ? p->pixel_stride : 4;
@@ -70,7 +34,7 @@ static void bind_channels(exr_coding_channel_info_t *ch, int16_t count, const ex
     }
 }
 
-static exr_result_t write_chunks(exr_context_t ctx, uint32_t h, const exr_plane *planes,
+static exr_result_t write_chunks(exr_context_t ctx, uint32_t h, const u_exr_plane *planes,
                                  int nplanes)
 {
     int32_t lines = 0;
@@ -106,15 +70,15 @@ static xrsc_result write_exr(const char *path, bool staged, const float *rgba, c
     char tmp[HS_OUT_PATH_MAX + sizeof(HS_TEMP_SUFFIX)];
     if (!hs_temp_path(path, tmp, sizeof(tmp)))
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path, 0, "exr", "path too long");
-    exr_msg msg = {{0}};
+    u_exr_msg msg = {{0}};
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = on_exr_error;
+    init.error_handler_fn = u_exr_on_error;
     init.user_data = &msg;
     exr_context_t ctx = NULL;
     /* "Directly" to the temporary name: the library deletes it itself when writing fails. */
     exr_result_t rv = exr_start_write(&ctx, tmp, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv != EXR_ERR_SUCCESS)
-        return exr_fail(diag, XRSC_ERROR_IO, path, "cannot create", rv, &msg);
+        return u_exr_fail(diag, XRSC_ERROR_IO, path, "cannot create", rv, &msg);
     int part = 0;
     rv = exr_add_part(ctx, "rgbz", EXR_STORAGE_SCANLINE, &part);
     if (rv == EXR_ERR_SUCCESS)
@@ -128,7 +92,7 @@ static xrsc_result write_exr(const char *path, bool staged, const float *rgba, c
         rv = exr_write_header(ctx);
     if (rv == EXR_ERR_SUCCESS) {
         const int32_t rgba_px = 4 * sizeof(float), rgba_line = (int32_t)w * rgba_px;
-        exr_plane planes[4] = {
+        u_exr_plane planes[4] = {
             {"R", (uint8_t *)(uintptr_t)(rgba + 0), rgba_px, rgba_line},
             {"G", (uint8_t *)(uintptr_t)(rgba + 1), rgba_px, rgba_line},
             {"B", (uint8_t *)(uintptr_t)(rgba + 2), rgba_px, rgba_line},
@@ -137,7 +101,7 @@ static xrsc_result write_exr(const char *path, bool staged, const float *rgba, c
         rv = write_chunks(ctx, h, planes, 4);
     }
     if (rv != EXR_ERR_SUCCESS) {
-        xrsc_result res = exr_fail(diag, XRSC_ERROR_IO, path, "writing failed", rv, &msg);
+        xrsc_result res = u_exr_fail(diag, XRSC_ERROR_IO, path, "writing failed", rv, &msg);
         exr_finish(&ctx); /* removes the temporary file; path is left as it was */
         remove(tmp);
         return res;
@@ -145,7 +109,7 @@ static xrsc_result write_exr(const char *path, bool staged, const float *rgba, c
     rv = exr_finish(&ctx);
     if (rv != EXR_ERR_SUCCESS) {
         remove(tmp);
-        return exr_fail(diag, XRSC_ERROR_IO, path, "finishing failed", rv, &msg);
+        return u_exr_fail(diag, XRSC_ERROR_IO, path, "finishing failed", rv, &msg);
     }
     return staged ? XRSC_OK : hs_out_rename(tmp, path, diag);
 }

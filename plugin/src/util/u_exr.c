@@ -6,29 +6,24 @@
 #include "u_exr.h"
 
 #include "u_diag.h"
+#include "u_exr_common.h"
 
 #include <openexr.h>
 
 #include <stdbool.h>
-#include <stdio.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 /** One read: the library's last error message and, for u_exr_decode, the bytes (the
- *  context's user data, seen by the error handler and the read callbacks). */
+ *  context's user data, seen by the error handler and the read callbacks; msg first, as
+ *  u_exr_on_error expects). */
 typedef struct exr_src {
-    char text[512];
+    u_exr_msg msg;
     const uint8_t *data;
     size_t size;
 } exr_src;
-
-static void on_exr_error(exr_const_context_t ctxt, exr_result_t code, const char *msg)
-{
-    void *ud = NULL;
-    if (exr_get_user_data(ctxt, &ud) == EXR_ERR_SUCCESS && ud)
-        snprintf(((exr_src *)ud)->text, sizeof(((exr_src *)ud)->text), "%s (%s)", msg ? msg : "",
-                 exr_get_error_code_as_string(code));
-}
+_Static_assert(offsetof(exr_src, msg) == 0, "u_exr_on_error writes the user data's start");
 
 static int64_t mem_read(exr_const_context_t ctxt, void *ud, void *buffer, uint64_t sz,
                         uint64_t offset, exr_stream_error_func_ptr_t error_cb)
@@ -48,37 +43,14 @@ static int64_t mem_size(exr_const_context_t ctxt, void *ud)
     return (int64_t)((const exr_src *)ud)->size;
 }
 
-static xrsc_result exr_fail(xrsc_diag *diag, xrsc_result code, const char *name, const char *what,
-                            exr_result_t rv, const exr_src *src)
-{
-    return u_diag_set(diag, code, name, 0, "exr", "%s: %s", what,
-                      src->text[0] ? src->text : exr_get_default_error_message(rv));
-}
-
-/** One channel's destination in the caller's interleaved layout. */
-typedef struct exr_plane {
-    const char *name;
-    uint8_t *base;        /**< first pixel of row 0 */
-    int32_t pixel_stride; /**< bytes */
-    int32_t line_stride;  /**< bytes */
-} exr_plane;
-
-static const exr_plane *find_plane(const exr_plane *p, int n, const char *name)
-{
-    for (int i = 0; i < n; i++)
-        if (p[i].base && strcmp(p[i].name, name) == 0)
-            return &p[i];
-    return NULL;
-}
-
 /* Points each channel of a chunk at its rows in the caller's buffers (start row y0); channels
  * not asked for go to planes[nplanes], a scratch plane: OpenEXRCore 3.1 dereferences the NULL
  * pointer that should skip a channel on some damaged files (found by fuzz_exr). */
-static void bind_channels(exr_coding_channel_info_t *ch, int16_t count, const exr_plane *planes,
+static void bind_channels(exr_coding_channel_info_t *ch, int16_t count, const u_exr_plane *planes,
                           int nplanes, int32_t y0)
 {
     for (int16_t c = 0; c < count; c++) {
-        const exr_plane *p = find_plane(planes, nplanes, ch[c].channel_name);
+        const u_exr_plane *p = u_exr_find_plane(planes, nplanes, ch[c].channel_name);
         if (!p)
             p = &planes[nplanes];
         ch[c].user_bytes_per_element = 4;
@@ -90,7 +62,7 @@ static void bind_channels(exr_coding_channel_info_t *ch, int16_t count, const ex
 }
 
 static exr_result_t read_chunks(exr_context_t ctx, const exr_attr_box2i_t *dw,
-                                const exr_plane *planes, int nplanes)
+                                const u_exr_plane *planes, int nplanes)
 {
     int32_t lines = 0;
     exr_result_t rv = exr_get_scanlines_per_chunk(ctx, 0, &lines);
@@ -177,7 +149,7 @@ static xrsc_result read_image(exr_context_t ctx, const char *name, const u_exr_o
         for (size_t i = 0; i < n; i++)
             planar[3 * n + i] = 1.0f;
     const int32_t px = sizeof(float), line = (int32_t)w * px;
-    exr_plane planes[6] = {
+    u_exr_plane planes[6] = {
         {"R", (uint8_t *)planar, px, line},
         {"G", (uint8_t *)(planar + n), px, line},
         {"B", (uint8_t *)(planar + 2 * n), px, line},
@@ -194,7 +166,7 @@ static xrsc_result read_image(exr_context_t ctx, const char *name, const u_exr_o
     if (rv != EXR_ERR_SUCCESS) {
         free(rgba);
         free(depth);
-        return exr_fail(diag, XRSC_ERROR_IO, name, "reading failed", rv, src);
+        return u_exr_fail(diag, XRSC_ERROR_IO, name, "reading failed", rv, &src->msg);
     }
     *out = (u_exr_image){(uint32_t)w, (uint32_t)h, rgba, depth};
     return XRSC_OK;
@@ -207,7 +179,7 @@ static xrsc_result read_any(const char *name, const char *path, exr_src *src,
     static const u_exr_options defaults = {0};
     memset(out, 0, sizeof(*out));
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = on_exr_error;
+    init.error_handler_fn = u_exr_on_error;
     init.user_data = src;
     if (!path) {
         init.read_fn = mem_read;
@@ -218,7 +190,7 @@ static xrsc_result read_any(const char *name, const char *path, exr_src *src,
     if (rv != EXR_ERR_SUCCESS) {
         xrsc_result code = rv == EXR_ERR_FILE_ACCESS ? XRSC_ERROR_IO : XRSC_ERROR_BAD_HEADER;
         exr_finish(&ctx);
-        return exr_fail(diag, code, name, "not a readable EXR", rv, src);
+        return u_exr_fail(diag, code, name, "not a readable EXR", rv, &src->msg);
     }
     return read_image(ctx, name, opt ? opt : &defaults, src, out, diag);
 }
@@ -226,14 +198,14 @@ static xrsc_result read_any(const char *name, const char *path, exr_src *src,
 xrsc_result u_exr_read(const char *path, const u_exr_options *opt, u_exr_image *out,
                        xrsc_diag *diag)
 {
-    exr_src src = {{0}, NULL, 0};
+    exr_src src = {{{0}}, NULL, 0};
     return read_any(path, path, &src, opt, out, diag);
 }
 
 xrsc_result u_exr_decode(const char *name, const uint8_t *data, size_t size,
                          const u_exr_options *opt, u_exr_image *out, xrsc_diag *diag)
 {
-    exr_src src = {{0}, data, size};
+    exr_src src = {{{0}}, data, size};
     return read_any(name, NULL, &src, opt, out, diag);
 }
 
