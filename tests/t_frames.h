@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file t_frames.h
- * @brief The frames a replay hands to its on_frame callback, kept for checks, and a pose
- *        comparison with a tolerance (tests of the direct and the OpenXR replay paths).
+ * @brief The frames a replay hands to its on_frame callback, kept for checks, a pose
+ *        comparison with a tolerance (tests of the direct and the OpenXR replay paths), and
+ *        frames of one fixed view.
  */
 #pragma once
 
@@ -51,4 +52,19 @@ static inline void t_frame_identity(xrsc_frame *frame)
         frame->views[e].pose = xrsc_pose_identity();
         frame->views[e].fov = hs.fov[e];
     }
+}
+
+/** A frame whose two eyes both sit at pos with orientation q (x, y, z, w), each eye's field of
+ *  view half_fov_rad to every side: for tests of what one fixed view shows. */
+static inline xrsc_frame t_frame_at(const float pos[3], const float q[4], float half_fov_rad)
+{
+    xrsc_frame f;
+    memset(&f, 0, sizeof(f));
+    for (int e = 0; e < 2; e++) {
+        f.views[e].pose.orientation = (XrQuaternionf){q[0], q[1], q[2], q[3]};
+        f.views[e].pose.position = (XrVector3f){pos[0], pos[1], pos[2]};
+        f.views[e].fov.angleLeft = f.views[e].fov.angleDown = -half_fov_rad;
+        f.views[e].fov.angleRight = f.views[e].fov.angleUp = half_fov_rad;
+    }
+    return f;
 }

@@ -10,6 +10,8 @@
  *   its mean luminance drops (clamping only removes energy);
  * - k in (0, 1): XRSC_ERROR_INVALID_ARGUMENT.
  */
+#include "t_context.h"
+#include "t_render.h"
 #include "test_samplecache_util.h"
 #include "testing.h"
 #include "xrsc/xrsc.h"
@@ -23,27 +25,14 @@
 #define T_H 32u
 #define T_FRAMES 8u
 
-static bool render(xrsc_context *ctx, xrsc_scene *scene, const xrsc_frame *f0, float k,
-                   float *out)
+static xrsc_context *g_ctx;
+
+/** T_FRAMES frames of the still view f with firefly_clamp k, both eyes' colour into out. */
+static bool render(xrsc_scene *scene, const xrsc_frame *f, float k, float *out)
 {
     xrsc_renderer_options ro = {.width = T_W, .height = T_H, .method = XRSC_METHOD_SAMPLECACHE};
     ro.samplecache.firefly_clamp = k;
-    xrsc_renderer *r = NULL;
-    xrsc_diag diag = {0};
-    xrsc_result res = xrsc_renderer_create(ctx, scene, &ro, &r, &diag);
-    xrsc_frame f = *f0;
-    for (uint32_t i = 0; i < T_FRAMES && res == XRSC_OK; i++) {
-        f.frame_index = i;
-        res = xrsc_renderer_render(r, &f);
-    }
-    size_t layer = (size_t)T_W * T_H * 4;
-    for (uint32_t e = 0; e < 2 && res == XRSC_OK; e++)
-        res = xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, out + e * layer, layer * sizeof(float));
-    CHECK_EQ_INT(res, XRSC_OK);
-    if (res != XRSC_OK)
-        tsc_print_diag(&diag);
-    xrsc_renderer_destroy(&r);
-    return res == XRSC_OK;
+    return t_render(g_ctx, scene, &ro, f, &(t_render_job){.frames = T_FRAMES}, out);
 }
 
 static double mean_luminance(const float *img, size_t pixels)
@@ -56,26 +45,13 @@ static double mean_luminance(const float *img, size_t pixels)
 
 static void test_firefly_rule(void)
 {
-    xrsc_context_options co = {.validation = true};
-    xrsc_context *ctx = NULL;
-    xrsc_diag diag = {0};
-    CHECK_EQ_INT(xrsc_context_create(&co, &ctx, &diag), XRSC_OK);
-    xrsc_scene *scene = NULL;
-    if (ctx)
-        CHECK_EQ_INT(xrsc_scene_load(ctx, t_source_path("scenes/cornell.gltf"), NULL, &scene,
-                                     &diag),
-                     XRSC_OK);
-    if (!scene) {
-        tsc_print_diag(&diag);
-        xrsc_context_destroy(&ctx);
+    xrsc_scene *scene = t_scene_load(g_ctx, t_source_path("scenes/cornell.gltf"));
+    if (!scene)
         return;
-    }
-    xrsc_scene_info info;
-    xrsc_scene_get_info(scene, &info);
-    xrsc_frame f = tsc_headset_frame(info.viewpoint, 0);
+    xrsc_frame f = tsc_viewpoint_frame(scene);
     size_t pixels = 2u * T_W * T_H;
     float *off = calloc(pixels * 4, sizeof(float)), *k1 = calloc(pixels * 4, sizeof(float));
-    bool ok = render(ctx, scene, &f, 0.0f, off) && render(ctx, scene, &f, 1.0f, k1);
+    bool ok = render(scene, &f, 0.0f, off) && render(scene, &f, 1.0f, k1);
     if (ok) {
         double l_off = mean_luminance(off, pixels), l_k1 = mean_luminance(k1, pixels);
         printf("  mean luminance: off %.5f, k = 1 %.5f\n", l_off, l_k1);
@@ -85,17 +61,19 @@ static void test_firefly_rule(void)
     xrsc_renderer_options bad = {.width = T_W, .height = T_H, .method = XRSC_METHOD_SAMPLECACHE};
     bad.samplecache.firefly_clamp = 0.5f;
     xrsc_renderer *r = NULL;
-    CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &bad, &r, &diag), XRSC_ERROR_INVALID_ARGUMENT);
+    xrsc_diag diag = {0};
+    CHECK_EQ_INT(xrsc_renderer_create(g_ctx, scene, &bad, &r, &diag), XRSC_ERROR_INVALID_ARGUMENT);
     CHECK(r == NULL);
     free(off);
     free(k1);
     xrsc_scene_destroy(&scene);
-    CHECK_EQ_INT(xrsc_context_validation_errors(ctx), 0);
-    xrsc_context_destroy(&ctx);
 }
 
 int main(void)
 {
+    if (!(g_ctx = t_context_open()))
+        return 1;
     RUN(test_firefly_rule);
+    t_context_close(&g_ctx); /* the validation layer reported no error */
     return t_finish();
 }

@@ -20,6 +20,9 @@
  *   same quad OPAQUE (image means within T_SIGMAS standard errors).
  */
 #include "t_context.h"
+#include "t_frames.h"
+#include "t_gltf.h"
+#include "t_render.h"
 #include "testing.h"
 #include "xrsc/xrsc.h"
 
@@ -44,116 +47,54 @@ static const double T_TINT[3] = {0.9, 0.6, 0.3};
 
 static xrsc_context *g_ctx;
 
-/** Two quads (8 vertices, 12 indices) into one buffer: quad 0 from a, quad 1 from b (each 4
- *  corners x 3 floats). Returns the data URI (malloc'ed). */
-static char *two_quads_uri(const float a[12], const float b[12])
-{
-    static const uint16_t idx[12] = {0, 1, 2, 0, 2, 3, 0, 1, 2, 0, 2, 3};
-    uint8_t bytes[96 + 24];
-    memcpy(bytes, a, 48);
-    memcpy(bytes + 48, b, 48);
-    memcpy(bytes + 96, idx, 24);
-    return t_data_uri(bytes, sizeof bytes);
-}
-
-/** A scene of two quads with materials m0 and m1 (JSON objects), environment 0, and the given
- *  extra top-level JSON (lights); node 2 is added to the scene when light_node is not NULL. */
+/** A scene of two quads (each 4 corners x 3 floats; quad 0 from q0, quad 1 from q1, in one
+ *  buffer) with materials m0 and m1 (JSON objects), environment 0, and the given extra
+ *  top-level JSON (lights); node 2 is added to the scene when light_node is not NULL. */
 static const char *quads_scene(const char *name, const float q0[12], const float q1[12],
                                const float lo0[3], const float hi0[3], const float lo1[3],
                                const float hi1[3], const char *m0, const char *m1,
                                const char *light_node, const char *extensions)
 {
-    char *uri = two_quads_uri(q0, q1);
-    size_t cap = strlen(uri) + strlen(m0) + strlen(m1) + strlen(extensions) + 4096;
-    char *json = malloc(cap);
-    snprintf(json, cap,
-             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1%s],"
-             "\"extras\":{\"xrsc_environment\":[0,0,0]}}],"
-             "\"nodes\":[{\"mesh\":0},{\"mesh\":1}%s%s],"
-             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":2,"
-             "\"material\":0}]},{\"primitives\":[{\"attributes\":{\"POSITION\":1},"
-             "\"indices\":3,\"material\":1}]}],"
-             "\"materials\":[%s,%s],%s"
-             "\"buffers\":[{\"byteLength\":120,\"uri\":\"%s\"}],"
-             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":48},"
-             "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":48},"
-             "{\"buffer\":0,\"byteOffset\":96,\"byteLength\":12},"
-             "{\"buffer\":0,\"byteOffset\":108,\"byteLength\":12}],"
-             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":"
-             "\"VEC3\",\"min\":[%g,%g,%g],\"max\":[%g,%g,%g]},"
-             "{\"bufferView\":1,\"componentType\":5126,\"count\":4,\"type\":"
-             "\"VEC3\",\"min\":[%g,%g,%g],\"max\":[%g,%g,%g]},"
-             "{\"bufferView\":2,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"},"
-             "{\"bufferView\":3,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]}",
-             light_node ? ",2" : "", light_node ? "," : "", light_node ? light_node : "", m0,
-             m1, extensions, uri, lo0[0], lo0[1], lo0[2], hi0[0], hi0[1], hi0[2], lo1[0], lo1[1],
-             lo1[2], hi1[0], hi1[1], hi1[2]);
-    free(uri);
-    const char *path = t_temp_file(name, json);
-    free(json);
-    return path;
+    static const uint16_t idx[12] = {0, 1, 2, 0, 2, 3, 0, 1, 2, 0, 2, 3};
+    uint8_t bytes[96 + 24];
+    memcpy(bytes, q0, 48);
+    memcpy(bytes + 48, q1, 48);
+    memcpy(bytes + 96, idx, 24);
+    return t_gltf_write(
+        name, bytes, sizeof bytes,
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1%s],"
+        "\"extras\":{\"xrsc_environment\":[0,0,0]}}],"
+        "\"nodes\":[{\"mesh\":0},{\"mesh\":1}%s%s],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":2,"
+        "\"material\":0}]},{\"primitives\":[{\"attributes\":{\"POSITION\":1},"
+        "\"indices\":3,\"material\":1}]}],"
+        "\"materials\":[%s,%s],%s"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":48},"
+        "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":48},"
+        "{\"buffer\":0,\"byteOffset\":96,\"byteLength\":12},"
+        "{\"buffer\":0,\"byteOffset\":108,\"byteLength\":12}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":"
+        "\"VEC3\",\"min\":[%g,%g,%g],\"max\":[%g,%g,%g]},"
+        "{\"bufferView\":1,\"componentType\":5126,\"count\":4,\"type\":"
+        "\"VEC3\",\"min\":[%g,%g,%g],\"max\":[%g,%g,%g]},"
+        "{\"bufferView\":2,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"},"
+        "{\"bufferView\":3,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]",
+        light_node ? ",2" : "", light_node ? "," : "", light_node ? light_node : "", m0, m1,
+        extensions, lo0[0], lo0[1], lo0[2], hi0[0], hi0[1], hi0[2], lo1[0], lo1[1], lo1[2], hi1[0],
+        hi1[1], hi1[2]);
 }
 
-static xrsc_scene *load(const char *path)
-{
-    xrsc_scene *s = NULL;
-    xrsc_diag d = {0};
-    xrsc_result r = xrsc_scene_load(g_ctx, path, NULL, &s, &d);
-    CHECK_MSG(r == XRSC_OK, "load %s: %s (%s)", path, xrsc_result_name(r), d.message);
-    return s;
-}
-
-/** Both eyes at `pos` with orientation quaternion q (x, y, z, w). */
-static xrsc_frame make_frame(const float pos[3], const float q[4])
-{
-    xrsc_frame f;
-    memset(&f, 0, sizeof(f));
-    for (int e = 0; e < 2; e++) {
-        f.views[e].pose.orientation.x = q[0];
-        f.views[e].pose.orientation.y = q[1];
-        f.views[e].pose.orientation.z = q[2];
-        f.views[e].pose.orientation.w = q[3];
-        f.views[e].pose.position.x = pos[0];
-        f.views[e].pose.position.y = pos[1];
-        f.views[e].pose.position.z = pos[2];
-        f.views[e].fov.angleLeft = f.views[e].fov.angleDown = -T_HALF_FOV;
-        f.views[e].fov.angleRight = f.views[e].fov.angleUp = T_HALF_FOV;
-    }
-    return f;
-}
-
-/** Renders both eyes; returns 2 * T_SIZE^2 RGBA floats (malloc'ed) or NULL. */
+/** Renders both eyes of f; returns 2 * T_SIZE^2 RGBA floats (malloc'ed) or NULL. */
 static float *render(xrsc_scene *scene, xrsc_method method, uint32_t seed, uint32_t bounces,
                      const xrsc_frame *f)
 {
-    xrsc_renderer_options o = {0};
-    o.method = method;
-    o.width = o.height = T_SIZE;
-    o.seed = seed;
+    xrsc_renderer_options o = {.method = method, .width = T_SIZE, .height = T_SIZE, .seed = seed};
     o.spp.samples_per_pixel = T_SPP;
     o.spp.no_jitter = true;
     o.spp.max_bounces = bounces;
     o.samplecache.max_bounces = bounces;
     o.samplecache.visibility.enabled = true;
-    xrsc_renderer *r = NULL;
-    xrsc_diag d = {0};
-    xrsc_result res = xrsc_renderer_create(g_ctx, scene, &o, &r, &d);
-    CHECK_MSG(res == XRSC_OK, "renderer: %s", d.message);
-    if (res != XRSC_OK)
-        return NULL;
-    size_t bytes = (size_t)T_SIZE * T_SIZE * 4 * sizeof(float);
-    float *px = malloc(2 * bytes);
-    res = xrsc_renderer_render(r, f);
-    CHECK_EQ_INT(res, XRSC_OK);
-    for (uint32_t e = 0; e < 2 && res == XRSC_OK; e++)
-        res = xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, (char *)px + e * bytes, bytes);
-    CHECK_EQ_INT(res, XRSC_OK);
-    xrsc_renderer_destroy(&r);
-    if (res != XRSC_OK) {
-        free(px);
-        return NULL;
-    }
-    return px;
+    return t_render_image(g_ctx, scene, &o, f, NULL);
 }
 
 /** Exact unpolarised Fresnel reflectance from outside (as xs_fresnel_dielectric). */
@@ -250,11 +191,11 @@ static void pane_regions(const float *px, double mean[R_COUNT], double se[R_COUN
 
 static void test_shadow_through_glass(void)
 {
-    xrsc_scene *scene = load(pane_scene());
+    xrsc_scene *scene = t_scene_load(g_ctx, pane_scene());
     if (!scene)
         return;
     static const float pos[3] = {0, 0, 0}, q[4] = {0, 0, 0, 1};
-    xrsc_frame f = make_frame(pos, q);
+    xrsc_frame f = t_frame_at(pos, q, T_HALF_FOV);
     float *px = render(scene, XRSC_METHOD_SPP, 1, 2, &f);
     float *sc = render(scene, XRSC_METHOD_SAMPLECACHE, 1, 2, &f);
     xrsc_scene_destroy(&scene);
@@ -306,12 +247,12 @@ static bool emitter_floor(const char *name, const char *alpha, double *out_mean,
         "\"roughnessFactor\":1},\"extensions\":{\"KHR_materials_ior\":{\"ior\":1}}}",
         lamp_mat, NULL,
         "\"extensionsUsed\":[\"KHR_materials_ior\",\"KHR_materials_emissive_strength\"],");
-    xrsc_scene *scene = load(path);
+    xrsc_scene *scene = t_scene_load(g_ctx, path);
     if (!scene)
         return false;
     /* looking straight down from 2 m (-Z turned to -Y about +X) */
     static const float pos[3] = {0, 2, 0}, q[4] = {-0.70710678f, 0, 0, 0.70710678f};
-    xrsc_frame f = make_frame(pos, q);
+    xrsc_frame f = t_frame_at(pos, q, T_HALF_FOV);
     float *px = render(scene, XRSC_METHOD_SPP, 7, 0, &f);
     xrsc_scene_destroy(&scene);
     if (!px)

@@ -16,6 +16,8 @@
 #include "t_context.h"
 #include "testing.h"
 #include "t_frames.h"
+#include "t_gltf.h"
+#include "t_render.h"
 #include "xrsc/xrsc.h"
 
 #include <math.h>
@@ -33,8 +35,9 @@ static const uint8_t k_texel[3] = {220, 128, 255};
 
 static xrsc_context *g_ctx;
 
-/** The quad's buffer: 4 positions, 4 uvs, 6 u16 indices (+ 4 bytes padding) = 92 bytes. */
-static char *quad_uri(void)
+/** Writes the scene with the given material JSON; returns its path. The buffer: 4 positions,
+ *  4 uvs, 6 u16 indices (+ 4 bytes padding) = 92 bytes. */
+static const char *write_scene(const char *name, const char *material, const char *image_uri)
 {
     uint8_t b[92];
     const float pos[12] = {-10, -10, -1, 10, -10, -1, 10, 10, -1, -10, 10, -1};
@@ -43,68 +46,43 @@ static char *quad_uri(void)
     memcpy(b, pos, 48);
     memcpy(b + 48, uv, 32);
     memcpy(b + 80, idx, 12);
-    return t_data_uri(b, sizeof b);
-}
-
-/** Writes the scene with the given material JSON; returns its path. */
-static const char *write_scene(const char *name, const char *material, const char *image_uri)
-{
-    char *uri = quad_uri();
     double th = 0.5 * (0.5 * T_PI - T_SUN_ELEVATION_RAD); /* +Z of the light node -> L */
     char images[512] = "";
     if (image_uri)
         snprintf(images, sizeof images,
                  "\"images\": [{\"uri\": \"%s\"}], \"textures\": [{\"source\": 0}],", image_uri);
-    size_t cap = 8192 + strlen(material);
-    char *json = malloc(cap);
-    snprintf(json, cap,
-             "{\"asset\": {\"version\": \"2.0\"},"
-             " \"extensionsUsed\": [\"KHR_lights_punctual\", \"KHR_materials_ior\","
-             " \"KHR_materials_unlit\"],"
-             " \"extensions\": {\"KHR_lights_punctual\": {\"lights\": [{\"type\": \"directional\","
-             " \"intensity\": %.17g}]}},"
-             " \"scenes\": [{\"nodes\": [0, 1]}],"
-             " \"nodes\": [{\"mesh\": 0}, {\"rotation\": [0, %.17g, 0, %.17g],"
-             " \"extensions\": {\"KHR_lights_punctual\": {\"light\": 0}}}],"
-             " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"TEXCOORD_0\": 1},"
-             " \"indices\": 2, \"material\": 0}]}],"
-             " \"materials\": [%s], %s"
-             " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\"},"
-             " {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
-             " {\"bufferView\": 2, \"componentType\": 5123, \"count\": 6, \"type\": \"SCALAR\"}],"
-             " \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 48}, {\"buffer\": 0, \"byteOffset\": 48,"
-             " \"byteLength\": 32}, {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 12}],"
-             " \"buffers\": [{\"byteLength\": 92, \"uri\": \"%s\"}]}",
-             T_SUN_LUX, sin(th), cos(th), material, images, uri);
-    free(uri);
-    const char *path = t_temp_file(name, json);
-    free(json);
-    return path;
+    return t_gltf_write(
+        name, b, sizeof b,
+        "{\"asset\": {\"version\": \"2.0\"},"
+        " \"extensionsUsed\": [\"KHR_lights_punctual\", \"KHR_materials_ior\","
+        " \"KHR_materials_unlit\"],"
+        " \"extensions\": {\"KHR_lights_punctual\": {\"lights\": [{\"type\": \"directional\","
+        " \"intensity\": %.17g}]}},"
+        " \"scenes\": [{\"nodes\": [0, 1]}],"
+        " \"nodes\": [{\"mesh\": 0}, {\"rotation\": [0, %.17g, 0, %.17g],"
+        " \"extensions\": {\"KHR_lights_punctual\": {\"light\": 0}}}],"
+        " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"TEXCOORD_0\": 1},"
+        " \"indices\": 2, \"material\": 0}]}],"
+        " \"materials\": [%s], %s"
+        " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": "
+        "\"VEC3\"},"
+        " {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
+        " {\"bufferView\": 2, \"componentType\": 5123, \"count\": 6, \"type\": \"SCALAR\"}],"
+        " \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 48}, {\"buffer\": 0, \"byteOffset\": "
+        "48,"
+        " \"byteLength\": 32}, {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 12}]",
+        T_SUN_LUX, sin(th), cos(th), material, images);
 }
 
 /** Renders 1 spp and returns the mean colour of the centre pixels of the left eye, and the
  *  largest deviation of any of them from that mean. */
 static bool render(const char *path, double mean[3], double *max_dev)
 {
-    char buf[1024];
-    xrsc_diag d;
-    xrsc_scene *scene = NULL;
-    xrsc_result r = xrsc_scene_load(g_ctx, path, NULL, &scene, &d);
-    CHECK_MSG(r == XRSC_OK, "%s", xrsc_diag_format(&d, buf, sizeof buf));
-    if (r != XRSC_OK)
-        return false;
     xrsc_renderer_options ro = {.method = XRSC_METHOD_SPP, .width = T_SIZE, .height = T_SIZE};
     ro.spp.samples_per_pixel = 1;
     ro.spp.no_jitter = true;
-    xrsc_renderer *rend = NULL;
-    r = xrsc_renderer_create(g_ctx, scene, &ro, &rend, &d);
-    CHECK_MSG(r == XRSC_OK, "%s", xrsc_diag_format(&d, buf, sizeof buf));
-    bool ok = r == XRSC_OK;
-    xrsc_frame frame;
-    t_frame_identity(&frame);
-    float *c = malloc(T_SIZE * T_SIZE * 16);
-    ok = ok && c && xrsc_renderer_render(rend, &frame) == XRSC_OK &&
-         xrsc_renderer_read(rend, 0, XRSC_OUTPUT_COLOR, c, T_SIZE * T_SIZE * 16) == XRSC_OK;
+    float *c = t_render_file(g_ctx, path, &ro, NULL, &(t_render_job){.eyes = 1});
+    bool ok = c != NULL;
     /* the centre half of the image: all on the plane */
     uint32_t lo = T_SIZE / 4, hi = 3 * T_SIZE / 4, n = 0;
     mean[0] = mean[1] = mean[2] = 0.0;
@@ -120,8 +98,6 @@ static bool render(const char *path, double mean[3], double *max_dev)
             for (int k = 0; k < 3; k++)
                 *max_dev = fmax(*max_dev, fabs(c[4 * (y * T_SIZE + x) + k] - mean[k]));
     free(c);
-    xrsc_renderer_destroy(&rend);
-    xrsc_scene_destroy(&scene);
     return ok;
 }
 

@@ -19,6 +19,9 @@
  * tolerance T_REL_TOL relative + T_ABS_TOL absolute.
  */
 #include "t_context.h"
+#include "t_frames.h"
+#include "t_gltf.h"
+#include "t_render.h"
 #include "testing.h"
 #include "xrsc/xrsc.h"
 
@@ -62,92 +65,41 @@ static const char *plane_scene(const char *name, const char *lights, const char 
     uint8_t bytes[48 + 12];
     memcpy(bytes, pos, 48);
     memcpy(bytes + 48, idx, 12);
-    char *uri = t_data_uri(bytes, sizeof bytes);
     char roots[256] = "0";
     for (uint32_t i = 0; i < light_node_count; i++)
         snprintf(roots + strlen(roots), sizeof roots - strlen(roots), ",%u", i + 1);
-    size_t cap = strlen(uri) + strlen(lights) + strlen(light_nodes) + 4096;
-    char *json = malloc(cap);
-    snprintf(json, cap,
-             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[%s],"
-             "\"extras\":{\"xrsc_environment\":[0,0,0]}}],"
-             "\"nodes\":[{\"mesh\":0},%s],"
-             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1,"
-             "\"material\":0}]}],"
-             "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.5,0.5,0.5,1],"
-             "\"metallicFactor\":0,\"roughnessFactor\":1},"
-             "\"extensions\":{\"KHR_materials_ior\":{\"ior\":1}}}],"
-             "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":%s}},"
-             "\"extensionsUsed\":[\"KHR_materials_ior\",\"KHR_lights_punctual\"],"
-             "\"buffers\":[{\"byteLength\":60,\"uri\":\"%s\"}],"
-             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":48},"
-             "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":12}],"
-             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":"
-             "\"VEC3\",\"min\":[-3,0,-3],\"max\":[3,0,3]},"
-             "{\"bufferView\":1,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]}",
-             roots, light_nodes, lights, uri);
-    free(uri);
-    const char *path = t_temp_file(name, json);
-    free(json);
-    return path;
+    return t_gltf_write(
+        name, bytes, sizeof bytes,
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[%s],"
+        "\"extras\":{\"xrsc_environment\":[0,0,0]}}],"
+        "\"nodes\":[{\"mesh\":0},%s],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1,"
+        "\"material\":0}]}],"
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.5,0.5,0.5,1],"
+        "\"metallicFactor\":0,\"roughnessFactor\":1},"
+        "\"extensions\":{\"KHR_materials_ior\":{\"ior\":1}}}],"
+        "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":%s}},"
+        "\"extensionsUsed\":[\"KHR_materials_ior\",\"KHR_lights_punctual\"],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":48},"
+        "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":12}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":"
+        "\"VEC3\",\"min\":[-3,0,-3],\"max\":[3,0,3]},"
+        "{\"bufferView\":1,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]",
+        roots, light_nodes, lights);
 }
 
-static xrsc_scene *load(const char *path)
-{
-    xrsc_scene *s = NULL;
-    xrsc_diag d = {0};
-    xrsc_result r = xrsc_scene_load(g_ctx, path, NULL, &s, &d);
-    CHECK_MSG(r == XRSC_OK, "load %s: %s (%s)", path, xrsc_result_name(r), d.message);
-    return s;
-}
-
-/** Both eyes at (0, T_CAMERA_Y, 0) looking straight down. */
-static xrsc_frame make_frame(uint32_t frame_index)
-{
-    xrsc_frame f;
-    memset(&f, 0, sizeof(f));
-    for (int e = 0; e < 2; e++) {
-        f.views[e].pose.orientation.x = -0.70710678f;
-        f.views[e].pose.orientation.w = 0.70710678f;
-        f.views[e].pose.position.y = (float)T_CAMERA_Y;
-        f.views[e].fov.angleLeft = f.views[e].fov.angleDown = -T_HALF_FOV;
-        f.views[e].fov.angleRight = f.views[e].fov.angleUp = T_HALF_FOV;
-    }
-    f.frame_index = frame_index;
-    return f;
-}
-
-/** Renders both eyes (method spp at pixel centres, or samplecache with the visibility cache);
- *  returns 2 * T_SIZE^2 RGBA floats (malloc'ed) or NULL. */
+/** Renders both eyes at (0, T_CAMERA_Y, 0) looking straight down (method spp at pixel
+ *  centres, or samplecache with the visibility cache); returns 2 * T_SIZE^2 RGBA floats
+ *  (malloc'ed) or NULL. */
 static float *render(xrsc_scene *scene, xrsc_method method, uint32_t seed)
 {
-    xrsc_renderer_options o = {0};
-    o.method = method;
-    o.width = o.height = T_SIZE;
-    o.seed = seed;
+    static const float pos[3] = {0, (float)T_CAMERA_Y, 0}, q[4] = {-0.70710678f, 0, 0, 0.70710678f};
+    xrsc_frame f = t_frame_at(pos, q, T_HALF_FOV);
+    xrsc_renderer_options o = {.method = method, .width = T_SIZE, .height = T_SIZE, .seed = seed};
     o.spp.samples_per_pixel = T_SPP;
     o.spp.no_jitter = true;
     o.samplecache.visibility.enabled = true;
-    xrsc_renderer *r = NULL;
-    xrsc_diag d = {0};
-    xrsc_result res = xrsc_renderer_create(g_ctx, scene, &o, &r, &d);
-    CHECK_MSG(res == XRSC_OK, "renderer: %s", d.message);
-    if (res != XRSC_OK)
-        return NULL;
-    size_t bytes = (size_t)T_SIZE * T_SIZE * 4 * sizeof(float);
-    float *px = malloc(2 * bytes);
-    xrsc_frame f = make_frame(0);
-    res = xrsc_renderer_render(r, &f);
-    CHECK_EQ_INT(res, XRSC_OK);
-    for (uint32_t e = 0; e < 2 && res == XRSC_OK; e++)
-        res = xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, (char *)px + e * bytes, bytes);
-    CHECK_EQ_INT(res, XRSC_OK);
-    xrsc_renderer_destroy(&r);
-    if (res != XRSC_OK) {
-        free(px);
-        return NULL;
-    }
-    return px;
+    return t_render_image(g_ctx, scene, &o, &f, NULL);
 }
 
 /** Distance on the plane from below the camera of pixel (x, y)'s centre ray. */
@@ -226,7 +178,7 @@ static const char *spot_scene(void)
 
 static void test_spot_cone_falloff(void)
 {
-    xrsc_scene *scene = load(spot_scene());
+    xrsc_scene *scene = t_scene_load(g_ctx, spot_scene());
     if (!scene)
         return;
     float *px = render(scene, XRSC_METHOD_SPP, 1);
@@ -256,9 +208,11 @@ static void test_point_inverse_square(void)
     char lights[128];
     snprintf(lights, sizeof lights, "[{\"type\":\"point\",\"color\":[1,1,1],\"intensity\":%g}]",
              T_POINT_I);
-    xrsc_scene *scene = load(plane_scene(
-        "lights_point.gltf", lights,
-        "{\"translation\":[0,1,0],\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}}", 1));
+    xrsc_scene *scene = t_scene_load(
+        g_ctx,
+        plane_scene(
+            "lights_point.gltf", lights,
+            "{\"translation\":[0,1,0],\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}}", 1));
     if (!scene)
         return;
     float *px = render(scene, XRSC_METHOD_SPP, 2);
@@ -295,7 +249,7 @@ static void test_directional_lights_add(void)
              ",\"extensions\":{\"KHR_lights_punctual\":{\"light\":2}}}",
              nodes2);
     /* two: the sun and one buffer light, both deterministic: every pixel exact */
-    xrsc_scene *scene = load(plane_scene("lights_dir2.gltf", lights, nodes2, 2));
+    xrsc_scene *scene = t_scene_load(g_ctx, plane_scene("lights_dir2.gltf", lights, nodes2, 2));
     if (!scene)
         return;
     float *px = render(scene, XRSC_METHOD_SPP, 3);
@@ -306,7 +260,7 @@ static void test_directional_lights_add(void)
     }
     free(px);
     /* three: two in the buffer, one picked per vertex: the mean within T_SIGMAS errors */
-    scene = load(plane_scene("lights_dir3.gltf", lights, nodes3, 3));
+    scene = t_scene_load(g_ctx, plane_scene("lights_dir3.gltf", lights, nodes3, 3));
     if (!scene)
         return;
     xrsc_scene_info info;

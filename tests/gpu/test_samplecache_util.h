@@ -159,6 +159,14 @@ static inline xrsc_frame tsc_headset_frame(XrPosef head, uint32_t frame_index)
     return f;
 }
 
+/** Frame 0 of the default headset at the scene's viewpoint. */
+static inline xrsc_frame tsc_viewpoint_frame(const xrsc_scene *scene)
+{
+    xrsc_scene_info info;
+    xrsc_scene_get_info(scene, &info);
+    return tsc_headset_frame(info.viewpoint, 0);
+}
+
 /** Quaternion of a rotation by `angle` rad about the unit axis (x, y, z). */
 static inline XrQuaternionf tsc_quat_axis(double x, double y, double z, double angle)
 {
@@ -522,9 +530,7 @@ static inline void tsc_convergence(const xrsc_renderer_options *ro, uint32_t w, 
     float *refimg[2] = {malloc(n * 16), malloc(n * 16)}, *img = malloc(n * 16);
     if (!r || !ref || !refimg[0] || !refimg[1] || !img)
         goto done;
-    xrsc_scene_info info;
-    xrsc_scene_get_info(scene, &info);
-    xrsc_frame f = tsc_headset_frame(info.viewpoint, 0);
+    xrsc_frame f = tsc_viewpoint_frame(scene);
     for (uint32_t k = 0; k < ref_frames; k++) {
         f.frame_index = k;
         CHECK_EQ_INT(xrsc_renderer_render(ref, &f), XRSC_OK);

@@ -39,6 +39,8 @@
 #include "gpu_scene.h"
 #include "mt_method.h"
 #include "sc_scene.h"
+#include "t_context.h"
+#include "t_render.h"
 #include "test_samplecache_util.h"
 #include "testing.h"
 #include "tf_taa.h"
@@ -80,60 +82,25 @@ static double relmse(const float *x, const float *ref, size_t pixels)
     return s / (3.0 * (double)pixels);
 }
 
-/** Renders `frames` frames of the still view f (frame_index 0, 1, ...) and reads both eyes'
- *  colour into out (2 x T_W x T_H RGBA). */
-static bool render_still(xrsc_context *ctx, xrsc_scene *scene, const xrsc_renderer_options *ro,
-                         xrsc_frame f, uint32_t frames, float *out, xrsc_pass_timing *timings,
-                         uint32_t *timing_count)
-{
-    xrsc_renderer *r = NULL;
-    xrsc_diag diag = {0};
-    xrsc_result res = xrsc_renderer_create(ctx, scene, ro, &r, &diag);
-    CHECK_EQ_INT(res, XRSC_OK);
-    if (res != XRSC_OK) {
-        tsc_print_diag(&diag);
-        return false;
-    }
-    for (uint32_t i = 0; i < frames && res == XRSC_OK; i++) {
-        f.frame_index = i;
-        res = xrsc_renderer_render(r, &f);
-    }
-    size_t layer = (size_t)T_W * T_H * 4;
-    for (uint32_t e = 0; e < 2 && res == XRSC_OK; e++)
-        res = xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, out + e * layer, layer * sizeof(float));
-    CHECK_EQ_INT(res, XRSC_OK);
-    if (timings)
-        *timing_count = xrsc_renderer_timings(r, timings, XRSC_MAX_PASSES);
-    xrsc_renderer_destroy(&r);
-    return res == XRSC_OK;
-}
-
 /** Still view of scene_path: relMSE of method `taa` with TAA off, on and pfj23 against the
  *  reference; on must stay below on_ratio x off (0: only below off), pfj23 below off. */
 static void still_view_case(const char *scene_path, double on_ratio)
 {
-    xrsc_context_options co = {.validation = true};
-    xrsc_context *ctx = NULL;
-    xrsc_diag diag = {0};
-    CHECK_EQ_INT(xrsc_context_create(&co, &ctx, &diag), XRSC_OK);
-    xrsc_scene *scene = NULL;
-    if (ctx)
-        CHECK_EQ_INT(xrsc_scene_load(ctx, t_source_path(scene_path), NULL, &scene, &diag), XRSC_OK);
+    xrsc_context *ctx = t_context_open();
+    CHECK(ctx != NULL);
+    xrsc_scene *scene = ctx ? t_scene_load(ctx, t_source_path(scene_path)) : NULL;
     if (!scene) {
-        tsc_print_diag(&diag);
         xrsc_context_destroy(&ctx);
         return;
     }
-    xrsc_scene_info info;
-    xrsc_scene_get_info(scene, &info);
-    xrsc_frame f = tsc_headset_frame(info.viewpoint, 0);
+    xrsc_frame f = tsc_viewpoint_frame(scene);
     size_t pixels = 2u * T_W * T_H;
     float *ref = calloc(pixels * 4, sizeof(float)), *img = calloc(pixels * 4, sizeof(float));
 
     xrsc_renderer_options ro = {.width = T_W, .height = T_H, .method = XRSC_METHOD_SPP};
     ro.spp.samples_per_pixel = T_REF_SPP;
     ro.spp.accumulate = true;
-    bool ok = render_still(ctx, scene, &ro, f, T_REF_FRAMES, ref, NULL, NULL);
+    bool ok = t_render(ctx, scene, &ro, &f, &(t_render_job){.frames = T_REF_FRAMES}, ref);
 
     static const xrsc_taa_mode modes[] = {XRSC_TAA_OFF, XRSC_TAA_DEFAULT, XRSC_TAA_PFJ23};
     static const char *const names[] = {"off", "on (default)", "pfj23"};
@@ -142,8 +109,9 @@ static void still_view_case(const char *scene_path, double on_ratio)
         xrsc_renderer_options to = {.width = T_W, .height = T_H, .method = XRSC_METHOD_TAA};
         to.taa.mode = modes[k];
         xrsc_pass_timing tm[XRSC_MAX_PASSES];
-        uint32_t n = 0;
-        ok = render_still(ctx, scene, &to, f, T_FRAMES, img, tm, &n);
+        t_render_job job = {.frames = T_FRAMES, .timings = tm};
+        ok = t_render(ctx, scene, &to, &f, &job, img);
+        uint32_t n = job.timing_count;
         err[k] = relmse(img, ref, pixels);
         printf("  %s: taa %-12s relMSE %.5f after %u frames\n", scene_path, names[k], err[k],
                T_FRAMES);
@@ -165,8 +133,9 @@ static void still_view_case(const char *scene_path, double on_ratio)
         .width = T_W, .height = T_H, .method = XRSC_METHOD_PRIMARY, .blend = XRSC_BLEND_PFJ23};
     po.taa.mode = XRSC_TAA_ON;
     xrsc_pass_timing tm[XRSC_MAX_PASSES];
-    uint32_t n = 0;
-    if (render_still(ctx, scene, &po, f, 2, img, tm, &n)) {
+    t_render_job job = {.frames = 2, .timings = tm};
+    if (t_render(ctx, scene, &po, &f, &job, img)) {
+        uint32_t n = job.timing_count;
         CHECK_EQ_INT(n, 4);
         if (n == 4)
             CHECK(!strcmp(tm[1].name, "trace") && !strcmp(tm[2].name, TF_PASS_TAA) &&
@@ -174,6 +143,7 @@ static void still_view_case(const char *scene_path, double on_ratio)
     }
     /* options out of range */
     xrsc_renderer *bad = NULL;
+    xrsc_diag diag = {0};
     po.taa.alpha = 1.5f;
     CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &po, &bad, &diag), XRSC_ERROR_INVALID_ARGUMENT);
     po.taa.alpha = 0.0f;

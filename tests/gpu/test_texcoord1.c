@@ -17,6 +17,8 @@
 #include "t_context.h"
 #include "testing.h"
 #include "t_frames.h"
+#include "t_gltf.h"
+#include "t_render.h"
 #include "xrsc/xrsc.h"
 
 #include <math.h>
@@ -26,16 +28,18 @@
 
 #define T_SIZE 32u
 #define T_FRAMES 2u
+#define T_FRAME_NS 11111111u /* display time between frames (90 Hz) */
 /* The 2 x 1 texture: left texel red (TEXCOORD_0), right texel green (TEXCOORD_1). */
 static const uint8_t k_texels[6] = {255, 0, 0, 0, 255, 0};
 
 static xrsc_context *g_ctx;
 
-/** The quad's buffer: 4 positions, 4 uv0, 4 uv1, 6 u16 indices (+ 4 bytes padding). */
-#define T_BUFFER_BYTES 128
-static char *quad_uri(void)
+/** Writes the scene with the given two materials' JSON (left square, right square) and image
+ *  file name; returns its path. The buffer: 4 positions, 4 uv0, 4 uv1, 6 u16 indices (+ 4
+ *  bytes padding). */
+static const char *write_scene(const char *name, const char *material, const char *image)
 {
-    uint8_t b[T_BUFFER_BYTES];
+    uint8_t b[128];
     const float pos[12] = {-10, -10, -1, 10, -10, -1, 10, 10, -1, -10, 10, -1};
     const float uv0[8] = {0.25f, 0.5f, 0.25f, 0.5f, 0.25f, 0.5f, 0.25f, 0.5f};
     const float uv1[8] = {0.75f, 0.5f, 0.75f, 0.5f, 0.75f, 0.5f, 0.75f, 0.5f};
@@ -44,45 +48,31 @@ static char *quad_uri(void)
     memcpy(b + 48, uv0, 32);
     memcpy(b + 80, uv1, 32);
     memcpy(b + 112, idx, 16);
-    return t_data_uri(b, sizeof b);
-}
-
-/** Writes the scene with the given two materials' JSON (left square, right square) and image
- *  file name; returns its path. */
-static const char *write_scene(const char *name, const char *material, const char *image)
-{
-    char *uri = quad_uri();
-    size_t cap = 8192 + strlen(material);
-    char *json = malloc(cap);
-    snprintf(json, cap,
-             "{\"asset\": {\"version\": \"2.0\"},"
-             " \"extensionsUsed\": [\"KHR_materials_unlit\"],"
-             " \"scenes\": [{\"nodes\": [0], \"extras\": {\"xrsc_environment\": [0, 0, 0]}}],"
-             " \"nodes\": [{\"children\": [1, 2]}, {\"mesh\": 0, \"translation\": [-10, 0, 0]},"
-             " {\"mesh\": 1, \"translation\": [10, 0, 0]}],"
-             " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0,"
-             " \"TEXCOORD_0\": 1, \"TEXCOORD_1\": 2}, \"indices\": 3, \"material\": 0}]},"
-             " {\"primitives\": [{\"attributes\": {\"POSITION\": 0,"
-             " \"TEXCOORD_0\": 1, \"TEXCOORD_1\": 2}, \"indices\": 3, \"material\": 1}]}],"
-             " \"materials\": [%s],"
-             " \"images\": [{\"uri\": \"%s\"}], \"textures\": [{\"source\": 0, \"sampler\": 0}],"
-             " \"samplers\": [{\"magFilter\": 9728, \"minFilter\": 9728}],"
-             " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, "
-             "\"type\": \"VEC3\","
-             " \"min\": [-10, -10, -1], \"max\": [10, 10, -1]},"
-             " {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
-             " {\"bufferView\": 2, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
-             " {\"bufferView\": 3, \"componentType\": 5123, \"count\": 6, \"type\": \"SCALAR\"}],"
-             " \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 48},"
-             " {\"buffer\": 0, \"byteOffset\": 48, \"byteLength\": 32},"
-             " {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 32},"
-             " {\"buffer\": 0, \"byteOffset\": 112, \"byteLength\": 12}],"
-             " \"buffers\": [{\"byteLength\": %d, \"uri\": \"%s\"}]}",
-             material, image, T_BUFFER_BYTES, uri);
-    free(uri);
-    const char *path = t_temp_file(name, json);
-    free(json);
-    return path;
+    return t_gltf_write(
+        name, b, sizeof b,
+        "{\"asset\": {\"version\": \"2.0\"},"
+        " \"extensionsUsed\": [\"KHR_materials_unlit\"],"
+        " \"scenes\": [{\"nodes\": [0], \"extras\": {\"xrsc_environment\": [0, 0, 0]}}],"
+        " \"nodes\": [{\"children\": [1, 2]}, {\"mesh\": 0, \"translation\": [-10, 0, 0]},"
+        " {\"mesh\": 1, \"translation\": [10, 0, 0]}],"
+        " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0,"
+        " \"TEXCOORD_0\": 1, \"TEXCOORD_1\": 2}, \"indices\": 3, \"material\": 0}]},"
+        " {\"primitives\": [{\"attributes\": {\"POSITION\": 0,"
+        " \"TEXCOORD_0\": 1, \"TEXCOORD_1\": 2}, \"indices\": 3, \"material\": 1}]}],"
+        " \"materials\": [%s],"
+        " \"images\": [{\"uri\": \"%s\"}], \"textures\": [{\"source\": 0, \"sampler\": 0}],"
+        " \"samplers\": [{\"magFilter\": 9728, \"minFilter\": 9728}],"
+        " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, "
+        "\"type\": \"VEC3\","
+        " \"min\": [-10, -10, -1], \"max\": [10, 10, -1]},"
+        " {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
+        " {\"bufferView\": 2, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
+        " {\"bufferView\": 3, \"componentType\": 5123, \"count\": 6, \"type\": \"SCALAR\"}],"
+        " \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 48},"
+        " {\"buffer\": 0, \"byteOffset\": 48, \"byteLength\": 32},"
+        " {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 32},"
+        " {\"buffer\": 0, \"byteOffset\": 112, \"byteLength\": 12}]",
+        material, image);
 }
 
 /** The left eye's column where x = 0 (between the squares) projects, from its FOV. */
@@ -100,30 +90,12 @@ static double seam_column(void)
 #define T_SEAM_PX 2.0
 static bool render(const char *path, xrsc_method method, double *max_dev)
 {
-    char buf[1024];
-    xrsc_diag d;
-    xrsc_scene *scene = NULL;
-    xrsc_result r = xrsc_scene_load(g_ctx, path, NULL, &scene, &d);
-    CHECK_MSG(r == XRSC_OK, "%s", xrsc_diag_format(&d, buf, sizeof buf));
-    if (r != XRSC_OK)
-        return false;
     xrsc_renderer_options ro = {.method = method, .width = T_SIZE, .height = T_SIZE};
     ro.spp.samples_per_pixel = 1;
     ro.spp.no_jitter = true;
-    xrsc_renderer *rend = NULL;
-    r = xrsc_renderer_create(g_ctx, scene, &ro, &rend, &d);
-    CHECK_MSG(r == XRSC_OK, "%s", xrsc_diag_format(&d, buf, sizeof buf));
-    bool ok = r == XRSC_OK;
-    xrsc_frame frame;
-    t_frame_identity(&frame);
-    float *c = malloc(T_SIZE * T_SIZE * 16);
-    ok = ok && c;
-    for (uint32_t f = 0; ok && f < T_FRAMES; f++) {
-        frame.display_time_ns += 11111111;
-        frame.frame_index = f;
-        ok = xrsc_renderer_render(rend, &frame) == XRSC_OK;
-    }
-    ok = ok && xrsc_renderer_read(rend, 0, XRSC_OUTPUT_COLOR, c, T_SIZE * T_SIZE * 16) == XRSC_OK;
+    t_render_job job = {.frames = T_FRAMES, .time_step_ns = T_FRAME_NS, .eyes = 1};
+    float *c = t_render_file(g_ctx, path, &ro, NULL, &job);
+    bool ok = c != NULL;
     static const double red[3] = {1, 0, 0}, green[3] = {0, 1, 0};
     double seam = seam_column();
     uint32_t n = 0;
@@ -140,8 +112,6 @@ static bool render(const char *path, xrsc_method method, double *max_dev)
         }
     CHECK(n > T_SIZE * T_SIZE / 2);
     free(c);
-    xrsc_renderer_destroy(&rend);
-    xrsc_scene_destroy(&scene);
     return ok;
 }
 
