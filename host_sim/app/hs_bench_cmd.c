@@ -374,6 +374,12 @@ int hs_bench_cmdline_parse(int argc, char **argv, hs_bench_cmdline **out)
     return 0;
 }
 
+const hs_opt *hs_bench_cmdline_table(size_t *out_count)
+{
+    *out_count = BENCH_OPT_COUNT;
+    return k_bench_opts;
+}
+
 hs_bench_options *hs_bench_cmdline_options(hs_bench_cmdline *c)
 {
     return &c->ba.opt;

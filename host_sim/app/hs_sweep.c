@@ -6,7 +6,6 @@
  */
 #include "hs_sweep.h"
 
-#include "hs_anim_args.h"
 #include "hs_args.h"
 #include "hs_bench.h"
 #include "hs_bench_columns.h"
@@ -27,16 +26,26 @@
 #define SWEEP_NAME_MAX 64
 #define SWEEP_TEXT_MAX (64 * 1024)
 
-/* Keys of a sweep file passed on to each case's `xrsc bench` as --KEY VALUE (its parser checks
- * the values), and those passed as flags. */
-static const char *const bench_value_keys[] = {
-    "--resolution", "--frames", "--warmup", "--score-every", "--ref-spp", "--seed", "--env",
-    "--ipd",        "--refresh", "--device", "--anchor",     "--pose-format", "--baseline",
-    "--start",      HS_ANIM_FLAG, "--blas-update",
-};
-static const char *const bench_flag_keys[] = {"--validation", "--no-plots", "--quiet"};
+/* The options of `xrsc bench` a sweep file may not set: those each case's or unit's bench
+ * command line sets itself (scene, poses: capture, settings: setting, out, part) and those a
+ * run split into units does not take (fresh, ref-floor, timing-only). Every other option of
+ * the bench's table (hs_bench_cmdline_table) is a sweep key passed on to each case's bench as
+ * --KEY [VALUE] (its parser checks the values). */
+static const char *const bench_not_forwarded[] = {"--scene",     "--poses",      "--settings",
+                                                  "--out",       "--part",       "--fresh",
+                                                  "--ref-floor", "--timing-only"};
 /* The sweep's own keys: scene and capture and setting may repeat. */
 static const char *const sweep_value_keys[] = {"--scene", "--capture", "--setting", "--out"};
+#define COUNT_OF(a) (sizeof(a) / sizeof((a)[0]))
+
+/* The keys a sweep file may hold: values[0..bench_values) the bench's options with a value,
+ * then the sweep's own; flags the bench's flags. */
+typedef struct sweep_keys {
+    const char *values[HS_OPT_MAX + COUNT_OF(sweep_value_keys)];
+    size_t value_count, bench_values;
+    const char *flags[HS_OPT_MAX];
+    size_t flag_count;
+} sweep_keys;
 
 /* One scene x capture: a bench run into OUT/name. */
 typedef struct sweep_case {
@@ -50,6 +59,7 @@ typedef struct sweep_case {
 typedef struct sweep {
     const char *path, *out;
     hs_args args; /* the file as "--key value" pairs */
+    sweep_keys keys;
     const char *forward[2 * SWEEP_MAX_FORWARD];
     uint32_t forward_count;
     const char *scenes[SWEEP_MAX_CASES], *captures[SWEEP_MAX_CASES];
@@ -128,12 +138,31 @@ static xrsc_result parse_capture(sweep *sw, char *value, const char *scene, swee
     return XRSC_OK;
 }
 
+/* The keys from the bench's option table (its rows in order) and the sweep's own. */
+static void read_keys(sweep_keys *k)
+{
+    size_t n = 0;
+    const hs_opt *t = hs_bench_cmdline_table(&n);
+    memset(k, 0, sizeof(*k));
+    for (size_t i = 0; i < n && i < HS_OPT_MAX; i++)
+        if (t[i].name &&
+            !hs_arg_in(t[i].name, bench_not_forwarded, COUNT_OF(bench_not_forwarded))) {
+            if (t[i].arg)
+                k->values[k->value_count++] = t[i].name;
+            else
+                k->flags[k->flag_count++] = t[i].name;
+        }
+    k->bench_values = k->value_count;
+    for (size_t i = 0; i < COUNT_OF(sweep_value_keys); i++)
+        k->values[k->value_count++] = sweep_value_keys[i];
+}
+
 /* Appends one "--key value" pair (or a flag) of the file to the sweep. */
 static xrsc_result take_option(sweep *sw, int *i, xrsc_diag *diag)
 {
     const char *k = sw->args.argv[*i];
     const char *v = *i + 1 < sw->args.argc ? sw->args.argv[*i + 1] : "";
-    if (hs_arg_in(k, bench_flag_keys, sizeof(bench_flag_keys) / sizeof(bench_flag_keys[0]))) {
+    if (hs_arg_in(k, sw->keys.flags, sw->keys.flag_count)) {
         if (sw->forward_count + 1 >= 2 * SWEEP_MAX_FORWARD)
             return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, sw->path, 0, k, "too many keys");
         sw->forward[sw->forward_count++] = k;
@@ -150,8 +179,7 @@ static xrsc_result take_option(sweep *sw, int *i, xrsc_diag *diag)
         size_t used = strlen(sw->settings);
         snprintf(sw->settings + used, sizeof(sw->settings) - used, "%s%s", used ? ";" : "", v);
         sw->setting_count++;
-    } else if (hs_arg_in(k, bench_value_keys,
-                         sizeof(bench_value_keys) / sizeof(bench_value_keys[0])) &&
+    } else if (hs_arg_in(k, sw->keys.values, sw->keys.bench_values) &&
                sw->forward_count + 2 < 2 * SWEEP_MAX_FORWARD) {
         sw->forward[sw->forward_count++] = k;
         sw->forward[sw->forward_count++] = v;
@@ -166,13 +194,7 @@ static xrsc_result take_option(sweep *sw, int *i, xrsc_diag *diag)
  * and then into scenes, captures, settings and the keys for the bench. */
 static xrsc_result read_sweep(sweep *sw, const char *path, xrsc_diag *diag)
 {
-    static const char *value_keys[sizeof(bench_value_keys) / sizeof(bench_value_keys[0]) +
-                                  sizeof(sweep_value_keys) / sizeof(sweep_value_keys[0])];
-    size_t nv = 0;
-    for (size_t i = 0; i < sizeof(bench_value_keys) / sizeof(bench_value_keys[0]); i++)
-        value_keys[nv++] = bench_value_keys[i];
-    for (size_t i = 0; i < sizeof(sweep_value_keys) / sizeof(sweep_value_keys[0]); i++)
-        value_keys[nv++] = sweep_value_keys[i];
+    read_keys(&sw->keys);
     sw->path = path;
     sw->out = "out/sweep";
     FILE *f = fopen(path, "rb");
@@ -185,14 +207,16 @@ static xrsc_result read_sweep(sweep *sw, const char *path, xrsc_diag *diag)
         return u_diag_set(diag, XRSC_ERROR_FILE_TOO_LARGE, path, 0, "", "over %d bytes",
                           SWEEP_TEXT_MAX);
     text[n] = '\0';
-    const hs_args_spec spec = {.cmd = "xrsc sweep", .value_options = value_keys,
-                               .value_count = nv, .config = true};
+    const hs_args_spec spec = {.cmd = "xrsc sweep",
+                               .value_options = sw->keys.values,
+                               .value_count = sw->keys.value_count,
+                               .config = true};
     sw->args.argc = 0;
     xrsc_result res = hs_args_config_text(&sw->args, &spec, path, text, diag);
     for (int i = 0; res == XRSC_OK && i < sw->args.argc; i++) {
         const char *k = sw->args.argv[i];
-        if (!hs_arg_in(k, value_keys, nv) &&
-            !hs_arg_in(k, bench_flag_keys, sizeof(bench_flag_keys) / sizeof(bench_flag_keys[0])))
+        if (!hs_arg_in(k, sw->keys.values, sw->keys.value_count) &&
+            !hs_arg_in(k, sw->keys.flags, sw->keys.flag_count))
             return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, path, 0, k + 2,
                               "unknown key (scene, capture, setting, out or an xrsc bench "
                               "option: bench/README.md \"Sweeps\")");
@@ -536,9 +560,7 @@ static const hs_opt k_sweep_opts[] = {
          "key = value per line: scene = PATH and capture = PATH[,start=S][,frames=N]\n"
          "[,name=LABEL] (each repeatable: every scene x capture is a case, benched into\n"
          "OUT/CASE), setting = METHOD[:KEY=VALUE,...] (repeatable; xrsc bench --settings),\n"
-         "out = DIR [out/sweep], and xrsc bench's options: resolution, frames, warmup,\n"
-         "score-every, ref-spp, seed, env, animation, blas-update, ipd, refresh, device,\n"
-         "anchor, pose-format, baseline, start, validation, no-plots, quiet.\n"
+         "out = DIR [out/sweep], and the xrsc bench options listed at the end.\n"
          "  plan    prints the units: first each case's references (one per scored frame),\n"
          "          then each case's settings\n"
          "  run     does units in the shared folder (a finished unit is skipped; a run unit\n"
@@ -547,14 +569,31 @@ static const hs_opt k_sweep_opts[] = {
          "          files, exactly as xrsc bench would, and names the units missing\n"
          "\nOptions:\n"),
     {NULL, NULL, NULL, parse_file, 0, NULL},
-    {"--count", "WHAT", "plan: print how many units (all, refs or runs) instead", parse_count,
-     0, NULL},
+    {"--count", "WHAT", "plan: print how many units (all, refs or runs) instead", parse_count, 0,
+     NULL},
     {"--unit", "I", "run: unit I", NULL, offsetof(sweep_args, units), NULL},
     {"--units", "I..J", "run: units I to J, or all", NULL, offsetof(sweep_args, units), NULL},
     TEXT("  -h, --help          this help\n"
          "Details: bench/README.md \"Sweeps\", README.md \"Sweeps on a cluster\".\n"),
 };
 #define SWEEP_OPT_COUNT (sizeof(k_sweep_opts) / sizeof(k_sweep_opts[0]))
+
+/* --help: the table, then the bench options a sweep file may set (from the bench's table). */
+static void usage(FILE *f)
+{
+    hs_opt_print_help(f, k_sweep_opts, SWEEP_OPT_COUNT);
+    sweep_keys k;
+    read_keys(&k);
+    fprintf(f, "xrsc bench options a sweep file may set for every case (a capture's start and\n"
+               "frames win):");
+    int col = 80;
+    for (size_t i = 0; i < k.bench_values + k.flag_count; i++) {
+        const char *name = (i < k.bench_values ? k.values[i] : k.flags[i - k.bench_values]) + 2;
+        if (col + (int)strlen(name) + 2 > 80)
+            col = fprintf(f, "\n ");
+        col += fprintf(f, " %s%s", name, i + 1 < k.bench_values + k.flag_count ? "," : ".\n");
+    }
+}
 
 /* The verb's command on the sweep read from sa->file. */
 static int sweep_command(sweep *sw, const char *verb, const sweep_args *sa)
@@ -574,18 +613,18 @@ int hs_sweep_main(int argc, char **argv)
 {
     const char *verb = argc > 1 ? argv[1] : "";
     if (!strcmp(verb, "-h") || !strcmp(verb, "--help")) {
-        hs_opt_print_help(stdout, k_sweep_opts, SWEEP_OPT_COUNT);
+        usage(stdout);
         return 0;
     }
     if (strcmp(verb, "plan") && strcmp(verb, "run") && strcmp(verb, "merge")) {
-        hs_opt_print_help(stderr, k_sweep_opts, SWEEP_OPT_COUNT);
+        usage(stderr);
         return hs_bad_arg("xrsc sweep", verb[0] ? verb : "(nothing)", NULL,
                           "expected plan, run or merge");
     }
     sweep_args sa = {0};
     int r = hs_opt_parse("xrsc sweep", k_sweep_opts, SWEEP_OPT_COUNT, argc, argv, 2, &sa);
     if (r == HS_OPT_HELP) {
-        hs_opt_print_help(stdout, k_sweep_opts, SWEEP_OPT_COUNT);
+        usage(stdout);
         return 0;
     }
     if (r != HS_ARG_NEXT)

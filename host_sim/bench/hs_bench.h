@@ -23,6 +23,7 @@
  */
 #pragma once
 
+#include "hs_opt.h"
 #include "hs_pose_stream.h"
 #include "xrsc/xrsc.h"
 
@@ -169,6 +170,9 @@ int hs_bench_cmdline_parse(int argc, char **argv, hs_bench_cmdline **out);
 /** The options of a parsed command line (settings included), to change before hs_bench_run. */
 hs_bench_options *hs_bench_cmdline_options(hs_bench_cmdline *c);
 void hs_bench_cmdline_free(hs_bench_cmdline *c);
+/** The `xrsc bench` option table (hs_opt.h, static), *out_count rows: for commands that build
+ *  bench command lines (`xrsc sweep` reads from it the options a sweep file may set). */
+const hs_opt *hs_bench_cmdline_table(size_t *out_count);
 
 /**
  * `xrsc bench --suite stability [...]` (hs_bench_suite.c, issue 9): the failure cases, each
