@@ -229,6 +229,8 @@ static xrsc_result config_line(hs_args *out, const hs_args_spec *spec, const cha
                             "unknown option, or a flag that takes no value");
     if (takes_value && !*rest)
         return config_error(diag, path, line_no, key, "needs a value");
+    if (!takes_value && spec->flag_options && !hs_arg_in(key, spec->flag_options, spec->flag_count))
+        return config_error(diag, path, line_no, key, "unknown option");
     if (*rest == '"' && !(rest = unquote(rest)))
         return config_error(diag, path, line_no, key, "unterminated quoted value");
     char *kcopy = args_store(out, key);

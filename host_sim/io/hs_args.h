@@ -66,6 +66,10 @@ typedef struct hs_args_spec {
     const char *const *value_options;  /**< the options that take a value, e.g. "--frames" */
     size_t value_count;
     bool config;                       /**< --config FILE is read (else it is left as typed) */
+    /** Not NULL: the only flags a config file may hold, any other key without a value is an
+     *  error naming file, line and key; NULL: such keys are kept for the option table. */
+    const char *const *flag_options;
+    size_t flag_count;
 } hs_args_spec;
 
 /**

@@ -3,7 +3,8 @@
 # @file test_sweep_units.sh
 # @brief `xrsc sweep` without Slurm: the plan's units, a failing unit (a scene that does not
 #        exist) named by merge with its error while the other case merges, a finished unit
-#        rerun as a no-op, bad units and keys refused (exit 2).
+#        rerun as a no-op, bad units and keys (unknown, or a bench flag not forwarded) refused
+#        (exit 2).
 # Usage: test_sweep_units.sh XRSC SOURCE_DIR
 set -uo pipefail
 xrsc=$(realpath "$1"); src=$(realpath "$2")
@@ -46,5 +47,9 @@ check "unit out of range: exit 2" '[ $rc -eq 2 ] && grep -q "the sweep has 6 uni
 echo "colour = red" >> s.sweep
 "$xrsc" sweep plan s.sweep 2> key.err; rc=$?
 check "unknown key: exit 2 naming file and key" '[ $rc -eq 2 ] && grep -Eq "s.sweep:1[23]: --colour: unknown option" key.err'
+grep -v '^colour' s.sweep > f.sweep && echo "fresh" >> f.sweep
+"$xrsc" sweep plan f.sweep 2> flag.err; rc=$?
+check "a bench flag a sweep does not forward: exit 2 naming file, line and key" \
+  '[ $rc -eq 2 ] && grep -q "f.sweep:$(wc -l < f.sweep): --fresh: unknown option" flag.err'
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -171,6 +171,29 @@ static void t_config_errors(void)
     free(a);
 }
 
+/* A spec that lists its flags: any other key alone is an error naming file, line and key;
+ * one that lists none keeps such keys for the option table (as above). */
+static void t_config_flags(void)
+{
+    static const char *const flags[] = {"--quiet"};
+    hs_args_spec fs = spec;
+    fs.flag_options = flags;
+    fs.flag_count = 1;
+    hs_args *a = args_new();
+    char ok_text[] = "frames = 2\nquiet\n", bad_text[] = "frames = 2\nquiet\nfresh\n";
+    xrsc_diag d = {0};
+    CHECK_EQ_INT(hs_args_config_text(a, &fs, "f.conf", ok_text, &d), XRSC_OK);
+    CHECK(a->argc == 3 && !strcmp(a->argv[2], "--quiet"));
+    a->argc = 0;
+    CHECK_EQ_INT(hs_args_config_text(a, &fs, "f.conf", bad_text, &d), XRSC_ERROR_INVALID_ARGUMENT);
+    CHECK(d.line == 3 && !strcmp(d.field, "--fresh") && !strcmp(d.file, "f.conf"));
+    char any_text[] = "fresh\n";
+    a->argc = 0;
+    CHECK_EQ_INT(hs_args_config_text(a, &spec, "f.conf", any_text, &d), XRSC_OK);
+    CHECK(a->argc == 1 && !strcmp(a->argv[0], "--fresh"));
+    free(a);
+}
+
 static bool exists(const char *path)
 {
     struct stat st;
@@ -221,6 +244,7 @@ int main(void)
     RUN(t_flag_with_value);
     RUN(t_config);
     RUN(t_config_errors);
+    RUN(t_config_flags);
     RUN(t_whole_files);
     return t_finish();
 }
