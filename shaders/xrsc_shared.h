@@ -101,6 +101,9 @@ typedef struct xs_mat4 { float m[16]; } xs_mat4; /* column-major */
 /* Specialization constant (raygen shaders, xs_path.glsl): the scene has XS_CULL_GLASS
  * instances (gpu_rt_program_desc.glass). */
 #define XS_SPEC_GLASS_ID 0
+/* Specialization constant of sc_shade.rgen: the visibility cache is on
+ * (gpu_rt_program_desc.viscache). Off, the driver compiles none of the cache's lookups. */
+#define XS_SPEC_VISCACHE_ID 1
 
 /* Instances of XS_MAT_GLASS_SHADOW materials are in XS_CULL_GLASS only (not SOLID): a shadow
  * ray first tests XS_CULL_NO_GLASS and then walks the glass it passes (xs_path.glsl); the sample

@@ -88,9 +88,11 @@ uint vc_entry = 0u, vc_n_paths_queries = 0u;
 
 /** Whether this launch is one of the frame's pre-passes (xs_path_trace stops after the first
  *  vertex's light samples, sc_shade.rgen stores nothing). */
+layout(constant_id = XS_SPEC_VISCACHE_ID) const bool XS_SPEC_VISCACHE = true;
+
 bool xs_vc_prepass()
 {
-    return vc.p.enabled != 0u && vc.p.phase != XS_VC_PHASE_SHADE;
+    return XS_SPEC_VISCACHE && vc.p.enabled != 0u && vc.p.phase != XS_VC_PHASE_SHADE;
 }
 
 /** The shading sample's eye, distance to and unit direction of its first hit. */
@@ -302,7 +304,7 @@ vec3 xs_vc_visible(vec3 o, vec3 d, float tmax, uint bounce, xs_surface s, bool b
 {
     uint phase = vc.p.phase;
     bool pre = phase != XS_VC_PHASE_SHADE;
-    if (vc.p.enabled == 0u || bounce != 0u || !(density > 0.0) || !(vc_first_t > 0.0))
+    if (!XS_SPEC_VISCACHE || vc.p.enabled == 0u || bounce != 0u || !(density > 0.0) || !(vc_first_t > 0.0))
         return pre ? vec3(0.0) : vc_trace(o, d, tmax, rays);
     uint round = (phase - 1u) >> 1; /* pre-passes: XS_VC_PHASE_* */
     bool insert = (phase & 1u) == 0u;

@@ -361,9 +361,12 @@ xrsc_result gpu_rt_program_create(gpu_context *ctx, const gpu_rt_program_desc *d
         goto fail;
 
     VkPipelineShaderStageCreateInfo stages[STAGE_COUNT];
-    const VkBool32 glass = desc->glass ? VK_TRUE : VK_FALSE;
-    const VkSpecializationMapEntry glass_entry = {XS_SPEC_GLASS_ID, 0, sizeof(glass)};
-    const VkSpecializationInfo spec = {1, &glass_entry, sizeof(glass), &glass};
+    const VkBool32 spec_data[2] = {desc->glass ? VK_TRUE : VK_FALSE,
+                                   desc->viscache ? VK_TRUE : VK_FALSE};
+    const VkSpecializationMapEntry spec_entries[2] = {
+        {XS_SPEC_GLASS_ID, 0, sizeof(VkBool32)},
+        {XS_SPEC_VISCACHE_ID, sizeof(VkBool32), sizeof(VkBool32)}};
+    const VkSpecializationInfo spec = {2, spec_entries, sizeof(spec_data), spec_data};
     for (int i = 0; i < STAGE_COUNT; i++) {
         if (i == 0 && desc->raygen_spirv) {
             VkShaderModuleCreateInfo ci = {

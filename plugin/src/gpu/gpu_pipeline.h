@@ -92,6 +92,9 @@ typedef struct gpu_rt_program_desc {
      *  constant XS_SPEC_GLASS_ID. Without it the driver compiles no glass walk into shadow
      *  rays (xs_path.glsl), which halves lavapipe's cold compile of the shading pipelines. */
     bool glass;
+    /** The visibility cache is on (sc_shade.rgen's specialization constant
+     *  XS_SPEC_VISCACHE_ID; other raygens have none). Off, its lookups are not compiled. */
+    bool viscache;
 } gpu_rt_program_desc;
 
 typedef struct gpu_rt_program {

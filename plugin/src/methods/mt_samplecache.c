@@ -572,6 +572,7 @@ static xrsc_result create_programs(mt_samplecache *s, xrsc_diag *diag)
         hb_count = cb_count + hy->binding_count;
     }
     shade_desc.glass = gpu_scene_glass_count(s->trace.env.scene) > 0;
+    shade_desc.viscache = !hy && s->opt.visibility.enabled;
     xrsc_result res = gpu_rt_program_create(ctx, &shade_desc, &s->shade, diag);
     for (int i = 0; res == XRSC_OK && i < PROG_COUNT; i++) {
         bool own = hy && i == PROG_RECONSTRUCT;
