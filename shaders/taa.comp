@@ -29,14 +29,24 @@
  *    Cornell light panel's rim into the ceiling). Fewer than min_weight of the bilinear
  *    weight accepted (disocclusion,
  *    off-screen, no history): the output is the current frame (status REJECTED /
- *    NO_HISTORY). Else the history is the accepted taps' renormalised bilinear mean.
+ *    NO_HISTORY). Else the history is the accepted taps' renormalised bilinear mean, taken in
+ *    the resolve space (below).
+ * Steps 2-4 work in a tonemapped "resolve space", c / (1 + Y) with Y the YCoCg luma, inverted
+ * at the end (c / (1 - Y)): luma weighting as in Karis, "High-quality temporal supersampling"
+ * (SIGGRAPH 2014 course). In linear radiance one bright tap
+ * (the Cornell light panel, ~250 x its ceiling) dominates the bilinear mean and the current
+ * 3 x 3 box, so an emitter's rim leaked into the ceiling beside it and the box (which holds
+ * the emitter too) never clipped it back: relMSE 25-42 x higher than without TAA on the
+ * Cornell orbit (issue 19). In the resolve space every value is below 1 and a bright tap
+ * weighs as a saturated one.
  * 3. ON: the history is clipped towards the mean of the current 3 x 3 neighbourhood to the box
  *    mean +- gamma sigma in YCoCg (variance clipping, [Sal16], [YLS20]) and blended with the
  *    fixed alpha. PFJ23 (seed 004 §4.2): no rectification (seed 004 §5.1 leaves history
  *    rectification out); alpha per channel = Eq. 4 with sigma_Y^2 from the current 3 x 3
  *    neighbourhood (Eq. 10) and E[(X - Y)^2] from the history X against each neighbour (Eq. 11),
  *    xs_st_beta_pfj23 of the stereo blend with the history in place of the other eye.
- * 4. out = lerp(history, current, alpha) into the method's colour image; aux = alpha, status.
+ * 4. out = lerp(history, current, alpha), back to radiance, into the method's colour image;
+ *    aux = alpha, status.
  * Invocation i < instance_count (flattened over both eyes) also stores instance i's current
  * object_to_world for the next frame (copied to PREV_XFORM after the dispatch).
  */
@@ -98,6 +108,19 @@ vec3 rgb_to_ycocg(vec3 c)
 }
 
 vec3 ycocg_to_rgb(vec3 c) { return vec3(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z); }
+
+/** The resolve's space (xs_taa.h, XS_TF_TONEMAP_*): c / (1 + Y), Y its YCoCg luma (>= 0). */
+vec3 to_resolve(vec3 c)
+{
+    return c / (1.0 + max(rgb_to_ycocg(c).x, 0.0));
+}
+
+/** The inverse of to_resolve: c / (1 - Y), Y < 1 in the resolve space (floored, see
+ *  XS_TF_TONEMAP_FLOOR). */
+vec3 from_resolve(vec3 t)
+{
+    return t / max(1.0 - max(rgb_to_ycocg(t).x, 0.0), XS_TF_TONEMAP_FLOOR);
+}
 
 /** Clips c towards the box centre onto the box centre +- extent ([Sal16]). */
 vec3 clip_to_box(vec3 c, vec3 centre, vec3 extent)
@@ -233,7 +256,7 @@ void main()
                 }
                 if (!near)
                     continue;
-                x += w * imageLoad(tf_history, ivec3(src, eye)).rgb;
+                x += w * to_resolve(imageLoad(tf_history, ivec3(src, eye)).rgb);
                 wsum += w;
             }
             if (wsum >= tfp.min_weight) {
@@ -244,20 +267,22 @@ void main()
         }
     }
     if (tfp.debug != 0u)
-        imageStore(tf_reproj, coord, vec4(status == XS_TF_STATUS_BLENDED ? x : vec3(0.0), wsum));
+        imageStore(tf_reproj, coord,
+                   vec4(status == XS_TF_STATUS_BLENDED ? from_resolve(x) : vec3(0.0), wsum));
     if (status != XS_TF_STATUS_BLENDED) {
         imageStore(tf_out, coord, y4);
         imageStore(tf_aux, coord, vec4(1.0, 1.0, 1.0, status));
         return;
     }
 
-    /* 3. the current 3 x 3 neighbourhood (clamped at the image border) */
+    /* 3. the current 3 x 3 neighbourhood (clamped at the image border), in the resolve space
+     * as the history is */
     vec3 m1 = vec3(0.0), m2 = vec3(0.0);    /* YCoCg moments (ON) */
     vec3 sy = vec3(0.0), sy2 = vec3(0.0), sd2 = vec3(0.0); /* RGB sums (PFJ23, Eq. 10-11) */
     for (int dy = -1; dy <= 1; dy++) {
         for (int dx = -1; dx <= 1; dx++) {
             ivec2 p = clamp(ivec2(g.xy) + ivec2(dx, dy), ivec2(0), size - 1);
-            vec3 yi = imageLoad(tf_src, ivec3(p, eye)).rgb;
+            vec3 yi = to_resolve(imageLoad(tf_src, ivec3(p, eye)).rgb);
             vec3 c = rgb_to_ycocg(yi);
             m1 += c;
             m2 += c * c;
@@ -277,10 +302,10 @@ void main()
         alpha = vec3(tfp.alpha);
     }
 
-    /* 4. out = lerp(history, current, alpha) */
-    vec3 outc;
+    /* 4. out = lerp(history, current, alpha) in the resolve space, back to radiance */
+    vec3 outc, yt = to_resolve(y);
     for (int c = 0; c < 3; c++)
-        outc[c] = xs_st_lerp(x[c], y[c], alpha[c]);
-    imageStore(tf_out, coord, vec4(outc, y4.a));
+        outc[c] = xs_st_lerp(x[c], yt[c], alpha[c]);
+    imageStore(tf_out, coord, vec4(from_resolve(outc), y4.a));
     imageStore(tf_aux, coord, vec4(alpha, status));
 }

@@ -60,6 +60,12 @@
 /** Below this share of the bilinear kernel's weight on accepted taps the history is rejected
  *  (disocclusion), as the stereo blend does (XS_ST_MIN_WEIGHT). */
 #define XS_TF_MIN_WEIGHT 0.5f
+/** The resolve (history resampling, neighbourhood, clipping, PFJ23 weights, blend) works on
+ *  t = c / (1 + Y), Y = c's YCoCg luma, and returns c = t / max(1 - Y_t, XS_TF_TONEMAP_FLOOR)
+ *  (taa.comp): an emitter's radiance next to a dark surface no longer leaks into it through
+ *  the bilinear history or escapes the clipping box (issue 19). The floor keeps the inverse
+ *  finite; it caps the output luma at about 1 / XS_TF_TONEMAP_FLOOR. */
+#define XS_TF_TONEMAP_FLOOR 1e-6f
 
 /** Method `taa`'s jitter: the Halton(2,3) points 1..XS_TF_HALTON_PERIOD, repeating ([YLS20]
  *  §3.1: a short low-discrepancy sequence; index 0 = (0, 0) is skipped). */

@@ -398,8 +398,10 @@ typedef struct xrsc_samplecache_options {
  * Temporal antialiasing as a post-pass after any method ([YLS20] as seed 000 §5.1 puts it on
  * top of every method): the history is reprojected by depth with camera and instance motion,
  * clipped to the neighbourhood's variance box in YCoCg, and blended with the current frame;
- * disocclusions reject the history. It runs after the method's reconstruction and before the
- * stereo blend (pass "taa").
+ * disocclusions reject the history. Resampling, clipping, weights and blend work on
+ * c / (1 + Y) (Y: YCoCg luma), inverted after the blend, so an emitter's radiance does not
+ * leak into the dark surface beside it (issue 19). It runs after the method's reconstruction
+ * and before the stereo blend (pass "taa").
  * - XRSC_TAA_DEFAULT (0): the method's default: on for `taa`, pfj23 for `hashcache` and
  *   `hybrid`, off for the others.
  * - XRSC_TAA_OFF: no temporal filter.
