@@ -70,9 +70,9 @@
 #define T_SHIFT_M 0.05f /* sideways move of the translation case */
 #define T_EXACT_TOL 1e-3
 #define T_FLAT_TOL 1e-5
-#define T_RING_TURN_PX 2.5  /* the light-ring case's turn: taps straddle the panel's rim */
-#define T_RING_PX 2         /* the ring's width around the panel (the fault's 1-2 px) */
-#define T_WALL_ALBEDO 0.75f /* scenes/cornell.gltf: material "white" (ceiling) */
+#define T_RING_TURN_PX 2.5   /* the light-ring case's turn: taps straddle the panel's rim */
+#define T_RING_PX 2          /* the ring's width around the panel (the fault's 1-2 px) */
+#define T_WALL_ALBEDO 0.75f  /* scenes/cornell.gltf: material "white" (ceiling) */
 #define T_LIGHT_ALBEDO 0.78f /* material "light" (the panel's base colour) */
 #define T_EMIT_SPP 16u       /* the emitter case: spp per frame (noise well below the leak's) */
 #define T_EMIT_FRAMES 12u    /* frames in motion (history of ~10 frames at alpha 0.1) */
@@ -902,9 +902,9 @@ static void test_emitter_motion(void)
     CHECK_EQ_INT(xrsc_context_create(&co, &ctx, &diag), XRSC_OK);
     xrsc_scene *scene = NULL;
     if (ctx)
-        CHECK_EQ_INT(xrsc_scene_load(ctx, t_source_path("scenes/cornell.gltf"), NULL, &scene,
-                                     &diag),
-                     XRSC_OK);
+        CHECK_EQ_INT(
+            xrsc_scene_load(ctx, t_source_path("scenes/cornell.gltf"), NULL, &scene, &diag),
+            XRSC_OK);
     if (!scene) {
         tsc_print_diag(&diag);
         xrsc_context_destroy(&ctx);
