@@ -863,12 +863,11 @@ static bool render_moving(xrsc_context *ctx, xrsc_scene *scene, const xrsc_rende
 {
     xrsc_renderer *r = NULL;
     xrsc_diag diag = {0};
+    char buf[1400];
     xrsc_result res = xrsc_renderer_create(ctx, scene, ro, &r, &diag);
-    CHECK_EQ_INT(res, XRSC_OK);
-    if (res != XRSC_OK) {
-        tsc_print_diag(&diag);
+    CHECK_MSG(res == XRSC_OK, "renderer: %s", xrsc_diag_format(&diag, buf, sizeof buf));
+    if (res != XRSC_OK)
         return false;
-    }
     xrsc_frame f = f0;
     for (uint32_t i = 0; i < frames && res == XRSC_OK; i++) {
         if (i > 0)
@@ -896,23 +895,14 @@ static bool render_moving(xrsc_context *ctx, xrsc_scene *scene, const xrsc_rende
  */
 static void test_emitter_motion(void)
 {
-    xrsc_context_options co = {.validation = true};
-    xrsc_context *ctx = NULL;
-    xrsc_diag diag = {0};
-    CHECK_EQ_INT(xrsc_context_create(&co, &ctx, &diag), XRSC_OK);
-    xrsc_scene *scene = NULL;
-    if (ctx)
-        CHECK_EQ_INT(
-            xrsc_scene_load(ctx, t_source_path("scenes/cornell.gltf"), NULL, &scene, &diag),
-            XRSC_OK);
+    xrsc_context *ctx = t_context_open();
+    CHECK(ctx != NULL);
+    xrsc_scene *scene = ctx ? t_scene_load(ctx, t_source_path("scenes/cornell.gltf")) : NULL;
     if (!scene) {
-        tsc_print_diag(&diag);
         xrsc_context_destroy(&ctx);
         return;
     }
-    xrsc_scene_info info;
-    xrsc_scene_get_info(scene, &info);
-    xrsc_frame f0 = tsc_headset_frame(info.viewpoint, 0), last = f0;
+    xrsc_frame f0 = tsc_viewpoint_frame(scene), last = f0;
     size_t pixels = 2u * T_W * T_H;
     float *ref = calloc(pixels * 4, sizeof(float)), *img = calloc(pixels * 4, sizeof(float));
     static const xrsc_taa_mode modes[] = {XRSC_TAA_OFF, XRSC_TAA_ON, XRSC_TAA_PFJ23};
@@ -928,7 +918,7 @@ static void test_emitter_motion(void)
             xrsc_renderer_options rf = {.width = T_W, .height = T_H, .method = XRSC_METHOD_SPP};
             rf.spp.samples_per_pixel = T_REF_SPP;
             rf.spp.accumulate = true;
-            ok = render_still(ctx, scene, &rf, last, T_REF_FRAMES, ref, NULL, NULL);
+            ok = t_render(ctx, scene, &rf, &last, &(t_render_job){.frames = T_REF_FRAMES}, ref);
         }
         err[k] = relmse(img, ref, pixels);
         printf("  emitter, %u frames in motion: taa %-5s relMSE %.5f\n", T_EMIT_FRAMES, names[k],
