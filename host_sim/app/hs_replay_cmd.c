@@ -47,6 +47,7 @@ typedef struct main_args {
     hs_replay_options opt;
     bool quiet, direct, overwrite;
     bool blend_given;                             /* --blend: else hs_replay_default_blend(method) */
+    bool taa_given;                               /* --taa: else hs_replay_default_taa(method) */
     bool size_given, ipd_given, refresh_given;    /* these win over --headset */
     const char *pose_columns, *pose_time_unit, *pose_handedness;
     const char *headset_name, *headsets_path; /* --headset, --headsets */
@@ -108,6 +109,7 @@ static int parse_taa(const hs_opt_arg *a)
     if (!strcmp(a->value, "default") ||
         xrsc_taa_mode_from_name(a->value, &M(a)->opt.renderer.taa.mode) != XRSC_OK)
         return bad_arg(a->opt->name, a->value, "expected off, on or pfj23");
+    M(a)->taa_given = true;
     return 0;
 }
 
@@ -446,7 +448,8 @@ static const hs_opt k_replay_opts[] = {
 
     TEXT("\nTemporal antialiasing (after reconstruction, before the stereo blend; seed 000 "
          "section 5.1):\n"),
-    {"--taa", "T", "off | on | pfj23  [on for taa, pfj23 for hashcache and hybrid, else off]",
+    {"--taa", "T", "off | on | pfj23  [on for samplecache and taa, pfj23 for hashcache and hybrid,\n"
+     "                      else off]",
      parse_taa, 0, NULL},
     {"--taa-alpha", "X", "weight of the current frame with --taa on [0.1]", hs_opt_positive,
      RO(taa.alpha), NUM(0, 1, NULL)},
@@ -600,6 +603,10 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
         printf(", R = %g", (double)opt->renderer.blend_r);
     if (opt->renderer.blend == XRSC_BLEND_MOMENTS && opt->renderer.blend_estimate)
         printf(", estimate %s", xrsc_blend_estimate_name(opt->renderer.blend_estimate));
+    xrsc_taa_mode taa = xrsc_taa_mode_resolve(opt->renderer.method, opt->renderer.taa.mode);
+    printf(", temporal filter: %s", xrsc_taa_mode_name(taa));
+    if (taa == XRSC_TAA_ON)
+        printf(" (alpha %g)", opt->renderer.taa.alpha > 0 ? (double)opt->renderer.taa.alpha : 0.1);
     printf("\n");
     printf("frames: %u  load %.2f s  total %.2f s\n", st->frames, st->load_s, st->total_s);
     const xrsc_scene_info *si = &st->scene;
@@ -706,6 +713,8 @@ static int finish_args(main_args *m)
     }
     if (!m->blend_given)
         opt->renderer.blend = hs_replay_default_blend(opt->renderer.method);
+    if (!m->taa_given)
+        opt->renderer.taa.mode = hs_replay_default_taa(opt->renderer.method);
     if (opt->frame_bounds && opt->viewpoint.kind != HS_VIEWPOINT_DEFAULT)
         return bad_arg("--viewpoint", NULL, "--frame and --viewpoint both place the view: give one");
     opt->frame_keep_ipd = m->ipd_given;
@@ -736,6 +745,8 @@ static int run_with_record(main_args *m, const hs_args *args, const char *const 
         {"--method", xrsc_method_name(opt->renderer.method)},
         {"--blend", xrsc_blend_name(opt->renderer.blend)},
         {"--blend-r", "0"},             {"--blend-estimate", "samples"},
+        {"--taa", xrsc_taa_mode_name(xrsc_taa_mode_resolve(opt->renderer.method,
+                                                           opt->renderer.taa.mode))},
         {"--spp", spp_s},
         {"--resolution", res_s},        {"--seed", "0"},
         {"--ipd", ipd_s},               {"--refresh", refresh_s},

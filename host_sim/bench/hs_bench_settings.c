@@ -333,7 +333,7 @@ static const bench_key keys[] = {
 void hs_bench_print_keys(FILE *f)
 {
     fprintf(f, "  method %s: what `xrsc replay` renders without options (%s and\n"
-               "  its default blend); the keys of %s apply\n",
+               "  its default blend and temporal filter); the keys of %s apply\n",
             HS_BENCH_DEFAULT_SETTING, xrsc_method_name(XRSC_METHOD_SAMPLECACHE),
             xrsc_method_name(XRSC_METHOD_SAMPLECACHE));
     fprintf(f, "  name=LABEL          label (file name; default derived from the keys)\n");
@@ -387,7 +387,7 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
     }
     char *method = text;
     trim(&method);
-    /* "default": what `xrsc replay` renders without options (its method and blend), from the
+    /* "default": what `xrsc replay` renders without options (its method, blend and TAA), from the
      * replay's own defaults (hs_replay_default_renderer), so a chart's default is the product */
     bool product = !strcmp(method, HS_BENCH_DEFAULT_SETTING);
     if (product)

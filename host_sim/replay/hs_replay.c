@@ -594,6 +594,11 @@ xrsc_blend hs_replay_default_blend(xrsc_method method)
                : XRSC_BLEND_NONE;
 }
 
+xrsc_taa_mode hs_replay_default_taa(xrsc_method method)
+{
+    return method == XRSC_METHOD_SAMPLECACHE ? XRSC_TAA_ON : XRSC_TAA_DEFAULT;
+}
+
 void hs_replay_default_renderer(xrsc_renderer_options *out)
 {
     *out = (xrsc_renderer_options){.method = XRSC_METHOD_SAMPLECACHE,
@@ -601,4 +606,5 @@ void hs_replay_default_renderer(xrsc_renderer_options *out)
                                    .height = HS_REPLAY_DEFAULT_SIZE_PX,
                                    .spp = {.samples_per_pixel = HS_REPLAY_DEFAULT_SPP}};
     out->blend = hs_replay_default_blend(out->method);
+    out->taa.mode = hs_replay_default_taa(out->method);
 }

@@ -195,6 +195,14 @@ void hs_replay_stats_add(hs_replay_stats *st, xrsc_renderer *r, double render_ms
 xrsc_blend hs_replay_default_blend(xrsc_method method);
 
 /**
+ * The temporal filter when --taa is not given: `on` (fixed alpha 0.1) after `samplecache`,
+ * chosen by the issue-19 bench table (bench/results/issue19-defaults/: it lowered the
+ * temporal difference 3-69x and the stereo discrepancy 1.3-35x on all 10 bundled cases, relMSE
+ * on 7); the method's own default (XRSC_TAA_DEFAULT) after the others.
+ */
+xrsc_taa_mode hs_replay_default_taa(xrsc_method method);
+
+/**
  * The renderer options `xrsc replay` runs when no option is given: the main job (seed 000),
  * the per-eye sample cache with the blend of ::hs_replay_default_blend, at
  * HS_REPLAY_DEFAULT_SIZE_PX with HS_REPLAY_DEFAULT_SPP. The one source of the replay's

@@ -425,6 +425,9 @@ typedef enum xrsc_taa_mode {
 const char *xrsc_taa_mode_name(xrsc_taa_mode mode);
 /** Parses a TAA mode name; XRSC_ERROR_INVALID_ARGUMENT when unknown. */
 xrsc_result xrsc_taa_mode_from_name(const char *name, xrsc_taa_mode *out_mode);
+/** The mode a renderer of `method` runs for `mode`: XRSC_TAA_DEFAULT resolved per method
+ *  (above), any other mode as it is. */
+xrsc_taa_mode xrsc_taa_mode_resolve(xrsc_method method, xrsc_taa_mode mode);
 
 /** TAA options. Zero fields mean the defaults: mode per method (above), alpha 0.1. */
 typedef struct xrsc_taa_options {

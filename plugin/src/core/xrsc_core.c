@@ -464,7 +464,7 @@ static void post_record(void *user, VkCommandBuffer cmd, gpu_timer *timer, const
 
 /** XRSC_TAA_DEFAULT per method (xrsc.h): on for `taa`, pfj23 for `hashcache` and `hybrid`
  *  (seed 000 §4), off for the others. */
-static xrsc_taa_mode taa_mode_resolve(xrsc_method method, xrsc_taa_mode mode)
+xrsc_taa_mode xrsc_taa_mode_resolve(xrsc_method method, xrsc_taa_mode mode)
 {
     if (mode != XRSC_TAA_DEFAULT)
         return mode;
@@ -478,7 +478,7 @@ static xrsc_taa_mode taa_mode_resolve(xrsc_method method, xrsc_taa_mode mode)
 /** The TAA post-pass on the method's colour, depth and hit ids, unless it resolves to off. */
 static xrsc_result taa_create(xrsc_renderer *r, xrsc_diag *diag)
 {
-    r->opt.taa.mode = taa_mode_resolve(r->opt.method, r->opt.taa.mode);
+    r->opt.taa.mode = xrsc_taa_mode_resolve(r->opt.method, r->opt.taa.mode);
     if (r->opt.taa.mode == XRSC_TAA_OFF)
         return XRSC_OK;
     tf_settings set = {.mode = r->opt.taa.mode, .alpha = r->opt.taa.alpha};
