@@ -152,10 +152,11 @@ run(bench bench --settings @${OUT_DIR}/settings.txt --frames 4 --warmup 1 --scor
 # The same frames through the replay (direct path), and scored from the files.
 run(rep_spp replay --direct --method spp --spp 1 ${size} --frames 4 --write exr
     --out ${OUT_DIR}/spp --quiet --validation)
-run(rep_sc replay --direct --method samplecache --blend none ${size} --frames 4 --write exr
+# (a bench `samplecache` has neither the replay's blend nor its TAA: both named off here)
+run(rep_sc replay --direct --method samplecache --blend none --taa off ${size} --frames 4 --write exr
     --out ${OUT_DIR}/sc --quiet --validation)
 # Issue 19 item 1: the bench's setting `default` is what `xrsc replay` renders without a
-# method or blend option (its figures equal the replay's, as for the other settings).
+# method, blend or TAA option (its figures equal the replay's, as for the other settings).
 run(rep_def replay --direct ${size} --frames 4 --write exr --out ${OUT_DIR}/def --quiet
     --validation)
 # OpenXR path: frames 1..3 of the same stream.
