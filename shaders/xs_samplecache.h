@@ -205,8 +205,8 @@ XS_STRUCT(xs_sc_params)
     xs_uint cross_eye; /* 1: cross-eye reuse (XS_SC_BIND_FOREIGN) */
     xs_float firefly_k; /* firefly rule (sc_shade.rgen): cap / running mean; 0 = off */
     xs_uint debug_permute; /* tests only (XRSC_DEBUG_PERMUTE, mt_samplecache.c): 1 = the
-                              reproject, shade select and shade launches take their work items
-                              in reverse order (sc_work_item, sc_list_entry) */
+                              reproject, density, trace, shade select and shade launches take
+                              their work items in reverse order (sc_work_item, sc_list_entry) */
     xs_uint pool_k;    /* pool entries per pixel (XS_SC_POOL_*) */
     xs_uint pad_b, pad_c; /* std140: the block is a multiple of 16 bytes */
 }

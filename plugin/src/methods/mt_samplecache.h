@@ -8,10 +8,11 @@
  * v_s = bit 16 + s) and N slots of a 32-bit pool address, double buffered; one resident pool of
  * K samples per pixel (XS_SC_POOL_*), each a 128-bit first hit (Listing 1) and a 64-bit
  * radiance + count (L_s, c_s as halves, read back as floats), and a 32-bit word of its taken
- * entries: reprojection moves a sample's 4-byte address, never the sample (issue 19); per
- * frame a 64-bit closest depth + slope, a 32-bit farthest depth, a 128-bit plan and (2-pass) a
- * 32-bit source address per slot; with cross-eye reuse a 32-bit mask of the other eye's copies
- * per pixel, double buffered. See ::mt_samplecache_bytes_per_pixel. Counters: sc_shaded
+ * entries: reprojection moves a sample's 4-byte address, never the sample (issue 19; its
+ * reservation keys use this frame's copy of the addresses until sc_copy.comp replaces them);
+ * per frame a 64-bit closest depth + slope, a 32-bit farthest depth, a 128-bit plan (`isrt`: a
+ * 64-bit key per slot); with cross-eye reuse a 32-bit mask of the other eye's copies per pixel,
+ * double buffered. See ::mt_samplecache_bytes_per_pixel. Counters: sc_shaded
  * (samples shaded in the last frame), sc_shaded_per_px, sc_shade_rays (rays the shading pass
  * traced), sc_bytes_per_px, sc_pool_full (new samples not created in the last frame because
  * the pool was full).
@@ -41,7 +42,7 @@ extern "C" {
  * `samplecache` (options: ::xrsc_samplecache_options, zero fields = defaults). Errors:
  * XRSC_ERROR_INVALID_ARGUMENT for slots > XS_SC_MAX_SLOTS, block 0 after defaults, more than
  * XS_SC_MAX_MATERIALS materials (Listing 1 keeps 16 bits), or an image too large for the
- * 31-bit source addresses of 2-pass reprojection.
+ * 31-bit source addresses of the reservation keys.
  */
 xrsc_result mt_samplecache_create(const mt_env *env, const xrsc_samplecache_options *options,
                                   mt_method **out, xrsc_diag *diag);
@@ -101,7 +102,7 @@ const xrsc_samplecache_options *mt_samplecache_options(const mt_method *m);
 
 /** Cache bytes per pixel per eye: resident (both copies of mask and pool addresses, the pool's
  *  first hits, radiance and taken-entry word) plus
- *  per-frame working buffers (depth words, plan, 2-pass addresses, shade list, visibility
+ *  per-frame working buffers (depth words, plan, isrt's keys, shade list, visibility
  *  cache table). */
 void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, double *out_working);
 
