@@ -63,7 +63,7 @@ layout(set = XS_SC_SET, binding = XS_SC_BIND_STATS, std430) buffer XsScStatsBloc
 layout(set = XS_SC_SET, binding = XS_SC_BIND_SHADE_LIST, std430) buffer XsScShadeListBlock
 {
     uint sc_shade_count;
-    uint sc_shade_pad;
+    uint sc_pool_full; /* new samples not created this frame: the pool was full (issue 19) */
     uint64_t sc_shade_rays; /* rays the shading pass traced (XS_SC_SHADE_LIST_HEADER) */
     uint sc_shade_list[];
 };
@@ -72,6 +72,17 @@ layout(set = XS_SC_SET, binding = XS_SC_BIND_SHADE_LIST, std430) buffer XsScShad
 layout(set = XS_SC_SET, binding = XS_SC_BIND_FOREIGN, std430) buffer XsScForeignBlock
 {
     uint sc_foreign[];
+};
+
+/* The sample pool (issue 19, xs_samplecache.h): idx[c][slot][pix] = pool address of the slot's
+ * sample in fh[] and rad[]; used[pix] bit k = entry k * plane + pix taken this frame. */
+layout(set = XS_SC_SET, binding = XS_SC_BIND_IDX, std430) buffer XsScIdxBlock
+{
+    uint sc_idx[];
+};
+layout(set = XS_SC_SET, binding = XS_SC_BIND_USED, std430) buffer XsScUsedBlock
+{
+    uint sc_used[];
 };
 
 /* Background depth: distance of samples that hit the environment (sorted after every
@@ -85,15 +96,56 @@ uint sc_pix(uint eye, uvec2 p) { return (eye * frame.height + p.y) * frame.width
 uint sc_prev() { return 1u - scp.cur; }
 /** Index of the mask of copy c. */
 uint sc_mask_at(uint c, uint pix) { return c * sc_plane() + pix; }
-/** Index of slot s of copy c in fh[] / rad[]. */
-uint sc_slot_at(uint c, uint s, uint pix) { return (c * scp.slots + s) * sc_plane() + pix; }
-/** Index of slot s of copy c in rad[]: without the shading cache rad[] holds one copy; in
- *  `hybrid` (XS_SC_RAD_NONE) one dummy entry. */
+/** Index of slot s of copy c in idx[]. */
+uint sc_idx_at(uint c, uint s, uint pix) { return (c * scp.slots + s) * sc_plane() + pix; }
+/** Pool address (index in fh[] and rad[]) of the sample in slot s of copy c. */
+uint sc_slot_at(uint c, uint s, uint pix) { return sc_idx[sc_idx_at(c, s, pix)]; }
+/** Index in rad[] of pool address a: in `hybrid` (XS_SC_RAD_NONE) one dummy entry. */
+uint sc_rad_of(uint a) { return scp.shade_cache == XS_SC_RAD_NONE ? 0u : a; }
+/** Index in rad[] of slot s of copy c. */
 uint sc_rad_at(uint c, uint s, uint pix)
 {
     if (scp.shade_cache == XS_SC_RAD_NONE)
         return 0u;
-    return sc_slot_at(scp.shade_cache != 0u ? c : 0u, s, pix);
+    return sc_slot_at(c, s, pix);
+}
+/** Marks pool address a taken this frame (a slot of this frame's copy refers to it). */
+void sc_pool_take(uint a)
+{
+    atomicOr(sc_used[a % sc_plane()], 1u << (a / sc_plane()));
+}
+/** A 32-bit integer hash (Wang's), for the pool's probe sequence. */
+uint sc_pool_hash(uint x)
+{
+    x = (x ^ 61u) ^ (x >> 16);
+    x *= 9u;
+    x ^= x >> 4;
+    x *= 0x27D4EB2Du;
+    return x ^ (x >> 15);
+}
+/**
+ * A free pool entry for a new sample of pixel pix, taken: one of pix's own K entries, else of
+ * pixels spread over the whole pool (a hashed probe sequence: where the view pans, the pixels
+ * that see new content are the ones whose entries hold the samples born there the frames
+ * before, so their neighbours' are as full); XS_SC_POOL_NONE after XS_SC_POOL_PROBES full
+ * words. Runs after the reprojection has marked every carried sample's entry.
+ */
+uint sc_pool_alloc(uint pix)
+{
+    uint all_k = scp.pool_k >= 32u ? 0xFFFFFFFFu : (1u << scp.pool_k) - 1u;
+    uint plane = sc_plane();
+    for (uint i = 0u; i < XS_SC_POOL_PROBES; i++) {
+        uint q = i == 0u ? pix : sc_pool_hash(pix * XS_SC_POOL_PROBES + i) % plane;
+        uint used = sc_used[q];
+        while ((~used & all_k) != 0u) {
+            uint bit = 1u << uint(findLSB(~used & all_k));
+            used = atomicOr(sc_used[q], bit);
+            if ((used & bit) == 0u)
+                return uint(findLSB(bit)) * plane + q;
+        }
+    }
+    atomicAdd(sc_pool_full, 1u);
+    return XS_SC_POOL_NONE;
 }
 /** The radiance record at index at (sc_rad_at): L_s in rgb, c_s in a. */
 vec4 sc_rad_load(uint at)

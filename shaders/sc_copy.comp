@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file sc_copy.comp
- * @brief Sample cache pass "reproject", second half (seed 000 §3.1): copies each slot's sample
- *        from the source address of the key sc_reproject.comp left there (XS_SC_SRC_*).
+ * @brief Sample cache pass "reproject", second half (seed 000 §3.1): moves each slot's sample
+ *        from the source address of the key sc_reproject.comp left there (XS_SC_SRC_*): the
+ *        sample's 4-byte pool address replaces the key in idx[cur] (issue 19); the sample
+ *        itself stays where it is in the pool, and its entry is marked taken.
  *
  * One invocation per target pixel (x, y, eye), looping over its slots; it writes the pixel's
  * mask (and the foreign bits of cross-eye copies: sources in the other eye), which nothing
@@ -22,19 +24,25 @@
 
 layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1) in;
 
-/** Copies the sample of the previous copy at address addr into slot s of pix (copy cur). */
+/** Moves the sample of the previous copy at address addr into slot s of pix (copy cur): its
+ *  pool address, taken (the sample itself stays in the pool). */
 void copy_sample(uint eye, uint pix, uint s, uint addr, bool visible)
 {
     uint plane = sc_plane();
     uint prev = sc_prev();
     uint src_slot = addr / plane;
     uint src_pix = addr - src_slot * plane;
-    uvec4 fh = sc_fh[sc_slot_at(prev, src_slot, src_pix)];
-    uvec2 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_at(prev, src_slot, src_pix)] : uvec2(0u);
-    sc_fh[sc_slot_at(scp.cur, s, pix)] = fh;
-    sc_rad[sc_rad_at(scp.cur, s, pix)] = rad; /* the halves as they are */
-    if (visible && !sc_is_background(fh) && scp.shade_mode == XS_SC_SHADE_ADAPTIVE)
+    uint a = sc_slot_at(prev, src_slot, src_pix);
+    uvec4 fh = sc_fh[a];
+    sc_idx[sc_idx_at(scp.cur, s, pix)] = a;
+    sc_pool_take(a);
+    if (scp.shade_cache == 0u) /* radiance is not carried between frames */
+        sc_rad[a] = uvec2(0u);
+    if (visible && !sc_is_background(fh) && scp.shade_mode == XS_SC_SHADE_ADAPTIVE) {
+        /* the radiance record is read only here: 8 bytes per sample less to move */
+        uvec2 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_of(a)] : uvec2(0u);
         sc_count_importance(eye, xs_sc_importance(unpackHalf2x16(rad.y).y));
+    }
 }
 
 /** `isrt`: the winner of each cell, and the pixel's mask. */
@@ -65,9 +73,9 @@ void main()
     }
     uint m = 0u, foreign = 0u, per_eye = frame.width * frame.height;
     for (uint s = 0u; s < scp.slots; s++) {
-        uint w = sc_src[s * sc_plane() + pix];
+        uint w = sc_idx[sc_idx_at(scp.cur, s, pix)]; /* the key, replaced by copy_sample */
         if (w == XS_SC_SRC_NONE)
-            break; /* the keys fill the slots from 0 */
+            break; /* the keys fill the slots from 0; the rest stay XS_SC_POOL_NONE */
         bool visible = (w & XS_SC_SRC_INVISIBLE) == 0u;
         uint addr = (w & XS_SC_SRC_ADDR_MASK) - 1u;
         copy_sample(eye, pix, s, addr, visible);

@@ -18,9 +18,11 @@
  * every pixel of an out-of-band neighbourhood has moved to floor/ceil(n_target), so on a still
  * view the means enter the band in one frame when delta >= 0.5 (and slots suffice).
  * New samples take free slots first, then invisible ones, picked in random order; they get
- * their occupancy bit now and are traced through a random point of the pixel by sc_trace.rgen
- * (plan.y). Reads the visible counts of the 5 x 5 neighbourhood from plan.w (written by
- * sc_trace_mask.comp; each once) and writes only its own pixel.
+ * their occupancy bit and a pool entry (pool_entries) now and are traced through a random
+ * point of the pixel by sc_trace.rgen (plan.y). Reads the visible counts of the 5 x 5
+ * neighbourhood from plan.w (written by sc_trace_mask.comp; each once) and writes only its own
+ * pixel (and, through sc_pool_alloc, bits of other pixels' pool words: which entry a sample
+ * gets depends on the order of the invocations, what it holds does not).
  *
  * Cross-eye reuse (scp.cross_eye): the other eye's copies count as visible samples but are not
  * pruned (a pruned copy would come back next frame: the pixel's sample set would change every
@@ -72,14 +74,43 @@ uint youngest(uint pix, uint pool, uint start)
     return best;
 }
 
+/**
+ * Pool entries for the new samples `newbits` of pix (issue 19): a slot that held one of the
+ * pixel's own invisible samples keeps that sample's entry (nothing else refers to it: copies
+ * for the other eye are made of visible samples only), the
+ * others take a free one (sc_pool_alloc). Returns the new samples that got an entry; a slot
+ * without one gets no new sample this frame (it keeps its old sample when it had one, else it
+ * is freed in occ).
+ */
+uint pool_entries(uint pix, uint newbits, uint old_occ, uint foreign, inout uint occ)
+{
+    uint got = 0u;
+    for (uint b = newbits; b != 0u; b &= b - 1u) {
+        uint s = uint(findLSB(b));
+        if ((old_occ & ~foreign & sc_obit(s)) != 0u) {
+            got |= sc_obit(s);
+            continue;
+        }
+        uint a = sc_pool_alloc(pix);
+        if (a == XS_SC_POOL_NONE) {
+            occ &= old_occ | ~sc_obit(s);
+            continue;
+        }
+        sc_idx[sc_idx_at(scp.cur, s, pix)] = a;
+        got |= sc_obit(s);
+    }
+    return got;
+}
+
 /** `isrt`: every cell without a visible sample gets a new one, nothing is pruned. */
 void density_isrt(uint pix)
 {
     uint mi = sc_mask_at(scp.cur, pix);
     uint m = sc_mask[mi];
     uint vis = sc_vis(m) & sc_all_slots();
-    uint empty = sc_all_slots() & ~vis;
-    sc_mask[mi] = (sc_occ(m) | empty) | (vis << XS_SC_MAX_SLOTS);
+    uint occ = sc_occ(m) | (sc_all_slots() & ~vis);
+    uint empty = pool_entries(pix, sc_all_slots() & ~vis, sc_occ(m), 0u, occ);
+    sc_mask[mi] = occ | (vis << XS_SC_MAX_SLOTS);
     uint trace = sc_plan[pix].x & ~empty;
     sc_plan[pix].x = trace;
     sc_plan[pix].y = empty;
@@ -173,6 +204,7 @@ void main()
     uvec3 g = gl_GlobalInvocationID;
     if (g.x >= frame.width || g.y >= frame.height)
         return;
+    g = sc_work_item(g); /* tests: the pool's allocations in another order */
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
     if (sc_isrt()) {
@@ -190,8 +222,10 @@ void main()
     uvec4 plan = sc_plan[pix];
     uint foreign = sc_foreign_bits(scp.cur, pix);
     xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_DENSITY_STREAM, frame.seed);
+    uint old_occ = occ;
     uint newbits = add_samples(mean_min, nvis, vis, occ, rng);
     prune_samples(pix, mean_max, nvis, foreign, vis, occ, rng);
+    newbits = pool_entries(pix, newbits, old_occ, foreign, occ);
 
     /* new samples start invisible (sc_trace.rgen sets the bit); pruned ones are gone */
     vis &= ~newbits;

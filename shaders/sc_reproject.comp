@@ -24,8 +24,9 @@
  * visible sample whose radiance does not depend on the eye (background, or a surface that is
  * not xs_sc_eye_specific) into the OTHER eye's view, reserved there like any visible sample
  * and marked foreign by sc_copy.comp (its source is in the other eye); the previous copy's
- * foreign samples are not carried (their owner sent fresh copies). A copy carries the
- * radiance the owner's last shading left.
+ * foreign samples are not carried (their owner sent fresh copies). A copy is the owner's pool
+ * address (no second record of the sample, issue 19), so it shows the radiance of the owner's
+ * latest shading.
  *
  * `isrt` (scp.isrt_m = M > 0, [DSK*17] as seed 000 §5 / Fig. 10 uses it): no reservation; the
  * slot is the sub-pixel cell of the M x M grid that contains the reprojected position, and of
@@ -73,13 +74,16 @@ void isrt_offer(uint s, uint pix, uint tpix, vec2 pos, bool visible, float t)
  * pixel tpix's slots, which keep the N smallest keys sorted. Each atomicMin leaves the smaller
  * of (word, key) in slot i and carries the larger one on to slot i + 1, so every word ends as
  * the minimum of what reached it and the rest moves on: the words end as the N smallest keys
- * of all arrivals, in order, whichever order they came in (sc_copy.comp copies them).
+ * of all arrivals, in order, whichever order they came in (sc_copy.comp copies them). The
+ * words are this frame's copy of the slots' pool addresses (idx[cur], filled with
+ * XS_SC_SRC_NONE): sc_copy.comp replaces each key with its sample's pool address, so the keys
+ * take no memory of their own (issue 19).
  */
 void offer_sorted(uint tpix, uint s, uint pix, bool visible)
 {
     uint key = (visible ? 0u : XS_SC_SRC_INVISIBLE) | (s * sc_plane() + pix + 1u);
     for (uint i = 0u; i < scp.slots; i++) {
-        uint old = atomicMin(sc_src[i * sc_plane() + tpix], key);
+        uint old = atomicMin(sc_idx[sc_idx_at(scp.cur, i, tpix)], key);
         if (old == XS_SC_SRC_NONE)
             return;
         key = max(old, key);

@@ -9,17 +9,31 @@
  * height. Arrays with a copy index are double buffered (copy c = frame parity: the frame
  * reads copy 1 - cur and writes copy cur, §3.1).
  *   mask[c][pix]                 32 bits: o_s = bit s, v_s = bit s + XS_SC_MAX_SLOTS (§3)
- *   fh[c][slot][pix]             uvec4, the first hit packed as Listing 1 (xs_sc_math.h)
- *   rad[c][slot][pix]            demodulated radiance L_s (rgb) and count c_s as four
- *                                halves (XS_SC_RAD_BYTES: uvec2 of packHalf2x16 (r, g),
- *                                (b, c_s)); sc_rad_load / sc_rad_store
+ *   idx[c][slot][pix]            the pool address of the sample in slot s (reprojection
+ *                                moves this 4-byte index, never the sample: issue 19);
+ *                                XS_SC_POOL_NONE for a slot without one. Between the
+ *                                reprojection and sc_copy.comp, copy cur holds the
+ *                                reservation keys (XS_SC_SRC_*) instead
+ *   fh[K][pix]                   the sample pool, ONE resident copy (K = xs_sc_params.pool_k
+ *                                entries per pixel; address a = k * plane + pix): the first
+ *                                hit packed as Listing 1 (xs_sc_math.h), uvec4
+ *   rad[K][pix]                  demodulated radiance L_s (rgb) and count c_s of pool entry
+ *                                a, four halves (XS_SC_RAD_BYTES: uvec2 of packHalf2x16
+ *                                (r, g), (b, c_s)); sc_rad_load / sc_rad_store
+ *   used[pix]                    bit k = pool entry k * plane + pix is taken this frame:
+ *                                cleared before the reprojection, set by every slot that
+ *                                takes an entry (reprojection, copy) and by sc_pool_alloc
+ *                                (new samples), so the entries nothing carried are free
+ *                                again each frame (the pool's compaction)
  *   depth_min[pix]               uint64: closest distance t (float bits, high 32) | slope
  *                                Delta of that sample (Eq. 1, float bits, low 32), atomicMin
  *   depth_max[pix]               uint: farthest distance (float bits), atomicMax
- *   src[slot][pix]               2-pass reprojection: source address of each reserved slot
+ *   src[slot][pix]               `isrt`: the 64-bit key of each cell (XS_SC_ISRT_KEY_*; a
+ *                                16-byte stub otherwise)
  *   plan[pix]                    uvec4: trace bits, new-sample bits, shade bits, visible count
  *   stats[c][eye]                xs_sc_stats: importance bounds and histogram (§3.5)
- *   shade list                   a work list: a count, a pad, the shading pass's ray count
+ *   shade list                   a work list: a count, the pool's failed allocations this
+ *                                frame (sc_pool_alloc), the shading pass's ray count
  *                                (uint64), then entries. From the density pass to the trace
  *                                pass the pixels with rays to trace (pix); then the samples
  *                                chosen for shading, compacted (§3.5):
@@ -50,6 +64,8 @@
 #define XS_SC_BIND_SHADE_LIST 27 /* buffer: uint count, 3 pads, uint entries[capacity] */
 #define XS_SC_BIND_SELFTEST 28   /* buffer xs_sc_selftest_io[] (sc_selftest.comp only) */
 #define XS_SC_BIND_FOREIGN 31    /* buffer uint[2][plane]: cross-eye copies (bit s = slot s) */
+#define XS_SC_BIND_IDX 39        /* buffer uint[2][N][plane]: pool address of each slot */
+#define XS_SC_BIND_USED 40       /* buffer uint[plane]: taken pool entries (bit k) */
 
 /* Descriptor set of the cache bindings in ray-tracing programs (compute programs: 0). */
 #define XS_SC_RT_SET 1
@@ -111,10 +127,25 @@
 #define XS_SC_RAD_BYTES 8u
 #define XS_SC_RAD_HALF_MAX 65504.0
 
+/* The sample pool (issue 19): K = min(slots, max(XS_SC_POOL_MIN_PER_PX, ceil(
+ * XS_SC_POOL_PER_TARGET x n_target))) entries per pixel (isrt: K = XS_SC_POOL_ISRT_FACTOR x
+ * slots, as every cell is filled: slack for the probes), against the slots' N per pixel:
+ * density control keeps ~n_target visible samples per pixel and the invisible ones leave at
+ * the next full pixel, so most slots are empty. A
+ * new sample takes a free entry of its own pixel's K, else of pixels picked at random over
+ * the whole pool (at most XS_SC_POOL_PROBES of them); when all are taken it is not created
+ * this frame (counter sc_pool_full). */
+#define XS_SC_POOL_MIN_PER_PX 10u
+#define XS_SC_POOL_PER_TARGET 2.5
+#define XS_SC_POOL_PROBES 64u
+#define XS_SC_POOL_ISRT_FACTOR 2u
+#define XS_SC_POOL_NONE 0xFFFFFFFFu
+
 /* Instance value of a background sample (fh.xyz = unit world direction as float bits). */
 #define XS_SC_BACKGROUND XS_MISS_INSTANCE
 
-/* Reservation key per target slot (sc_reproject.comp offer_sorted, sc_copy.comp): bit 31 =
+/* Reservation key per target slot (sc_reproject.comp offer_sorted, sc_copy.comp; stored in
+ * idx[cur] until sc_copy.comp replaces it with the pool address): bit 31 =
  * the source sample is INVISIBLE, bits 0..30 = source address + 1 (address = slot * plane +
  * pix in the previous copy); XS_SC_SRC_NONE (the fill value) = nothing arrived. */
 #define XS_SC_SRC_INVISIBLE 0x80000000u
@@ -124,7 +155,7 @@
 /* `isrt` [DSK*17] (seed 000 §5, Fig. 10): the reprojection's key per slot (64-bit atomicMin in
  * the src[] buffer, then sc_copy.comp copies the winner): bit 63 = the source sample is
  * INVISIBLE, bits 32..62 = its distance to the eye (float bits of t >= 0; +inf = background),
- * bits 0..31 = source address + 1 (address as for the 2-pass word). The smallest key wins: a
+ * bits 0..31 = source address + 1 (address as for XS_SC_SRC_*). The smallest key wins: a
  * visible sample before an invisible one, then the closest, then the lowest address, whatever
  * the order of arrival. All ones = nothing arrived (the fill value). */
 #define XS_SC_ISRT_KEY_INVISIBLE_SHIFT 63u
@@ -134,8 +165,8 @@
 /* Shade-list entries: pixel index (both eyes' planes) above the slot. */
 #define XS_SC_SHADE_SLOT_BITS 4u
 #define XS_SC_SHADE_SLOT_MASK 0xFu
-/* uints before the entries of the shade list (count, pad, the shading pass's 64-bit ray
- * count: 16 bytes) */
+/* uints before the entries of the shade list (count, the pool's failed allocations, the
+ * shading pass's 64-bit ray count: 16 bytes) */
 #define XS_SC_SHADE_LIST_HEADER 4u
 /* The shading launch is width x (XS_SC_SHADE_STRIPES * q) invocations; launch row r shades
  * list row (r % q) * XS_SC_SHADE_STRIPES + r / q, so every contiguous band of launch rows
@@ -155,7 +186,7 @@ XS_STRUCT(xs_sc_params)
     xs_uint slots;        /* N */
     xs_uint cur;          /* copy written this frame (prev = 1 - cur) */
     xs_uint trace_mode;   /* XS_SC_TRACE_* */
-    xs_uint two_pass;     /* 1: reservation writes src[], sc_copy.comp copies */
+    xs_uint two_pass;     /* 1: 2-pass (both reserve through keys now, sc_reproject.comp) */
     xs_uint shade_cache;  /* 0: radiance is not carried between frames; XS_SC_RAD_NONE */
     xs_uint shade_mode;   /* XS_SC_SHADE_* */
     xs_uint alpha_mode;   /* XS_SC_ALPHA_* */
@@ -174,9 +205,10 @@ XS_STRUCT(xs_sc_params)
     xs_uint cross_eye; /* 1: cross-eye reuse (XS_SC_BIND_FOREIGN) */
     xs_float firefly_k; /* firefly rule (sc_shade.rgen): cap / running mean; 0 = off */
     xs_uint debug_permute; /* tests only (XRSC_DEBUG_PERMUTE, mt_samplecache.c): 1 = the
-                              reproject, shade select and shade launches take their work items
-                              in reverse order (sc_work_item, sc_list_entry) */
-    xs_uint pad_a, pad_b, pad_c; /* std140: the block is a multiple of 16 bytes */
+                              reproject, density, trace, shade select and shade launches take
+                              their work items in reverse order (sc_work_item, sc_list_entry) */
+    xs_uint pool_k;    /* pool entries per pixel (XS_SC_POOL_*) */
+    xs_uint pad_b, pad_c; /* std140: the block is a multiple of 16 bytes */
 }
 XS_END(xs_sc_params);
 
@@ -223,6 +255,8 @@ _Static_assert(sizeof(xs_sc_selftest_io) == 96, "xs_sc_selftest_io layout (std43
 _Static_assert(offsetof(xs_sc_selftest_io, packed) == 48, "xs_sc_selftest_io layout");
 _Static_assert(XS_SC_BUCKETS <= XS_SC_BUCKETS_STORED, "histogram storage");
 _Static_assert((1u << XS_SC_SHADE_SLOT_BITS) >= XS_SC_MAX_SLOTS, "shade-list slot bits");
+_Static_assert(XS_SC_POOL_NONE == XS_SC_SRC_NONE, "a slot no key reached: no pool address");
+_Static_assert(XS_SC_POOL_ISRT_FACTOR * XS_SC_MAX_SLOTS <= 32u, "pool entries: 32-bit used word");
 _Static_assert(XS_SC_BIND_FIRST > XS_BIND_RAY_COUNTER, "cache bindings after the scene's");
 #endif
 

@@ -6,7 +6,8 @@
  *
  * lavapipe runs a dispatch's invocations in a fixed order, so a result that depends on that
  * order looks reproducible there. XRSC_DEBUG_PERMUTE=1 (mt_samplecache.c) makes the reproject,
- * shade select and shade launches take their work items in reverse order; each case renders
+ * density, trace, shade select and shade launches take their work items in reverse order (so
+ * the sample pool hands its free entries out in another order too: issue 19); each case renders
  * the same frames (the head sliding sideways, so reprojection piles several samples onto some
  * pixels, and the visibility cache on) with the identity and the reversed order and asserts
  * the same colour bits and the same visibility cache counters. Before the order-independent

@@ -13,6 +13,9 @@
  *   (instance, primitive, material in range, barycentrics inside the triangle) or a unit
  *   background direction, and its world position (current transforms) projects into this
  *   frame's view of the eye INSIDE the pixel that holds it (TSC_PIXEL_MARGIN);
+ * - the sample pool (issue 19): every occupied slot of both eyes refers to a pool entry of its
+ *   own (no two slots share one, so no sample can overwrite another's), and the pool refused
+ *   no new sample (sc_pool_full = 0) even at this replay's 4-frame steps;
  * - the pass names and order, zero validation errors.
  * Runs for 1-pass and 2-pass reprojection and for the multi trace mode.
  */
@@ -168,6 +171,40 @@ static void test_edge_test_synthetic(void)
 
 /* ---- invariants over the replay ---- */
 
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/** Occupied slots of snapshot sn without a pool address (out_missing), and their addresses
+ *  appended to list (*count entries so far). */
+static void pool_addresses(const mt_sc_snapshot *sn, uint32_t *list, size_t *count,
+                           uint32_t *out_missing)
+{
+    size_t px = (size_t)sn->width * sn->height;
+    for (size_t s = 0; s < sn->slots; s++)
+        for (size_t p = 0; p < px; p++) {
+            if (!(sn->mask[p] >> s & 1u))
+                continue;
+            uint32_t a = sn->addr[s * px + p];
+            if (a == XS_SC_POOL_NONE)
+                (*out_missing)++;
+            else
+                list[(*count)++] = a;
+        }
+}
+
+/** Pool addresses held by more than one slot (list sorted in place). */
+static uint32_t shared_addresses(uint32_t *list, size_t count)
+{
+    qsort(list, count, sizeof(uint32_t), cmp_u32);
+    uint32_t shared = 0;
+    for (size_t i = 1; i < count; i++)
+        shared += list[i] == list[i - 1];
+    return shared;
+}
+
 typedef struct t_counts {
     uint32_t samples, visible, background;
     uint32_t shaded, traced; /* last frame, left eye */
@@ -212,6 +249,11 @@ static void run_replay(const char *label, const xrsc_samplecache_options *opt)
     xrsc_headset_default(&hs);
 
     t_counts total = {0};
+    /* both eyes' pool addresses of one frame (at most N per pixel) */
+    uint32_t *addr = malloc(2u * T_W * T_H * XS_SC_MAX_SLOTS * sizeof(uint32_t));
+    CHECK(addr != NULL);
+    if (!addr)
+        goto done;
     for (uint32_t k = 0; k < T_FRAMES; k++) {
         int64_t t_ns = (int64_t)(k * T_FRAME_STRIDE * 1e9 / T_REFRESH_HZ);
         XrPosef head, eyes[2];
@@ -223,12 +265,17 @@ static void run_replay(const char *label, const xrsc_samplecache_options *opt)
             frame.views[e].fov = hs.fov[e];
         }
         CHECK_EQ_INT(mt_method_render(m, &frame, &diag), XRSC_OK);
+        size_t n_addr = 0;
+        uint32_t missing = 0;
         for (uint32_t e = 0; e < 2; e++) {
             mt_sc_snapshot sn;
             if (mt_samplecache_snapshot(m, e, &sn, &diag) != XRSC_OK) {
                 CHECK(false);
                 continue;
             }
+            pool_addresses(&sn, addr, &n_addr, &missing);
+            CHECK_MSG(sn.pool_full == 0, "frame %u: the pool refused %u new samples", k,
+                      sn.pool_full);
             tsc_view v;
             tsc_make_view(&frame.views[e], T_W, T_H, &v);
             tsc_invariants c = {0};
@@ -260,7 +307,11 @@ static void run_replay(const char *label, const xrsc_samplecache_options *opt)
             total.background += c.background;
             mt_sc_snapshot_free(&sn);
         }
+        CHECK_MSG(missing == 0, "frame %u: %u occupied slots without a pool entry", k, missing);
+        uint32_t shared = shared_addresses(addr, n_addr);
+        CHECK_MSG(shared == 0, "frame %u: %u pool entries held by two slots", k, shared);
     }
+    free(addr);
     double px = 2.0 * T_W * T_H * T_FRAMES;
     printf("    %.2f samples/pixel (%.2f visible, %.2f background), rays last frame %llu\n",
            total.samples / px, total.visible / px, total.background / px,

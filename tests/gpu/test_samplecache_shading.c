@@ -28,11 +28,13 @@
  *   per pixel falls: relMSE(frame 32) < 0.5 relMSE(frame 4), and relMSE(frame 32) <
  *   T_FINAL_RELMSE (both eyes).
  * - test_bytes_per_pixel: prints the cache's bytes per pixel per eye (defaults; 2-pass with
- *   adaptive shading); asserts only that the resident part matches the layout of
- *   xs_samplecache.h.
+ *   adaptive shading); asserts that the resident part matches the layout of
+ *   xs_samplecache.h and that the defaults' total is at most 400 B (issue 19).
  */
 #include "test_samplecache_util.h"
 #include "xrsc/xrsc_metrics.h"
+
+#include <math.h>
 
 /* ---- adaptive shading: C twin of sc_shade_select.comp ---- */
 
@@ -362,8 +364,14 @@ static void bytes_for(const char *label, const xrsc_samplecache_options *o)
            "(%.2f MiB per eye at 2064 x 2208)\n",
            label, resident, n, working, resident + working,
            (resident + working) * 2064.0 * 2208.0 / 1048576.0);
-    /* mask 4 B + fh 16 B + rad XS_SC_RAD_BYTES (four halves) per slot, two copies each */
-    CHECK_NEAR(resident, 2.0 * (4.0 + (16.0 + XS_SC_RAD_BYTES) * n), 0.0);
+    /* two copies of mask 4 B + a 4-byte pool address per slot; one pool of K entries of fh
+     * 16 B + rad XS_SC_RAD_BYTES (four halves), and its 4-byte word of taken entries */
+    double k = ceil(XS_SC_POOL_PER_TARGET * mt_samplecache_options(rig.m)->n_target);
+    k = fmin(fmax(k, XS_SC_POOL_MIN_PER_PX), n);
+    CHECK_NEAR(resident, 2.0 * (4.0 + 4.0 * n) + k * (16.0 + XS_SC_RAD_BYTES) + 4.0, 0.0);
+    /* issue 19: the defaults fit in 400 B per pixel per eye */
+    if (o->slots == 0 && o->reproject != XRSC_SC_REPROJECT_2PASS)
+        CHECK_MSG(resident + working <= 400.0, "%.1f B/pixel/eye", resident + working);
     tsc_close(&rig);
 }
 

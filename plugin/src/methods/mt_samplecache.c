@@ -63,6 +63,8 @@ static const gpu_binding cache_bindings[] = {
     {XS_SC_BIND_STATS, GPU_BINDING_STORAGE_BUFFER, 1},
     {XS_SC_BIND_SHADE_LIST, GPU_BINDING_STORAGE_BUFFER, 1},
     {XS_SC_BIND_FOREIGN, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_SC_BIND_IDX, GPU_BINDING_STORAGE_BUFFER, 1},
+    {XS_SC_BIND_USED, GPU_BINDING_STORAGE_BUFFER, 1},
 };
 #define CACHE_BINDING_COUNT (sizeof(cache_bindings) / sizeof(cache_bindings[0]))
 
@@ -88,8 +90,10 @@ typedef struct mt_samplecache {
     gpu_buffer params; /**< xs_sc_params, host-visible */
     gpu_buffer shade_readback; /**< the shade list's header after the last frame (host) */
     uint32_t shaded;           /**< samples shaded in the last frame, both eyes */
+    uint32_t pool_full;        /**< new samples the full pool refused in the last frame */
     uint64_t shade_rays;       /**< rays the shading pass traced in the last frame */
     gpu_buffer mask, fh, rad, depth_min, depth_max, src, plan, stats, shade_list, foreign;
+    gpu_buffer idx, used; /**< the slots' pool addresses, the pool's taken entries */
     xrsc_samplecache_options opt; /**< defaults filled in */
     xs_sc_params p;
     uint32_t plane;      /**< 2 * width * height */
@@ -118,6 +122,19 @@ static uint32_t shade_capacity(const xrsc_samplecache_options *o, uint32_t w, ui
     if (per_pixel < 1.0)
         per_pixel = 1.0;
     return (uint32_t)ceil(px * per_pixel);
+}
+
+/** The pool's entries per pixel (XS_SC_POOL_*): isrt fills every cell, so twice its slots
+ *  (a pool exactly as large as the cells would leave new samples to find its last free
+ *  entries by probing). */
+static uint32_t pool_entries_per_pixel(const xrsc_samplecache_options *o, uint32_t isrt_m)
+{
+    if (isrt_m)
+        return XS_SC_POOL_ISRT_FACTOR * o->slots;
+    uint32_t k = (uint32_t)ceil(XS_SC_POOL_PER_TARGET * o->n_target);
+    if (k < XS_SC_POOL_MIN_PER_PX)
+        k = XS_SC_POOL_MIN_PER_PX;
+    return k < o->slots ? k : o->slots;
 }
 
 static void fill_defaults(xrsc_samplecache_options *o)
@@ -181,6 +198,8 @@ static void write_cache(mt_samplecache *s, gpu_descriptors *d)
     gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_STATS, &s->stats);
     gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_SHADE_LIST, &s->shade_list);
     gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_FOREIGN, &s->foreign);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_IDX, &s->idx);
+    gpu_descriptors_write_buffer(ctx, d, XS_SC_BIND_USED, &s->used);
 }
 
 /** Angle subtended by the diagonal of the centre pixel of an eye (Eq. 1's phi). */
@@ -236,8 +255,14 @@ static void record_reproject(mt_samplecache *s, VkCommandBuffer cmd)
     }
     cmd_fill(cmd, &s->depth_min, 0, VK_WHOLE_SIZE, MT_SC_DEPTH_MIN_NONE);
     cmd_fill(cmd, &s->depth_max, 0, VK_WHOLE_SIZE, 0);
-    /* the keys: all ones = nothing arrived (XS_SC_SRC_NONE, XS_SC_ISRT_KEY_*) */
-    cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+    /* the keys: all ones = nothing arrived (XS_SC_SRC_NONE in this copy's pool addresses,
+     * which hold the reservation keys until sc_copy.comp; isrt: XS_SC_ISRT_KEY_*) */
+    VkDeviceSize idx_copy = (VkDeviceSize)s->opt.slots * plane * sizeof(uint32_t);
+    cmd_fill(cmd, &s->idx, cur * idx_copy, idx_copy, XS_SC_SRC_NONE);
+    if (s->p.isrt_m)
+        cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+    cmd_fill(cmd, &s->used, 0, VK_WHOLE_SIZE, 0); /* every pool entry free until taken */
+    cmd_fill(cmd, &s->shade_list, sizeof(uint32_t), sizeof(uint32_t), 0); /* pool full count */
     mt_trace_cmd_rays_reset(&s->trace, cmd);
     gpu_cmd_barrier_all(cmd);
     dispatch(cmd, s, PROG_REPROJECT);
@@ -286,7 +311,8 @@ static void record_stage(mt_samplecache *s, VkCommandBuffer cmd, uint32_t stage)
     case STAGE_SHADE: /* the list's count and ray count */
         if (!s->hybrid)
             mt_viscache_cmd_begin(&s->vis, cmd);
-        cmd_fill(cmd, &s->shade_list, 0, XS_SC_SHADE_LIST_HEADER * sizeof(uint32_t), 0);
+        cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0); /* not the pool's count */
+        cmd_fill(cmd, &s->shade_list, 2 * sizeof(uint32_t), sizeof(uint64_t), 0);
         gpu_cmd_barrier_all(cmd);
         if (s->p.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE) { /* this frame's histogram */
             dispatch(cmd, s, PROG_SHADE_IMPORTANCE);
@@ -330,6 +356,7 @@ static xrsc_result sc_finish(mt_samplecache *s, VkCommandBuffer cmd, xrsc_diag *
     gpu_buffer_invalidate(ctx, &s->shade_readback);
     const uint8_t *header = s->shade_readback.mapped;
     memcpy(&s->shaded, header, sizeof(uint32_t));
+    memcpy(&s->pool_full, header + sizeof(uint32_t), sizeof(uint32_t));
     memcpy(&s->shade_rays, header + 2 * sizeof(uint32_t), sizeof(uint64_t));
     if (s->shaded > s->p.shade_capacity) /* the rest were dropped, not shaded */
         s->shaded = s->p.shade_capacity;
@@ -384,6 +411,7 @@ static uint32_t sc_counters(const mt_method *m, xrsc_counter *out, uint32_t max_
         {"sc_shaded_per_px", (double)s->shaded / px},
         {"sc_shade_rays", (double)s->shade_rays},
         {"sc_bytes_per_px", resident + working},
+        {"sc_pool_full", (double)s->pool_full},
     };
     uint32_t n = 0;
     for (; n < max_count && n < sizeof(c) / sizeof(c[0]); n++)
@@ -428,6 +456,8 @@ static void sc_destroy(mt_method *m)
         for (int i = 0; i < PROG_COUNT; i++)
             gpu_compute_program_destroy(ctx, &s->prog[i]);
         gpu_rt_program_destroy(ctx, &s->shade);
+        gpu_buffer_destroy(ctx, &s->used);
+        gpu_buffer_destroy(ctx, &s->idx);
         gpu_buffer_destroy(ctx, &s->foreign);
         gpu_buffer_destroy(ctx, &s->shade_list);
         gpu_buffer_destroy(ctx, &s->shade_readback);
@@ -514,12 +544,11 @@ static xrsc_result create_buffers(mt_samplecache *s, xrsc_diag *diag)
 {
     gpu_context *ctx = s->trace.env.gpu;
     VkDeviceSize plane = s->plane, slot_plane = (VkDeviceSize)s->opt.slots * plane;
-    /* the reservation keys (XS_SC_SRC_*); isrt keeps its 64-bit keys there */
-    VkDeviceSize src_size = slot_plane * sizeof(uint32_t);
-    if (s->p.isrt_m)
-        src_size = slot_plane * sizeof(uint64_t);
-    VkDeviceSize rad_size =
-        s->hybrid ? 16 : (s->p.shade_cache ? 2 : 1) * slot_plane * XS_SC_RAD_BYTES;
+    VkDeviceSize pool = (VkDeviceSize)s->p.pool_k * plane; /* pool entries */
+    /* isrt's 64-bit keys (XS_SC_ISRT_KEY_*); the sample cache's reservation keys live in this
+     * frame's copy of the pool addresses (idx) instead: a stub keeps the binding valid */
+    VkDeviceSize src_size = s->p.isrt_m ? slot_plane * sizeof(uint64_t) : 0;
+    VkDeviceSize rad_size = s->hybrid ? 16 : pool * XS_SC_RAD_BYTES;
     VkDeviceSize list_size =
         (XS_SC_SHADE_LIST_HEADER + (VkDeviceSize)s->p.shade_capacity) * sizeof(uint32_t);
     xrsc_result res;
@@ -530,7 +559,11 @@ static xrsc_result create_buffers(mt_samplecache *s, xrsc_diag *diag)
                                  &s->shade_readback, diag)) != XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, 2 * plane * sizeof(uint32_t), &s->mask, diag)) !=
             XRSC_OK ||
-        (res = gpu_buffer_create_storage(ctx, 2 * slot_plane * 16, &s->fh, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, pool * 16, &s->fh, diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, 2 * slot_plane * sizeof(uint32_t), &s->idx,
+                                         diag)) != XRSC_OK ||
+        (res = gpu_buffer_create_storage(ctx, plane * sizeof(uint32_t), &s->used, diag)) !=
+            XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, rad_size, &s->rad, diag)) != XRSC_OK ||
         (res = gpu_buffer_create_storage(ctx, plane * sizeof(uint64_t), &s->depth_min, diag)) !=
             XRSC_OK ||
@@ -656,6 +689,7 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
     };
     s->p.shade_capacity = shade_capacity(&o, env->width, env->height);
     s->p.isrt_m = var.isrt_m;
+    s->p.pool_k = pool_entries_per_pixel(&o, var.isrt_m);
     s->hybrid = var.hybrid; /* hybrid: no per-sample radiance; its own shade and reconstruct */
     if (s->hybrid)
         s->p.shade_cache = XS_SC_RAD_NONE;
@@ -696,13 +730,16 @@ void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, do
 {
     const mt_samplecache *s = (const mt_samplecache *)m;
     double n = s->opt.slots;
-    double rad_copies = s->p.shade_cache == XS_SC_RAD_NONE ? 0.0 : s->p.shade_cache ? 2.0 : 1.0;
-    /* per copy: mask 4 B, first hits 16 B per slot, radiance XS_SC_RAD_BYTES per slot */
-    *out_resident = 2.0 * (4.0 + 16.0 * n) + rad_copies * XS_SC_RAD_BYTES * n +
+    double k = s->p.pool_k, rad = s->p.shade_cache == XS_SC_RAD_NONE ? 0.0 : XS_SC_RAD_BYTES;
+    /* per copy: mask 4 B, a 4-byte pool address per slot; one pool of K entries (first hit
+     * 16 B, radiance XS_SC_RAD_BYTES) and its 4-byte word of taken entries */
+    *out_resident = 2.0 * (4.0 + 4.0 * n) + k * (16.0 + rad) + 4.0 +
                     (s->p.cross_eye ? 2.0 * 4.0 : 0.0); /* the foreign masks */
-    /* depth_min 8 + depth_max 4 + plan 16, 4 B per slot for reservation keys, the shade list */
+    /* depth_min 8 + depth_max 4 + plan 16, isrt's 64-bit keys, the shade list (the sample
+     * cache's reservation keys use this frame's pool addresses: no bytes of their own) */
     double plane = 2.0 * s->trace.env.width * s->trace.env.height;
-    *out_working = 8.0 + 4.0 + 16.0 + (s->p.isrt_m ? 8.0 * n : 4.0 * n) + 4.0 * s->p.shade_capacity / plane +
+    *out_working = 8.0 + 4.0 + 16.0 + (s->p.isrt_m ? 8.0 * n : 0.0) +
+                   4.0 * s->p.shade_capacity / plane +
                    (s->vis.p.enabled ? sizeof(uint64_t) * (double)s->vis.p.entries / plane : 0.0);
 }
 
@@ -738,6 +775,50 @@ static xrsc_result read_radiance(gpu_context *ctx, const gpu_buffer *b, VkDevice
     return res;
 }
 
+/** The snapshot's slots of eye in copy cur, gathered from the pool through the slots' pool
+ *  addresses (out->mask read already); slots without a sample read as zeros. */
+static xrsc_result snapshot_slots(mt_samplecache *s, uint32_t eye, uint32_t cur,
+                                  mt_sc_snapshot *out, xrsc_diag *diag)
+{
+    gpu_context *ctx = s->trace.env.gpu;
+    size_t px = (size_t)out->width * out->height, n = out->slots;
+    size_t pool = (size_t)s->p.pool_k * s->plane;
+    bool no_rad = s->p.shade_cache == XS_SC_RAD_NONE; /* hybrid: radiance all zeros */
+    uint32_t *idx = out->addr;
+    uint32_t *fh = malloc(pool * 16);
+    float *rad = no_rad ? NULL : malloc(pool * 16);
+    xrsc_result res = XRSC_OK;
+    if (!idx || !fh || (!no_rad && !rad)) {
+        res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+        goto done;
+    }
+    for (size_t k = 0; res == XRSC_OK && k < n; k++)
+        res = gpu_buffer_download(ctx, &s->idx,
+                                  ((VkDeviceSize)(cur * n + k) * s->plane + eye * px) * 4,
+                                  idx + k * px, px * 4, diag);
+    if (res != XRSC_OK || (res = gpu_buffer_download(ctx, &s->fh, 0, fh, pool * 16, diag)) !=
+                              XRSC_OK ||
+        (!no_rad && (res = read_radiance(ctx, &s->rad, 0, pool, rad, diag)) != XRSC_OK))
+        goto done;
+    memset(out->fh, 0, px * n * 16);
+    memset(out->rad, 0, px * n * 16);
+    for (size_t k = 0; k < n; k++)
+        for (size_t p = 0; p < px; p++) {
+            size_t a = idx[k * px + p];
+            if (!(out->mask[p] >> k & 1u) || a >= pool) {
+                idx[k * px + p] = XS_SC_POOL_NONE;
+                continue;
+            }
+            memcpy(out->fh + (k * px + p) * 4, fh + a * 4, 16);
+            if (!no_rad)
+                memcpy(out->rad + (k * px + p) * 4, rad + a * 4, 16);
+        }
+done:
+    free(fh);
+    free(rad);
+    return res;
+}
+
 void mt_sc_snapshot_free(mt_sc_snapshot *s)
 {
     if (!s)
@@ -749,6 +830,7 @@ void mt_sc_snapshot_free(mt_sc_snapshot *s)
     free(s->depth_max);
     free(s->plan);
     free(s->foreign);
+    free(s->addr);
     memset(s, 0, sizeof(*s));
 }
 
@@ -764,7 +846,6 @@ xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *
     uint32_t w = s->trace.env.width, h = s->trace.env.height, n = s->opt.slots;
     size_t px = (size_t)w * h;
     uint32_t cur = (s->frames - 1) & 1u;
-    uint32_t rad_copy = s->p.shade_cache ? cur : 0u;
     out->width = w;
     out->height = h;
     out->slots = n;
@@ -777,9 +858,11 @@ xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *
     out->plan = malloc(px * 16);
     out->foreign = calloc(px, sizeof(uint32_t));
     out->shade_rays = s->shade_rays;
+    out->pool_full = s->pool_full;
+    out->addr = malloc(px * n * sizeof(uint32_t));
     xrsc_result res = XRSC_OK;
     if (!out->mask || !out->fh || !out->rad || !out->depth_min || !out->depth_max || !out->plan ||
-        !out->foreign) {
+        !out->foreign || !out->addr) {
         res = u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
         goto fail;
     }
@@ -799,19 +882,8 @@ xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *
         (s->p.cross_eye && (res = gpu_buffer_download(ctx, &s->foreign, (cur * plane + eye_off) * 4,
                                                       out->foreign, px * 4, diag)) != XRSC_OK))
         goto fail;
-    for (uint32_t k = 0; k < n; k++) {
-        VkDeviceSize fh_off = ((VkDeviceSize)(cur * n + k) * plane + eye_off) * 16;
-        VkDeviceSize rad_off =
-            ((VkDeviceSize)(rad_copy * n + k) * plane + eye_off) * XS_SC_RAD_BYTES;
-        bool no_rad = s->p.shade_cache == XS_SC_RAD_NONE; /* hybrid: radiance all zeros */
-        if (no_rad)
-            memset(out->rad + (size_t)k * px * 4, 0, px * 16);
-        if ((res = gpu_buffer_download(ctx, &s->fh, fh_off, out->fh + (size_t)k * px * 4, px * 16,
-                                       diag)) != XRSC_OK ||
-            (!no_rad && (res = read_radiance(ctx, &s->rad, rad_off, px,
-                                             out->rad + (size_t)k * px * 4, diag)) != XRSC_OK))
-            goto fail;
-    }
+    if ((res = snapshot_slots(s, eye, cur, out, diag)) != XRSC_OK)
+        goto fail;
     return XRSC_OK;
 fail:
     mt_sc_snapshot_free(out);

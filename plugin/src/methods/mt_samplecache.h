@@ -5,12 +5,17 @@
  *        for tests and benchmarks (masks, first hits, radiance, depth words, plans, statistics).
  *
  * Data per eye (xs_samplecache.h has the exact layouts): a 32-bit mask per pixel (o_s = bit s,
- * v_s = bit 16 + s), N slots of a 128-bit first hit (Listing 1) and a 64-bit radiance + count
- * (L_s, c_s as halves, read back as floats), all double buffered; per frame a 64-bit closest depth + slope, a 32-bit farthest
- * depth, a 128-bit plan and (2-pass) a 32-bit source address per slot; with cross-eye reuse a
- * 32-bit mask of the other eye's copies per pixel, double buffered. See
- * ::mt_samplecache_bytes_per_pixel. Counters: sc_shaded (samples shaded in the last frame),
- * sc_shaded_per_px, sc_shade_rays (rays the shading pass traced), sc_bytes_per_px.
+ * v_s = bit 16 + s) and N slots of a 32-bit pool address, double buffered; one resident pool of
+ * K samples per pixel (XS_SC_POOL_*), each a 128-bit first hit (Listing 1) and a 64-bit
+ * radiance + count (L_s, c_s as halves, read back as floats), and a 32-bit word of its taken
+ * entries: reprojection moves a sample's 4-byte address, never the sample (issue 19; its
+ * reservation keys use this frame's copy of the addresses until sc_copy.comp replaces them);
+ * per frame a 64-bit closest depth + slope, a 32-bit farthest depth, a 128-bit plan (`isrt`: a
+ * 64-bit key per slot); with cross-eye reuse a 32-bit mask of the other eye's copies per pixel,
+ * double buffered. See ::mt_samplecache_bytes_per_pixel. Counters: sc_shaded
+ * (samples shaded in the last frame), sc_shaded_per_px, sc_shade_rays (rays the shading pass
+ * traced), sc_bytes_per_px, sc_pool_full (new samples not created in the last frame because
+ * the pool was full).
  *
  * Frame: "tlas" (scene update), "reproject" (sc_reproject.comp [+ sc_copy.comp]),
  * "trace_mask" (sc_trace_mask.comp), "density" (sc_density.comp), "trace" (sc_trace.rgen),
@@ -37,7 +42,7 @@ extern "C" {
  * `samplecache` (options: ::xrsc_samplecache_options, zero fields = defaults). Errors:
  * XRSC_ERROR_INVALID_ARGUMENT for slots > XS_SC_MAX_SLOTS, block 0 after defaults, more than
  * XS_SC_MAX_MATERIALS materials (Listing 1 keeps 16 bits), or an image too large for the
- * 31-bit source addresses of 2-pass reprojection.
+ * 31-bit source addresses of the reservation keys.
  */
 xrsc_result mt_samplecache_create(const mt_env *env, const xrsc_samplecache_options *options,
                                   mt_method **out, xrsc_diag *diag);
@@ -95,8 +100,9 @@ xrsc_result mt_isrt_create(const mt_env *env, const xrsc_isrt_options *isrt,
 /** The options in use, defaults filled in (m must be a `samplecache` method). */
 const xrsc_samplecache_options *mt_samplecache_options(const mt_method *m);
 
-/** Cache bytes per pixel per eye: resident (both copies of mask, first hits, radiance) plus
- *  per-frame working buffers (depth words, plan, 2-pass addresses, shade list, visibility
+/** Cache bytes per pixel per eye: resident (both copies of mask and pool addresses, the pool's
+ *  first hits, radiance and taken-entry word) plus
+ *  per-frame working buffers (depth words, plan, isrt's keys, shade list, visibility
  *  cache table). */
 void mt_samplecache_bytes_per_pixel(const mt_method *m, double *out_resident, double *out_working);
 
@@ -120,6 +126,9 @@ typedef struct mt_sc_snapshot {
     uint32_t *foreign;    /**< [p]: bit s = slot s is the other eye's copy (cross-eye reuse;
                                all 0 when off) */
     uint64_t shade_rays;  /**< rays the shading pass traced this frame, both eyes */
+    uint32_t *addr;       /**< [s * width * height + p]: the slot's pool address (issue 19;
+                               XS_SC_POOL_NONE for a slot without a sample) */
+    uint32_t pool_full;   /**< new samples the full pool refused this frame, both eyes */
 } mt_sc_snapshot;
 
 xrsc_result mt_samplecache_snapshot(mt_method *m, uint32_t eye, mt_sc_snapshot *out,
