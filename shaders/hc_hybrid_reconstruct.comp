@@ -17,6 +17,12 @@
  * table: its radiance is its own path of this frame, which hc_hybrid_shade.rgen left in the
  * pixel's XS_BIND_ACCUM texel tagged hc_own_tag(slot), with count 1; when another sample of
  * the pixel was shaded this frame it has no observation and is left out as above.
+ *
+ * A sample on a deforming surface (skinned or morphed, params.deform_follow; xs_hashcache.h)
+ * whose V and P hold nothing yet reads the voxels of its last-frame position instead (hc_peek:
+ * no stamp refresh), where its radiance was before the surface moved; hc_hybrid_shade.rgen
+ * carries that mean into the new voxels. Such samples are counted in deform_lookups, and in
+ * deform_history when the radiance they use holds more than one sample.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -28,18 +34,35 @@
 #include "xs_env.glsl"
 #include "sc_common.glsl"
 #include "hc_table.glsl"
+#include "hc_deform.glsl"
 
 layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1) in;
 
 layout(set = 0, binding = XS_SC_BIND_OUT_MU1, rgba32f) uniform writeonly image2DArray out_mu1;
 layout(set = 0, binding = XS_SC_BIND_OUT_MU2, rgba32f) uniform writeonly image2DArray out_mu2;
 
-/** The count-weighted radiance of a surface hit's voxel and its parent (rgb, count). */
-vec4 hy_radiance(uint eye, xs_surface sf, float t, vec3 wo)
+/** The count-weighted radiance of a surface hit fh's voxel and its parent (rgb, count); on a
+ *  deforming surface whose two voxels hold nothing, those of its last-frame position. */
+vec4 hy_radiance(uint eye, uvec4 fh, xs_surface sf, float t, vec3 wo)
 {
-    hc_key k = hc_key_at(sf.p, sf.ng, hc_lod(eye, t, wo, sf.ng), false, vec2(0.0));
+    int lod = hc_lod(eye, t, wo, sf.ng);
+    hc_key k = hc_key_at(sf.p, sf.ng, lod, false, vec2(0.0));
     vec4 v = hc_read(hc_lookup(k, false));
     vec4 p = hc_read(hc_lookup(hc_parent(k), false));
+    if (hcp.deform != 0u) {
+        bool moved;
+        vec3 pp = hc_prev_point(fh.w, fh.z, sc_bary(fh), moved);
+        if (moved && hcp.deform_follow != 0u && !(v.w + p.w > 0.0)) {
+            hc_key kp = hc_key_at(pp, sf.ng, lod, false, vec2(0.0));
+            v = hc_peek(kp);
+            p = hc_peek(hc_parent(kp));
+        }
+        if (moved) {
+            atomicAdd(hc_stats.deform_lookups, 1u);
+            if (max(v.w, p.w) > 1.0)
+                atomicAdd(hc_stats.deform_history, 1u);
+        }
+    }
     float c = v.w + p.w;
     return c > 0.0 ? vec4((v.w * v.rgb + p.w * p.rgb) / c, c) : vec4(0.0);
 }
@@ -97,7 +120,7 @@ void main()
                 vec4 own = imageLoad(accum, ivec3(g));
                 rad = own.w == hc_own_tag(s) ? vec4(own.rgb, 1.0) : vec4(0.0);
             } else {
-                rad = hy_radiance(eye, sf, t, wo);
+                rad = hy_radiance(eye, fh, sf, t, wo);
             }
             c = rad.w;
             x = xs_emitted(mt, sf.outside) + sc_demod(a) * rad.rgb;

@@ -33,7 +33,7 @@
 #define XS_HC_BIND_STATS 35  /* buffer xs_hc_stats */
 #define XS_HC_BIND_HITS 36   /* `hashcache` only: buffer uvec4[2 * W * H], pass 1's first hits */
 #define XS_HC_BIND_SELFTEST 37 /* buffer xs_hc_selftest_io[] (hc_selftest.comp only) */
-#define XS_HC_BIND_PREV_POS 38 /* `hashcache` only: readonly buffer vec4[], last frame's posed
+#define XS_HC_BIND_PREV_POS 38 /* readonly buffer vec4[], last frame's posed
                                 * object-space position per scene vertex (gpu_deform.h) */
 /* Descriptor set of these bindings in ray-tracing programs. */
 #define XS_HC_RT_SET 1
@@ -89,7 +89,7 @@ XS_STRUCT(xs_hc_params)
     xs_uint lod_mode;     /* XS_HC_LOD_* */
     xs_uint jitter;       /* 1: voxel jitter [BFK18] before the lookup */
     xs_uint entries;      /* table entries */
-    xs_uint deform;        /* `hashcache`: 1 = XS_HC_BIND_PREV_POS holds deformed meshes' last
+    xs_uint deform;        /* 1 = XS_HC_BIND_PREV_POS holds deformed meshes' last
                               poses (their lookups are counted in deform_*) */
     xs_uint deform_follow; /* 1 (with deform): deforming hits follow their surface (below) */
     xs_float voxel_scale; /* voxel edge / pixel footprint (before rounding down to 2^lod) */
@@ -115,14 +115,17 @@ XS_STRUCT(xs_hc_stats)
     xs_uint failed;
     xs_uint traced;   /* secondary paths traced for the cache */
     xs_uint occupied; /* entries with a stamp within max_age (hc_occupancy.comp) */
-    xs_uint deform_lookups; /* lookups of hits on a deforming surface (params.deform) */
+    xs_uint deform_lookups; /* lookups of hits on a deforming surface (params.deform;
+                               `hybrid`: its reconstruction's) */
     xs_uint deform_history; /* of those, the ones whose voxel value holds earlier frames'
-                               samples (count > 1 after this frame's update) */
+                               samples (count > 1 after this frame's update; `hybrid`: the
+                               voxel's or its parent's) */
     xs_uint pad0;
 }
 XS_END(xs_hc_stats);
 
-/* Deforming surfaces (issue 21 item 3; `hashcache` with params.deform_follow): a hit on a
+/* Deforming surfaces (issue 21 item 3; `hashcache` and `hybrid` with params.deform_follow;
+ * hc_deform.glsl): a hit on a
  * skinned or morphed mesh whose posed point moved since the last frame keys its voxel by this
  * frame's world position as any hit does, but when that voxel is inserted now (fresh), the
  * running mean of the voxel of the hit's LAST-frame position (same triangle and barycentrics
@@ -131,7 +134,10 @@ XS_END(xs_hc_stats);
  * walking figure keeps its history instead of restarting every voxel it moves into (a pixel
  * whose voxel holds no value yet uses that carried mean plus its own path likewise). The old
  * voxel is only read (its stamp is not refreshed). Rigid meshes and still vertices never take
- * this path (their motion is 0). */
+ * this path (their motion is 0). `hybrid` carries the mean into the voxels its shading pass
+ * inserts (at the sample's level, its parent's or its own, with its jitter), and its
+ * reconstruction, whose two unjittered voxels of a deforming sample may hold nothing yet, reads
+ * those of the last-frame position instead. */
 
 /* Self-test record (hc_selftest.comp, tests): one lookup of a given key. mode
  * XS_HC_SELFTEST_STORE: hc_lookup with insert, and the reserver stores `value` (rgb); mode

@@ -122,13 +122,16 @@ static const suite_method stability_methods[] = {
     {"hashcache:name=hashcache", "lc rgb '#8c564b' dt 1"},
     {"hybrid:name=hybrid", "lc rgb '#e377c2' dt 1"},
     {"isrt:name=isrt", "lc rgb '#17becf' dt 1"},
+    /* seed 004's baseline (issue 21 asks every method's row): 1 spp path tracing with PFJ23's
+     * variance-based temporal filter (Eq. 4) and its neighbourhood stereo blend (Eq. 10-11) */
+    {"spp:spp=1,taa=pfj23,blend=pfj23,name=pfj23", "lc rgb '#7f7f7f' dt 2"},
 };
 #define METHOD_COUNT (sizeof(stability_methods) / sizeof(stability_methods[0]))
 _Static_assert(METHOD_COUNT <= MAX_METHODS, "MAX_METHODS");
 
 /** Command-line options of the suite. */
 typedef struct suite_opts {
-    const char *out_dir, *only_case;
+    const char *out_dir, *only_case, *only_method;
     uint32_t w, h, ref_spp, frames; /**< frames: 0 = each case's own count */
     xrsc_context_options context;
     bool no_plots, progress;
@@ -883,7 +886,8 @@ static xrsc_result write_summary(const suite_opts *o, const suite_results *sr, b
     bool any = false;
     for (uint32_t m = 0; m < METHOD_COUNT; m++)
         for (uint32_t c = 0; c < CASE_COUNT; c++)
-            if (sr->done[c] && !sr->ran[c][m]) {
+            if (sr->done[c] && !sr->ran[c][m] &&
+                !(o->only_method && strcmp(o->only_method, sr->set[m].name))) {
                 printf(" %s", sr->set[m].name[0] ? sr->set[m].name : stability_methods[m].setting);
                 any = true;
                 break;
@@ -896,17 +900,21 @@ static xrsc_result write_summary(const suite_opts *o, const suite_results *sr, b
 
 /* ---- driver and command line ---- */
 
-/* Parses the method settings one by one: unknown methods are left out (known[m] false). */
-static void parse_methods(hs_bench_setting *set, bool *known)
+/* Parses the method settings one by one: unknown methods are left out (known[m] false), and
+ * with only (--method) every method of another name. Returns whether a method is left. */
+static bool parse_methods(hs_bench_setting *set, bool *known, const char *only)
 {
+    bool any = false;
     for (uint32_t m = 0; m < METHOD_COUNT; m++) {
         uint32_t count = 0;
         xrsc_diag d = {0};
         memset(&set[m], 0, sizeof(set[m]));
         known[m] = hs_bench_parse_settings(stability_methods[m].setting, &set[m], 1, &count, &d) ==
                        XRSC_OK &&
-                   count == 1;
+                   count == 1 && (!only || !strcmp(only, set[m].name));
+        any = any || known[m];
     }
+    return any;
 }
 
 static xrsc_result suite_run(const suite_opts *o, xrsc_diag *diag)
@@ -914,8 +922,10 @@ static xrsc_result suite_run(const suite_opts *o, xrsc_diag *diag)
     static suite_results sr;
     static hs_bench_setting set[MAX_METHODS];
     memset(&sr, 0, sizeof(sr));
-    parse_methods(set, sr.known);
     sr.set = set;
+    if (!parse_methods(set, sr.known, o->only_method))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--method",
+                          "no method named '%s'", o->only_method ? o->only_method : "");
     xrsc_context *ctx = NULL;
     xrsc_result res = hs_make_dirs(o->out_dir, "--out", diag);
     if (res == XRSC_OK)
@@ -951,7 +961,7 @@ static xrsc_result suite_run(const suite_opts *o, xrsc_diag *diag)
 static void suite_usage(FILE *f)
 {
     fprintf(f,
-"usage: xrsc bench --suite stability [--case NAME] [--out DIR] [--resolution WxH]\n"
+"usage: xrsc bench --suite stability [--case NAME] [--method NAME] [--out DIR] [--resolution WxH]\n"
 "                  [--ref-spp N] [--frames N] [--device D] [--validation] [--no-plots] [--quiet]\n"
 "\n"
 "The issue-9 failure cases, each for every method present (bench/README.md):\n");
@@ -1009,6 +1019,8 @@ static const hs_opt k_suite_opts[] = {
     {"--suite", "NAME", "stability (the only suite)", parse_suite, 0, NULL},
     {"--case", "NAME", "run only this case                        [all]", NULL, F(only_case),
      NULL},
+    {"--method", "NAME", "run only this method (a column's name, e.g. hybrid) [all]", NULL,
+     F(only_method), NULL},
     {"--out", "DIR", "output folder", NULL, F(out_dir), NULL},
     {"--resolution", "WxH", "per eye, each 16..4096", parse_resolution, 0, NULL},
     {"--ref-spp", "N", "samples per pixel of the references, 1..65536", hs_opt_u32, F(ref_spp),

@@ -22,7 +22,9 @@
  * own path travels from shade to reconstruct in the unused XS_BIND_ACCUM image.
  * `hashcache` follows deforming (skinned, morphed) surfaces: a voxel inserted for a hit that
  * moved since the last frame starts from the running mean of the voxel of the hit's last-frame
- * position (xs_hashcache.h, issue 21 item 3); `hybrid` keys by this frame's position only.
+ * position (xs_hashcache.h, issue 21 item 3); `hybrid` likewise for the voxels its shading
+ * inserts, and its reconstruction reads the last-frame position's voxels where the two
+ * voxels of a deforming sample hold nothing yet.
  * Both report the table's counters (mt_hctable.h) through mt_method.counters.
  */
 #pragma once
@@ -64,6 +66,12 @@ xrsc_result mt_hybrid_create(const mt_env *env, const xrsc_samplecache_options *
 
 /** `hybrid`'s inner `samplecache` method (for mt_samplecache_snapshot in tests). */
 mt_method *mt_hybrid_samplecache(mt_method *hybrid);
+
+/** Tests (issue 21 item 3): ::mt_hashcache_set_deform_follow for `hybrid`. */
+void mt_hybrid_set_deform_follow(mt_method *hybrid, bool follow);
+/** The last frame's reconstruction lookups of samples on deforming surfaces and, of those, the
+ *  ones whose radiance holds more than one sample (a voxel or its parent with a count > 1). */
+void mt_hybrid_deform_stats(const mt_method *hybrid, uint32_t *out_lookups, uint32_t *out_history);
 
 #ifdef __cplusplus
 }
