@@ -4,7 +4,8 @@
 # @brief CPU seconds (user + sys of a test and every child it waits for) of each ctest test, with
 #        a cold Mesa shader cache and then warm (issue 22 item 4; tests/times.md).
 #
-# Usage: scripts/test-times.py BUILD_DIR [-R REGEX] [-E REGEX] [-L LABEL] [-j N] [--warm-only] > times.tsv
+# Usage: scripts/test-times.py BUILD_DIR [-R REGEX] [-E REGEX] [-L LABEL] [-j N] [--warm-only]
+#                              [--order FILE] > times.tsv
 #
 # CPU time, not wall time, because the machine these numbers come from is shared: its load
 # stretches wall time but leaves a test's own CPU time about the same, and on an idle 2-core
@@ -84,8 +85,13 @@ def main():
     ap.add_argument("-L", dest="label")
     ap.add_argument("-j", dest="jobs", type=int, default=1)
     ap.add_argument("--warm-only", action="store_true")
+    ap.add_argument("--order", help="a file of test names, one a line: run those first, in order")
     args = ap.parse_args()
     queue = tests_of(os.path.abspath(args.build), args.regex, args.exclude, args.label)
+    if args.order:
+        with open(args.order) as f:
+            rank = {n.strip(): i for i, n in enumerate(f) if n.strip()}
+        queue.sort(key=lambda t: rank.get(t[0], len(rank)))
     print("test\tcache\texit\tcpu_s\twall_s", flush=True)
     lock = threading.Lock()
 
