@@ -2,20 +2,21 @@
 /**
  * @file hs_compare_cmd.c
  * @brief `xrsc compare A B`: per frame a side-by-side image (A, B, |B - A| heat map with its
- *        scale, one row per eye, labelled with the bitmap font of hs_font.h) and relMSE, RMSE,
- *        PSNR and SSIM of both eyes, B scored against A, as a table and a CSV.
+ *        scale, one row per eye; io/hs_compare_image.h draws it) and relMSE, RMSE, PSNR and SSIM
+ *        of both eyes, B scored against A (io/hs_run_metrics.h), as a table and a CSV. This file
+ *        is the command line, the frame loop and the output.
  */
 #include "hs_compare_cmd.h"
 
 #include "hs_args.h"
-#include "hs_font.h"
+#include "hs_compare_image.h"
 #include "hs_image.h"
 #include "hs_opt.h"
 #include "hs_run_dir.h"
+#include "hs_run_metrics.h"
 #include "u_diag.h"
 #include "xrsc/xrsc_metrics.h"
 
-#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -25,14 +26,6 @@
 
 #define PATH_MAX_LEN 4096
 #define DEFAULT_OUT "out/compare"
-/** Pixels between panels, and around the labels. */
-#define GAP_PX 4
-/** The heat map's full scale when none is given: this quantile of the first frame's values. */
-#define AUTO_SCALE_QUANTILE 0.99
-/** Smallest automatic full scale (identical runs still get a valid scale bar). */
-#define MIN_SCALE 1e-6
-/** Height of the colour scale bar, pixels (times the text scale). */
-#define SCALE_BAR_PX 8
 
 static int bad_arg(const char *flag, const char *value, const char *why)
 {
@@ -129,133 +122,8 @@ static int parse_args(int argc, char **argv, compare_args *a)
     return -1;
 }
 
-/* ---- the picture ---- */
-
-/* The display picture of a frame: linear frames tone-mapped, PNG frames re-encoded as read. */
-static void display(const float *rgba, uint32_t w, uint32_t h, hs_run_kind kind, double exposure,
-                    uint8_t *out_rgb)
-{
-    if (kind != HS_RUN_PNG) {
-        hs_tonemap tm = {.exposure = (float)exposure};
-        hs_tonemap_rgba(&tm, rgba, w, h, out_rgb);
-        return;
-    }
-    for (size_t i = 0; i < (size_t)w * h; i++)
-        for (int c = 0; c < 3; c++)
-            out_rgb[i * 3 + c] = hs_srgb8(rgba[i * 4 + c]);
-}
-
-/* RMS over R, G, B of b - a per pixel. */
-static void rms_diff(const float *a, const float *b, size_t n, float *out)
-{
-    for (size_t i = 0; i < n; i++) {
-        double s = 0.0;
-        for (int c = 0; c < 3; c++) {
-            double d = (double)b[i * 4 + c] - a[i * 4 + c];
-            s += d * d;
-        }
-        out[i] = (float)sqrt(s / 3.0);
-    }
-}
-
-static int cmp_float(const void *x, const void *y)
-{
-    float a = *(const float *)x, b = *(const float *)y;
-    return (a > b) - (a < b);
-}
-
-static double quantile(const float *v, size_t n, double q)
-{
-    float *s = malloc(n * sizeof(float));
-    if (!s || n == 0) {
-        free(s);
-        return 0.0;
-    }
-    memcpy(s, v, n * sizeof(float));
-    qsort(s, n, sizeof(float), cmp_float);
-    double r = s[(size_t)(q * (double)(n - 1))];
-    free(s);
-    return r;
-}
-
-/** The composed picture: a title line, then per eye a row of three panels, then the scale. */
-typedef struct canvas {
-    uint8_t *rgb;
-    uint32_t w, h, text_scale, panel_w, panel_h, title_h, label_h;
-} canvas;
-
-static void blit(canvas *cv, const uint8_t *rgb, uint32_t x0, uint32_t y0)
-{
-    for (uint32_t y = 0; y < cv->panel_h; y++)
-        memcpy(cv->rgb + ((size_t)(y0 + y) * cv->w + x0) * 3, rgb + (size_t)y * cv->panel_w * 3,
-               (size_t)cv->panel_w * 3);
-}
-
-static void label(canvas *cv, int32_t x, int32_t y, const char *text)
-{
-    static const uint8_t white[3] = {255, 255, 255}, dark[3] = {24, 24, 24};
-    uint32_t s = cv->text_scale;
-    hs_font_fill(cv->rgb, cv->w, cv->h, 3, x, y, hs_font_text_width(text, s) + 2 * s,
-                 (HS_FONT_H + 2) * s, dark);
-    hs_font_draw(cv->rgb, cv->w, cv->h, 3, x + (int32_t)s, y + (int32_t)s, s, text, white);
-}
-
-static bool canvas_init(canvas *cv, uint32_t w, uint32_t h)
-{
-    memset(cv, 0, sizeof(*cv));
-    cv->panel_w = w;
-    cv->panel_h = h;
-    cv->text_scale = w >= 256 ? 2 : 1;
-    cv->title_h = (HS_FONT_LINE + 2) * cv->text_scale + GAP_PX;
-    cv->label_h = (HS_FONT_LINE + 2) * cv->text_scale;
-    cv->w = 3 * w + 4 * GAP_PX;
-    cv->h =
-        cv->title_h + 2 * (h + GAP_PX) + SCALE_BAR_PX * cv->text_scale + cv->label_h + 2 * GAP_PX;
-    cv->rgb = calloc((size_t)cv->w * cv->h, 3);
-    return cv->rgb != NULL;
-}
-
-/* The colour scale under the heat-map column: the ramp, then "0" and the full scale. */
-static void scale_bar(canvas *cv, double full)
-{
-    int32_t x0 = (int32_t)(3 * GAP_PX + 2 * cv->panel_w);
-    int32_t y0 = (int32_t)(cv->title_h + 2 * (cv->panel_h + GAP_PX));
-    for (uint32_t x = 0; x < cv->panel_w; x++) {
-        uint8_t c[3];
-        hs_heat_colour((float)x / (float)(cv->panel_w - 1), c);
-        hs_font_fill(cv->rgb, cv->w, cv->h, 3, x0 + (int32_t)x, y0, 1,
-                     SCALE_BAR_PX * cv->text_scale, c);
-    }
-    char t[64];
-    int32_t ty = y0 + (int32_t)(SCALE_BAR_PX * cv->text_scale) + GAP_PX / 2;
-    label(cv, x0, ty, "0");
-    snprintf(t, sizeof(t), "%.3g", full);
-    label(cv,
-          x0 + (int32_t)cv->panel_w -
-              (int32_t)(hs_font_text_width(t, cv->text_scale) + 2 * cv->text_scale),
-          ty, t);
-    label(cv, x0 - (int32_t)(hs_font_text_width("RMS", cv->text_scale) + 3 * cv->text_scale), ty,
-          "RMS");
-}
-
-/* ---- per frame ---- */
-
-typedef struct eye_pair {
-    float *a, *b;
-    uint32_t w, h;
-} eye_pair;
-
-static void pair_free(eye_pair p[2])
-{
-    for (int e = 0; e < 2; e++) {
-        free(p[e].a);
-        free(p[e].b);
-        p[e].a = p[e].b = NULL;
-    }
-}
-
 /* Reads both eyes of frame f of A and B; 0, -1 when A has no such frame, or 1 after an error. */
-static int read_pairs(const compare_args *a, hs_run_kind kind, uint32_t f, eye_pair p[2])
+static int read_pairs(const compare_args *a, hs_run_kind kind, uint32_t f, hs_frame_pair p[2])
 {
     memset(p, 0, 2 * sizeof(*p));
     for (int e = 0; e < 2; e++) {
@@ -267,104 +135,65 @@ static int read_pairs(const compare_args *a, hs_run_kind kind, uint32_t f, eye_p
             fprintf(stderr, "xrsc compare: error: path too long\n");
             return 1;
         }
-        FILE *probe = fopen(pa, "rb");
-        if (!probe)
+        if (!hs_file_exists(pa))
             return e == 0 ? -1 : (fprintf(stderr, "xrsc compare: error: %s is missing\n", pa), 1);
-        fclose(probe);
         xrsc_diag diag = {0};
         char msg[1400];
-        uint32_t bw = 0, bh = 0;
-        if (hs_read_frame(pa, &p[e].a, &p[e].w, &p[e].h, NULL, &diag) != XRSC_OK ||
-            hs_read_frame(pb, &p[e].b, &bw, &bh, NULL, &diag) != XRSC_OK) {
+        /* B is scored against A: A is the reference */
+        if (hs_frame_pair_read(pa, pb, &p[e], &diag) != XRSC_OK) {
             fprintf(stderr, "xrsc compare: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
             return 1;
         }
-        if (bw != p[e].w || bh != p[e].h || (e == 1 && p[1].w != p[0].w) ||
-            (e == 1 && p[1].h != p[0].h)) {
-            fprintf(stderr, "xrsc compare: error: %s is %ux%u but %s is %ux%u\n", pb, bw, bh, pa,
-                    p[e].w, p[e].h);
+        if (e == 1 && (p[1].w != p[0].w || p[1].h != p[0].h)) {
+            fprintf(stderr, "xrsc compare: error: %s is %ux%u but %s is %ux%u\n", pb, p[1].w,
+                    p[1].h, pa, p[0].w, p[0].h);
             return 1;
         }
     }
     return 0;
 }
 
-typedef struct eye_values {
-    xrsc_error_metrics err;
-    double psnr_db, ssim;
-} eye_values;
-
 /* Composes and writes frame f's picture; scale in/out (0: pick it from this frame). */
-static int write_picture(const compare_args *a, hs_run_kind kind, uint32_t f, eye_pair p[2],
-                         const eye_values v[2], double *scale)
+static int write_picture(const compare_args *a, hs_run_kind kind, uint32_t f,
+                         const hs_frame_pair p[2], const hs_pair_scores v[2], double *scale)
 {
-    uint32_t w = p[0].w, h = p[0].h;
-    size_t n = (size_t)w * h;
-    float *heat = malloc(2 * n * sizeof(float));
-    uint8_t *tmp = malloc(n * 3);
-    canvas cv;
-    bool ok = heat && tmp && canvas_init(&cv, w, h);
-    if (!ok) {
-        free(heat);
-        free(tmp);
+    hs_compare_frame fr = {.a = {p[0].ref, p[1].ref}, .b = {p[0].test, p[1].test},
+                           .w = p[0].w, .h = p[0].h,
+                           .relmse = {v[0].err.relmse, v[1].err.relmse}};
+    char title[256];
+    snprintf(title, sizeof(title), "FRAME %u   A %.40s   B %.40s", f, a->a_dir, a->b_dir);
+    hs_compare_style style = {.title = title, .kind = kind, .exposure = a->exposure};
+    bool auto_scale = *scale <= 0.0;
+    uint8_t *rgb = NULL;
+    uint32_t w = 0, h = 0;
+    if (hs_compare_picture(&fr, &style, scale, &rgb, &w, &h) != XRSC_OK) {
         fprintf(stderr, "xrsc compare: error: out of memory\n");
         return 1;
     }
-    for (int e = 0; e < 2; e++)
-        rms_diff(p[e].a, p[e].b, n, heat + e * n);
-    if (*scale <= 0.0) {
-        *scale = fmax(quantile(heat, 2 * n, AUTO_SCALE_QUANTILE), MIN_SCALE);
-        if (!a->quiet)
-            printf("heat map full scale: %.4g (RMS difference; --scale sets it)\n", *scale);
-    }
-    char t[256];
-    snprintf(t, sizeof(t), "FRAME %u   A %.40s   B %.40s", f, a->a_dir, a->b_dir);
-    label(&cv, GAP_PX, GAP_PX / 2, t);
-    static const char *const eyes[2] = {"LEFT", "RIGHT"};
-    for (int e = 0; e < 2; e++) {
-        uint32_t y0 = cv.title_h + (uint32_t)e * (h + GAP_PX);
-        display(p[e].a, w, h, kind, a->exposure, tmp);
-        blit(&cv, tmp, GAP_PX, y0);
-        display(p[e].b, w, h, kind, a->exposure, tmp);
-        blit(&cv, tmp, 2 * GAP_PX + w, y0);
-        for (size_t i = 0; i < n; i++)
-            hs_heat_colour((float)(heat[e * n + i] / *scale), tmp + i * 3);
-        blit(&cv, tmp, 3 * GAP_PX + 2 * w, y0);
-        snprintf(t, sizeof(t), "A %s", eyes[e]);
-        label(&cv, GAP_PX, (int32_t)y0, t);
-        snprintf(t, sizeof(t), "B %s", eyes[e]);
-        label(&cv, 2 * GAP_PX + (int32_t)w, (int32_t)y0, t);
-        snprintf(t, sizeof(t), "B-A %s RELMSE %.3g", eyes[e], v[e].err.relmse);
-        label(&cv, 3 * GAP_PX + 2 * (int32_t)w, (int32_t)y0, t);
-    }
-    scale_bar(&cv, *scale);
+    if (auto_scale && !a->quiet)
+        printf("heat map full scale: %.4g (RMS difference; --scale sets it)\n", *scale);
     char path[PATH_MAX_LEN];
     snprintf(path, sizeof(path), "%s/compare_%05u.png", a->out_dir, f);
     xrsc_diag diag = {0};
     char msg[1400];
     int rc = 0;
-    if (hs_write_png(path, cv.rgb, cv.w, cv.h, &diag) != XRSC_OK) {
+    if (hs_write_png(path, rgb, w, h, &diag) != XRSC_OK) {
         fprintf(stderr, "xrsc compare: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
         rc = 1;
     }
-    free(cv.rgb);
-    free(heat);
-    free(tmp);
+    free(rgb);
     return rc;
 }
 
-static int score(const compare_args *a, const eye_pair p[2], eye_values v[2])
+static int score(const compare_args *a, const hs_frame_pair p[2], hs_pair_scores v[2])
 {
     for (int e = 0; e < 2; e++) {
-        xrsc_result res = xrsc_metrics_error(p[e].b, p[e].a, p[e].w, p[e].h, &a->mo, &v[e].err);
-        if (res == XRSC_OK)
-            res = xrsc_metrics_ssim(p[e].b, p[e].a, p[e].w, p[e].h, &a->mo, &v[e].ssim, NULL);
+        xrsc_result res = hs_frame_pair_score(&p[e], &a->mo, false, &v[e]);
         if (res != XRSC_OK) {
             fprintf(stderr, "xrsc compare: error: metrics: %s [%s]\n", xrsc_result_text(res),
                     xrsc_result_name(res));
             return 1;
         }
-        v[e].psnr_db = v[e].err.mse > 0.0 ? -10.0 * log10(v[e].err.mse) : INFINITY;
     }
     return 0;
 }
@@ -409,8 +238,8 @@ int hs_compare_main(int argc, char **argv)
     uint32_t count = 0;
     double scale = a.scale;
     for (uint64_t f = a.first; rc < 0 && (a.max_frames == 0 || count < a.max_frames); f++) {
-        eye_pair p[2];
-        eye_values v[2];
+        hs_frame_pair p[2];
+        hs_pair_scores v[2];
         int r = read_pairs(&a, kind, (uint32_t)f, p);
         if (r < 0 && count == 0)
             fprintf(stderr, "xrsc compare: error: frame %u of %s is missing\n", (uint32_t)f,
@@ -419,7 +248,8 @@ int hs_compare_main(int argc, char **argv)
             r = 1;
         if (r == 0 && (r = score(&a, p, v)) == 0)
             r = write_picture(&a, kind, (uint32_t)f, p, v, &scale);
-        pair_free(p);
+        hs_frame_pair_free(&p[0]);
+        hs_frame_pair_free(&p[1]);
         if (r != 0) {
             rc = r < 0 ? 0 : r;
             break;

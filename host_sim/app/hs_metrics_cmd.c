@@ -2,8 +2,10 @@
 /**
  * @file hs_metrics_cmd.c
  * @brief `xrsc metrics`: compares a test run with a reference run frame by frame, both eyes,
- *        with the metrics of xrsc_metrics.h, and prints or writes the values; `--stereo DIR`
- *        scores one run's stereo and temporal consistency instead (hs_metrics_stereo.c).
+ *        with the metrics of xrsc_metrics.h (read and scored by io/hs_run_metrics.h), and prints
+ *        or writes the values; `--stereo DIR` scores one run's stereo and temporal consistency
+ *        instead (hs_metrics_stereo.c). This file is the command line, the frame loop and the
+ *        output.
  */
 #include "hs_metrics_cmd.h"
 
@@ -11,6 +13,7 @@
 #include "hs_metrics_stereo.h"
 #include "hs_opt.h"
 #include "hs_run_dir.h"
+#include "hs_run_metrics.h"
 #include "u_diag.h"
 #include "xrsc/xrsc_metrics.h"
 
@@ -22,7 +25,7 @@
 #include <string.h>
 
 #define PATH_MAX_LEN 4096
-#define MAX_SEQ 2
+#define MAX_SEQ 2 /* hs_run_eyes: one per eye */
 
 
 static int bad_arg(const char *flag, const char *value, const char *why)
@@ -68,74 +71,25 @@ static bool parse_positive(const char *s, double *out)
     return true;
 }
 
-static bool file_exists(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return false;
-    fclose(f);
-    return true;
-}
-
-typedef struct frame_values {
-    xrsc_error_metrics err;
-    double ssim;
-    xrsc_cpbd cpbd_test, cpbd_ref;
-} frame_values;
-
-/* Reads and compares one frame pair; returns 0, or 1 after printing the error. */
+/* Reads and scores one frame pair; returns 0, or 1 after printing the error. */
 static int compare_frame(const char *ref_path, const char *test_path,
-                         const xrsc_metrics_options *mo, frame_values *out)
+                         const xrsc_metrics_options *mo, hs_pair_scores *out)
 {
-    float *ref = NULL, *test = NULL;
-    uint32_t rw = 0, rh = 0, tw = 0, th = 0;
+    hs_frame_pair p;
     xrsc_diag diag = {0};
     char msg[1400];
-    int rc = 1;
-    if (hs_read_frame(ref_path, &ref, &rw, &rh, NULL, &diag) != XRSC_OK ||
-        hs_read_frame(test_path, &test, &tw, &th, NULL, &diag) != XRSC_OK) {
+    if (hs_frame_pair_read(ref_path, test_path, &p, &diag) != XRSC_OK) {
         fprintf(stderr, "xrsc metrics: error: %s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
-        goto done;
+        return 1;
     }
-    if (rw != tw || rh != th) {
-        fprintf(stderr, "xrsc metrics: error: %s is %ux%u but %s is %ux%u\n", test_path, tw, th,
-                ref_path, rw, rh);
-        goto done;
-    }
-    xrsc_result res = xrsc_metrics_error(test, ref, tw, th, mo, &out->err);
-    if (res == XRSC_OK)
-        res = xrsc_metrics_ssim(test, ref, tw, th, mo, &out->ssim, NULL);
-    if (res == XRSC_OK)
-        res = xrsc_metrics_cpbd(test, tw, th, mo, &out->cpbd_test);
-    if (res == XRSC_OK)
-        res = xrsc_metrics_cpbd(ref, rw, rh, mo, &out->cpbd_ref);
+    xrsc_result res = hs_frame_pair_score(&p, mo, true, out);
+    hs_frame_pair_free(&p);
     if (res != XRSC_OK) {
         fprintf(stderr, "xrsc metrics: error: %s vs %s: %s [%s]\n", test_path, ref_path,
                 xrsc_result_text(res), xrsc_result_name(res));
-        goto done;
+        return 1;
     }
-    rc = 0;
-done:
-    free(ref);
-    free(test);
-    return rc;
-}
-
-/* The sequences to score: one per eye. A pattern naming "left" gets its "right" partner when
- * that eye's first frame exists; any other pattern is one sequence (eye "-"). */
-typedef struct sequences {
-    uint32_t count;
-    hs_frame_pattern pat[MAX_SEQ];
-    const char *eye[MAX_SEQ];
-} sequences;
-
-static bool right_partner(const char *fmt, char *out, size_t size)
-{
-    const char *l = strstr(fmt, "left");
-    if (!l || (size_t)(l - fmt) + strlen(fmt) + 2 >= size)
-        return false;
-    snprintf(out, size, "%.*sright%s", (int)(l - fmt), fmt, l + 4);
-    return true;
+    return 0;
 }
 
 typedef struct sums {
@@ -293,12 +247,11 @@ static int check_mode(const metrics_args *a)
 }
 
 /* The sequences and first frame; returns -1 to go on, else the exit code. */
-static int pick_sequences(metrics_args *a, sequences *seq)
+static int pick_sequences(metrics_args *a, hs_run_eyes *seq)
 {
-    memset(seq, 0, sizeof(*seq));
-    char fmt[2][1100];
+    char fmt[1100];
     if (a->pattern) {
-        snprintf(fmt[0], sizeof(fmt[0]), "%s", a->pattern);
+        snprintf(fmt, sizeof(fmt), "%s", a->pattern);
     } else {
         xrsc_diag diag = {0};
         char msg[1400];
@@ -312,27 +265,16 @@ static int pick_sequences(metrics_args *a, sequences *seq)
                             "the PNGs, which are tone-mapped and 8-bit (display-referred values, "
                             "not radiance); write both runs with --write linear for linear "
                             "metrics\n");
-        snprintf(fmt[0], sizeof(fmt[0]), "%s", hs_run_pattern(kind, 0));
+        snprintf(fmt, sizeof(fmt), "%s", hs_run_pattern(kind, 0));
     }
-    if (!hs_frame_pattern_parse(fmt[0], &seq->pat[0]))
-        return bad_arg("--pattern", fmt[0], "expected one %u (e.g. frame_%05u_left.pfm)");
-    if (!a->first_given && !hs_frame_pattern_first(a->ref_dir, &seq->pat[0], &a->first)) {
-        fprintf(stderr, "xrsc metrics: error: no frame named like %s in %s\n", fmt[0], a->ref_dir);
+    hs_frame_pattern pat;
+    if (!hs_frame_pattern_parse(fmt, &pat))
+        return bad_arg("--pattern", fmt, "expected one %u (e.g. frame_%05u_left.pfm)");
+    if (!a->first_given && !hs_frame_pattern_first(a->ref_dir, &pat, &a->first)) {
+        fprintf(stderr, "xrsc metrics: error: no frame named like %s in %s\n", fmt, a->ref_dir);
         return 1;
     }
-    seq->count = 1;
-    seq->eye[0] = "-";
-    char path[PATH_MAX_LEN];
-    if (right_partner(fmt[0], fmt[1], sizeof(fmt[1])) &&
-        hs_frame_pattern_parse(fmt[1], &seq->pat[1]) &&
-        hs_frame_pattern_path(a->ref_dir, &seq->pat[1], a->first, path, sizeof(path)) &&
-        file_exists(path)) {
-        seq->count = 2;
-        seq->eye[0] = "left";
-        seq->eye[1] = "right";
-    } else if (strstr(fmt[0], "left")) {
-        seq->eye[0] = "left";
-    }
+    hs_run_eyes_of(fmt, a->ref_dir, a->first, seq);
     return -1;
 }
 
@@ -349,7 +291,7 @@ int hs_metrics_main(int argc, char **argv)
                              .first_given = a.first_given, .quiet = a.quiet, .mo = a.mo};
         return hs_metrics_stereo_run(&sa);
     }
-    sequences seq;
+    hs_run_eyes seq;
     if ((rc = pick_sequences(&a, &seq)) >= 0)
         return rc;
     rc = 0;
@@ -383,7 +325,7 @@ int hs_metrics_main(int argc, char **argv)
                 rc = 1;
                 break;
             }
-            if (!file_exists(ref_path)) {
+            if (!hs_file_exists(ref_path)) {
                 if (count == 0 || a.max_frames != 0 || e > 0) {
                     fprintf(stderr, "xrsc metrics: error: reference frame %s is missing\n",
                             ref_path);
@@ -392,7 +334,7 @@ int hs_metrics_main(int argc, char **argv)
                 rc = rc ? rc : -1; /* the end of the sequence */
                 break;
             }
-            frame_values fv;
+            hs_pair_scores fv;
             if ((rc = compare_frame(ref_path, test_path, &a.mo, &fv)) != 0)
                 break;
             bool below = a.floor_relmse > 0.0 && fv.err.relmse < a.floor_relmse;
