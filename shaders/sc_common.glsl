@@ -174,6 +174,18 @@ uint sc_all_slots() { return (1u << scp.slots) - 1u; }
 float sc_phi(uint eye) { return eye == 0u ? scp.phi_left : scp.phi_right; }
 vec3 sc_eye_pos(uint eye) { return frame.eyes[eye].view_inv[3].xyz; }
 
+/** The share of App. C's clamp for world point p seen from eye (xs_sc_view_motion): the angle
+ *  between its view from the eye's previous position and from this one (1 on a first frame). */
+float sc_view_motion(uint eye, vec3 p)
+{
+    vec4 prev = scp.eye_prev[eye];
+    if (prev.w == 0.0)
+        return 1.0;
+    vec3 a = normalize(p - prev.xyz), b = normalize(p - sc_eye_pos(eye));
+    float angle = 2.0 * asin(min(0.5 * length(a - b), 1.0)); /* exact for small angles */
+    return xs_sc_view_motion(angle, sc_phi(eye));
+}
+
 /** `isrt` [DSK*17]: slot s of a pixel is the fixed sub-pixel cell (s % M, s / M) of an M x M
  *  grid (seed 000 §5, Fig. 10). */
 bool sc_isrt() { return scp.isrt_m != 0u; }

@@ -89,6 +89,14 @@
 /* App. C: alpha_min = (1 - a_GGX) * XS_SC_ALPHA_MIN_SMOOTH + a_GGX * XS_SC_ALPHA_MIN_ROUGH. */
 #define XS_SC_ALPHA_MIN_SMOOTH 0.5
 #define XS_SC_ALPHA_MIN_ROUGH 0.1
+/* App. C's clamp exists because view-dependent shading "cannot be accumulated indefinitely when
+ * the camera moves": its transmission part is scaled by how far the view of the sample turned
+ * since the previous frame (xs_sc_view_motion, xs_sc_alpha_min_glass), full from this fraction
+ * of a pixel's diagonal per frame, none for a still view. The history it keeps then spans at most this / alpha_min of view change (a
+ * quarter of a pixel for smooth lobes), so lag stays below a pixel while a still view
+ * accumulates glass and metal like any other surface (issue 18: TransmissionTest's glass stayed
+ * grainy, blended with alpha 0.5 for ever under a still pose). */
+#define XS_SC_VIEW_MOTION_PIXELS 0.125
 
 /* Modes (values of xs_sc_params fields; equal to the public enums, checked in C). */
 #define XS_SC_TRACE_SINGLE 0u
@@ -209,6 +217,8 @@ XS_STRUCT(xs_sc_params)
                               their work items in reverse order (sc_work_item, sc_list_entry) */
     xs_uint pool_k;    /* pool entries per pixel (XS_SC_POOL_*) */
     xs_uint pad_b, pad_c; /* std140: the block is a multiple of 16 bytes */
+    xs_vec4 eye_prev[2]; /* per eye: xyz its position in the previous frame, w = 1 when there
+                            was one (sc_shade.rgen: App. C's clamp follows the view's motion) */
 }
 XS_END(xs_sc_params);
 
@@ -248,7 +258,8 @@ XS_STRUCT(xs_sc_selftest_io)
 XS_END(xs_sc_selftest_io);
 
 #ifndef XRSC_GLSL
-_Static_assert(sizeof(xs_sc_params) == 96, "xs_sc_params layout (std140)");
+_Static_assert(sizeof(xs_sc_params) == 128, "xs_sc_params layout (std140)");
+_Static_assert(offsetof(xs_sc_params, eye_prev) == 96, "xs_sc_params layout (std140)");
 _Static_assert(offsetof(xs_sc_params, phi_left) == 56, "xs_sc_params layout (std140)");
 _Static_assert(sizeof(xs_sc_stats) == 80, "xs_sc_stats layout (std430)");
 _Static_assert(sizeof(xs_sc_selftest_io) == 96, "xs_sc_selftest_io layout (std430)");

@@ -201,6 +201,33 @@ XS_SCM_FN xs_float xs_sc_alpha_min_material(xs_float metallic, xs_float transmis
 }
 
 /**
+ * The share of App. C's clamp that applies when the view of a sample turned by angle_rad since
+ * the previous frame, for a pixel diagonal of phi_rad: angle / (XS_SC_VIEW_MOTION_PIXELS phi)
+ * clamped to [0, 1] (1 without a pixel size). Scales the transmission's part of the clamp
+ * (xs_sc_alpha_min_glass).
+ */
+XS_SCM_FN xs_float xs_sc_view_motion(xs_float angle_rad, xs_float phi_rad)
+{
+    if (!(phi_rad > 0.0f))
+        return 1.0f;
+    xs_float x = angle_rad / (XS_SC_VIEW_MOTION_PIXELS * phi_rad);
+    return x < 1.0f ? (x > 0.0f ? x : 0.0f) : 1.0f;
+}
+
+/**
+ * The clamp sc_shade.rgen applies: xs_sc_alpha_min_material with the transmission's weight
+ * scaled by view_motion (xs_sc_view_motion; 1 = App. C as it is). Glass only: metal keeps App.
+ * C's clamp whatever the view does, so images of scenes without transmission are unchanged
+ * (the same argument would hold for metal; not applied there yet).
+ */
+XS_SCM_FN xs_float xs_sc_alpha_min_glass(xs_float metallic, xs_float transmission,
+                                         xs_float roughness, xs_float view_motion)
+{
+    xs_float view_dep = metallic + (1.0f - metallic) * transmission * view_motion;
+    return view_dep * xs_sc_alpha_min(roughness * roughness);
+}
+
+/**
  * Cross-eye reuse: true when a sample's radiance differs between the eyes, so it is shaded per
  * eye only (xs_samplecache.h, XS_SC_CROSS_EYE_*): metal and glass (App. C's view-dependent
  * weight), and dielectrics with a specular layer (ior != 1) smoother than the threshold.

@@ -5,6 +5,7 @@ Run headless with Debian's blender (3.4):
     blender -b --factory-startup -P bench/cycles/render_cycles.py -- --scene FILE --out DIR \
         [--res 128] [--fov-deg 50] [--spp 256] [--seeds 4] [--bounces 3] [--env R,G,B] \
         [--threads 1] [--materials gltf|lambert] [--one-sided] [--no-volume]
+        [--camera file --yfov RAD --res-y H]
 
 It imports the glTF with Blender's own importer, places a camera where xrsc places the left eye
 of a camera-less scene with --ipd 0 and an identity pose (sc_scene.c set_viewpoint: the centre
@@ -21,11 +22,14 @@ Everything that biases Cycles is off: no clamping, no glossy filter, no light th
 no denoiser, caustics on; the pixel filter is a 1-pixel box like xrsc's uniform jitter.
 
 --materials lambert replaces every material by a Diffuse BSDF (roughness 0 = Lambert) of the
-same base colour (factor x texture) and the same emission: the model-matched variant that xrsc
+same base colour (factor x texture) and the same emission, and a transmitting one by glTF's
+smooth thin wall (thin_glass; the glass scene of glass_scene.py): the model-matched variant that xrsc
 renders for a glTF whose materials are metallic 0, KHR_materials_ior 1 (compare.py writes it).
 --one-sided multiplies the emission of every single-sided material (glTF doubleSided false,
 which the importer marks with backface culling) by 1 - Backfacing: xrsc's emitters light only
 their front side (xs_emitted), Cycles' mesh lights both (compare.py always passes it).
+--camera file keeps the file's first camera (xrsc --viewpoint camera:0 --fov scene) with a
+vertical field of view of --yfov radians, --res x --res-y pixels.
 --no-volume drops the Volume Absorption that the importer makes of KHR_materials_volume (xrsc
 ignores that extension: its glass is clear).
 """
@@ -42,7 +46,7 @@ VIEW_DISTANCE = 1.2  # sc_scene.c SC_DEFAULT_VIEW_DISTANCE
 
 
 def parse_args(argv):
-    a = {"res": 128, "fov-deg": 50.0, "spp": 256, "seeds": 4, "bounces": 3, "env": "1,1,1",
+    a = {"res": 128, "res-y": None, "yfov": None, "camera": "xrsc", "fov-deg": 50.0, "spp": 256, "seeds": 4, "bounces": 3, "env": "1,1,1",
          "threads": 1, "materials": "gltf", "no-volume": False, "one-sided": False}
     i = 0
     while i < len(argv):
@@ -97,6 +101,25 @@ def place_camera(scene, eye_gltf, fov_deg, res):
     scene.render.pixel_aspect_x = scene.render.pixel_aspect_y = 1.0
 
 
+def file_camera(scene, yfov_rad, res_x, res_y):
+    """--camera file: the file's first camera, as xrsc --viewpoint camera:0 --fov scene sees it
+    (its yfov over the image height, the image of res_x x res_y)."""
+    cam = next(ob for ob in scene.objects if ob.type == "CAMERA")
+    cam.data.type = "PERSP"
+    cam.data.sensor_fit = "VERTICAL"
+    cam.data.angle_y = yfov_rad
+    cam.data.clip_start = 1e-4
+    cam.data.clip_end = 1e5
+    cam.data.shift_x = cam.data.shift_y = 0.0
+    scene.camera = cam
+    scene.render.resolution_x = res_x
+    scene.render.resolution_y = res_y
+    scene.render.resolution_percentage = 100
+    scene.render.pixel_aspect_x = scene.render.pixel_aspect_y = 1.0
+    print("xrsc-cycles: the file's camera %s, yfov %g rad, %dx%d" % (cam.name, yfov_rad, res_x,
+                                                                      res_y))
+
+
 def set_cycles(scene, spp, xrsc_bounces, threads):
     scene.render.engine = "CYCLES"
     c = scene.cycles
@@ -145,14 +168,49 @@ def set_world(scene, rgb):
     scene.world = world
 
 
+def thin_glass(nt, node):
+    """glTF's smooth thin-walled transmission (KHR_materials_transmission without
+    KHR_materials_volume, xs_bsdf.glsl): a mirror reflection of weight F and a straight-through
+    transmission of weight 1 - F tinted by the base colour, F the exact dielectric Fresnel of
+    the IOR at the view angle, the same on both sides of the wall. In Cycles: Mix(F,
+    Transparent(base colour), Glossy(sharp, white)). Cycles' Fresnel node inverts the IOR on
+    back faces, so its input is 1/IOR there (the node inverts it back). Only factors are taken
+    (no textures, roughness 0, metallic 0, transmission 1): the glass scene's materials."""
+    ior = node.inputs["IOR"].default_value
+    print("xrsc-cycles: thin glass, IOR %g, tint %s" % (ior, tuple(node.inputs["Base Color"].default_value)))
+    geo = nt.nodes.new("ShaderNodeNewGeometry")
+    eta = nt.nodes.new("ShaderNodeMath")
+    eta.operation = "MULTIPLY_ADD"
+    nt.links.new(geo.outputs["Backfacing"], eta.inputs[0])
+    eta.inputs[1].default_value = 1.0 / ior - ior
+    eta.inputs[2].default_value = ior
+    fres = nt.nodes.new("ShaderNodeFresnel")
+    nt.links.new(eta.outputs[0], fres.inputs["IOR"])
+    clear = nt.nodes.new("ShaderNodeBsdfTransparent")
+    clear.inputs["Color"].default_value = node.inputs["Base Color"].default_value
+    mirror = nt.nodes.new("ShaderNodeBsdfGlossy")
+    mirror.distribution = "SHARP"
+    mirror.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    nt.links.new(fres.outputs[0], mix.inputs[0])
+    nt.links.new(clear.outputs[0], mix.inputs[1])
+    nt.links.new(mirror.outputs[0], mix.inputs[2])
+    for link in list(node.outputs[0].links):
+        nt.links.new(mix.outputs[0], link.to_socket)
+
+
 def lambert_materials():
-    """Principled BSDF -> Diffuse BSDF of the same base colour input, emission kept."""
+    """Principled BSDF -> Diffuse BSDF of the same base colour input, emission kept; a
+    transmitting material becomes glTF's smooth thin wall (thin_glass)."""
     for mat in bpy.data.materials:
         if not mat.use_nodes:
             continue
         nt = mat.node_tree
         for node in list(nt.nodes):
             if node.type != "BSDF_PRINCIPLED":
+                continue
+            if node.inputs["Transmission"].default_value > 0.0:
+                thin_glass(nt, node)
                 continue
             diff = nt.nodes.new("ShaderNodeBsdfDiffuse")
             diff.inputs["Roughness"].default_value = 0.0
@@ -234,7 +292,7 @@ def main():
         # lights; the file's cameras are not used (the camera is placed below)
         if ob.type == "LIGHT" and ob.data.type == "SUN":
             ob.data.angle = 0.0
-        elif ob.type in ("LIGHT", "CAMERA"):
+        elif ob.type == "LIGHT" or (ob.type == "CAMERA" and a["camera"] != "file"):
             bpy.data.objects.remove(ob)
     if a["one-sided"]:
         one_sided_emission()
@@ -242,10 +300,14 @@ def main():
         lambert_materials()
     if a["no-volume"]:
         drop_volumes()
-    eye, lo, hi = xrsc_viewpoint()
-    print("xrsc-cycles: bounds min %s max %s eye %s (glTF axes)" % (lo, hi, eye))
     res = int(a["res"])
-    place_camera(scene, eye, float(a["fov-deg"]), res)
+    res_y = int(a["res-y"] or res)
+    if a["camera"] == "file":
+        file_camera(scene, float(a["yfov"]), res, res_y)
+    else:
+        eye, lo, hi = xrsc_viewpoint()
+        print("xrsc-cycles: bounds min %s max %s eye %s (glTF axes)" % (lo, hi, eye))
+        place_camera(scene, eye, float(a["fov-deg"]), res)
     set_cycles(scene, int(a["spp"]), int(a["bounces"]), int(a["threads"]))
     set_world(scene, [float(x) for x in a["env"].split(",")])
     for seed in range(1, int(a["seeds"]) + 1):
@@ -254,10 +316,10 @@ def main():
         scene.render.filepath = exr
         bpy.ops.render.render(write_still=True)
         img = bpy.data.images.load(exr)
-        px = numpy.empty(res * res * 4, dtype=numpy.float32)
+        px = numpy.empty(res * res_y * 4, dtype=numpy.float32)
         img.pixels.foreach_get(px)
         bpy.data.images.remove(img)
-        write_pfm(os.path.join(out, "cycles_%d.pfm" % seed), res, res, px)
+        write_pfm(os.path.join(out, "cycles_%d.pfm" % seed), res, res_y, px)
         os.remove(exr)
         print("xrsc-cycles: wrote seed %d" % seed, flush=True)
 

@@ -292,7 +292,10 @@ typedef enum xrsc_sc_shade {
 /** Temporal blend factor of the shading cache (seed 000 App. C). */
 typedef enum xrsc_sc_alpha {
     XRSC_SC_ALPHA_DEFAULT = 0, /**< clamped */
-    XRSC_SC_ALPHA_CLAMPED,     /**< max(1/(c_s+1), alpha_min(roughness)) for metal/glass lobes */
+    /** max(1/(c_s+1), alpha_min(roughness)) for metal/glass lobes; the glass (transmission)
+     *  share scaled by how far the sample's view turned since the previous frame, from 0 for a
+     *  still view to all of it from 1/8 pixel per frame (XS_SC_VIEW_MOTION_PIXELS) */
+    XRSC_SC_ALPHA_CLAMPED,
     XRSC_SC_ALPHA_FIXED,       /**< max(1/(c_s+1), alpha_fixed) for every sample */
 } xrsc_sc_alpha;
 

@@ -378,9 +378,15 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     s->p.cur = s->frames & 1u;
     s->p.phi_left = pixel_phi(&frame->views[0].fov, w, h);
     s->p.phi_right = pixel_phi(&frame->views[1].fov, w, h);
+    for (int e = 0; e < 2 && s->frames == 0; e++) /* no previous frame (w = 0) */
+        s->p.eye_prev[e].w = 0.0f;
     mt_viscache_set_views(&s->vis, frame, w, h);
     memcpy(s->params.mapped, &s->p, sizeof(s->p));
     gpu_buffer_flush(ctx, &s->params);
+    for (int e = 0; e < 2; e++) { /* the next frame's xs_sc_params.eye_prev */
+        const float *cur = &xf.eyes[e].view_inv.m[12];
+        s->p.eye_prev[e] = (xs_vec4){cur[0], cur[1], cur[2], 1.0f};
+    }
 
     VkCommandBuffer cmd;
     xrsc_result res = mt_trace_cmd_frame_begin(t, &xf, &cmd, diag);
