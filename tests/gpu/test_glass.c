@@ -22,6 +22,7 @@
 #include "t_context.h"
 #include "t_frames.h"
 #include "t_gltf.h"
+#include "t_optics.h"
 #include "t_render.h"
 #include "testing.h"
 #include "xrsc/xrsc.h"
@@ -97,18 +98,6 @@ static float *render(xrsc_scene *scene, xrsc_method method, uint32_t seed, uint3
     return t_render_image(g_ctx, scene, &o, f, NULL);
 }
 
-/** Exact unpolarised Fresnel reflectance from outside (as xs_fresnel_dielectric). */
-static double fresnel(double cos_i, double eta)
-{
-    double sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
-    if (sin2_t >= 1.0)
-        return 1.0;
-    double cos_t = sqrt(1.0 - sin2_t);
-    double rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    double rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    return 0.5 * (rs * rs + rp * rp);
-}
-
 /* regions of the pane scene: through the pane onto its shadow, through the pane onto the lit
  * wall, the lit wall seen directly */
 enum { R_SHADOW, R_THROUGH_LIT, R_DIRECT, R_COUNT };
@@ -130,9 +119,9 @@ static int pane_pixel(uint32_t x, uint32_t y, int c, double *out_want)
     double cos_cam = 1.0 / sqrt(1.0 + tx * tx + ty * ty);
     double l = T_E * T_ALBEDO / T_PI;
     if (shadow)
-        l *= (1.0 - fresnel(1.0, T_IOR)) * T_TINT[c];
+        l *= (1.0 - t_fresnel(1.0, T_IOR)) * T_TINT[c];
     if (through)
-        l *= (1.0 - fresnel(cos_cam, T_IOR)) * T_TINT[c];
+        l *= (1.0 - t_fresnel(cos_cam, T_IOR)) * T_TINT[c];
     *out_want = l;
     return shadow ? R_SHADOW : through ? R_THROUGH_LIT : R_DIRECT;
 }

@@ -32,6 +32,7 @@
  * untouched.
  */
 #include "t_context.h"
+#include "t_optics.h"
 #include "testing.h"
 #include "xrsc/xrsc.h"
 #include "xs_sc_math.h"
@@ -65,18 +66,6 @@ static const double T_PANE_Z[T_PANES] = {1.0, 1.5}, T_PANE_HALF[T_PANES] = {0.25
 
 static xrsc_context *g_ctx;
 
-/** Exact unpolarised Fresnel reflectance from outside (as xs_fresnel_dielectric). */
-static double fresnel(double cos_i, double eta)
-{
-    double sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
-    if (sin2_t >= 1.0)
-        return 1.0;
-    double cos_t = sqrt(1.0 - sin2_t);
-    double rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    double rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    return 0.5 * (rs * rs + rp * rp);
-}
-
 /* regions: seen through both panes, with the shadow of none, one (the far pane's, larger) or
  * both on the wall there */
 enum { R_LIT, R_ONE_SHADOW, R_TWO_SHADOWS, R_COUNT };
@@ -103,9 +92,9 @@ static int pixel_want(uint32_t x, uint32_t y, int c, double *out_want)
         if (near_edge(ax, through) || near_edge(ay, through) || near_edge(ax, shadow) ||
             near_edge(ay, shadow) || ax > through || ay > through)
             return -1;
-        l *= (1.0 - fresnel(cos_cam, T_IOR)) * T_TINT[c];
+        l *= (1.0 - t_fresnel(cos_cam, T_IOR)) * T_TINT[c];
         if (ax < shadow && ay < shadow) {
-            l *= (1.0 - fresnel(1.0, T_IOR)) * T_TINT[c];
+            l *= (1.0 - t_fresnel(1.0, T_IOR)) * T_TINT[c];
             shadows++;
         }
     }

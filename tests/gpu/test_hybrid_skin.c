@@ -19,20 +19,6 @@
 #define T_MIN_LOOKUPS 100u  /**< the figure is on screen */
 #define T_MIN_GAIN 0.1      /**< history share gained by following (measured: see README) */
 
-/** A frame of both eyes at the scene's viewpoint (64 mm apart, ~62 deg field of view). */
-static xrsc_frame t_frame(const sc_scene *s, uint32_t k, double time_s)
-{
-    xrsc_frame f = {.frame_index = k, .display_time_ns = (int64_t)(time_s * 1e9)};
-    XrPosef head = tsc_viewpoint(s);
-    float a = (float)atan(0.6);
-    for (int e = 0; e < 2; e++) {
-        f.views[e].pose = head;
-        f.views[e].pose.position.x += e == 0 ? -0.032f : 0.032f;
-        f.views[e].fov = (XrFovf){-a, a, a, -a};
-    }
-    return f;
-}
-
 /** `hybrid` on the walking figure, T_FRAMES frames from T_T0_S: the share of the figure's
  *  reconstruction lookups whose radiance holds earlier frames' samples over the frames from
  *  T_FIRST_SCORED on (mt_hybrid_deform_stats); follow false: the test-only switch off. */
@@ -59,7 +45,7 @@ static double run_hybrid(bool follow)
     uint64_t lookups = 0, history = 0;
     for (uint32_t k = 0; res == XRSC_OK && k < T_FRAMES; k++) {
         double t = T_T0_S + k * T_DT_S;
-        xrsc_frame f = t_frame(r.cpu, k, t);
+        xrsc_frame f = tsc_viewpoint_stereo(r.cpu, k, t);
         tsc_set_time(&r, t);
         res = tsc_render(r.m, &f) ? XRSC_OK : XRSC_ERROR_VULKAN;
         uint32_t l = 0, h = 0;

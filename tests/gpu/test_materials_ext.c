@@ -15,6 +15,7 @@
  * material replaced. Runs under the validation layer.
  */
 #include "t_context.h"
+#include "t_optics.h"
 #include "testing.h"
 #include "xrsc/xrsc.h"
 
@@ -280,18 +281,6 @@ static void pixel_dir(uint32_t x, uint32_t y, double d[3])
     for (int k = 0; k < 3; k++) d[k] /= l;
 }
 
-/** Exact unpolarised Fresnel reflectance (cos_i on the incident side, eta = n_t / n_i). */
-static double fresnel(double cos_i, double eta)
-{
-    double s2 = (1.0 - cos_i * cos_i) / (eta * eta);
-    if (s2 >= 1.0)
-        return 1.0;
-    double ct = sqrt(1.0 - s2);
-    double rs = (cos_i - eta * ct) / (cos_i + eta * ct);
-    double rp = (eta * cos_i - ct) / (eta * cos_i + ct);
-    return 0.5 * (rs * rs + rp * rp);
-}
-
 /** Refracts unit d at a plane of unit normal n (facing d's origin side), n_i -> n_t. */
 static void refract_dir(double d[3], const double n[3], double eta_ratio)
 {
@@ -312,19 +301,19 @@ static double slab_reference(uint32_t x, uint32_t y, double yaw, double sigma, b
     pixel_dir(x, y, d);
     double tr = 1.0;
     if (yaw < 0.0) {
-        tr = 1.0 - fresnel(-d[2], T_IOR);
+        tr = 1.0 - t_fresnel(-d[2], T_IOR);
     } else {
         double n[3] = {sin(yaw), 0.0, cos(yaw)}; /* the front face's outward normal */
         double c0[3] = {0.5 * T_SLAB_THICK * n[0], 0.0, T_SLAB_Z + 0.5 * T_SLAB_THICK * n[2]};
         double t = ((c0[0] - o[0]) * n[0] + (c0[2] - o[2]) * n[2]) / (d[0] * n[0] + d[2] * n[2]);
         for (int k = 0; k < 3; k++) o[k] += t * d[k];
         double cos_i = -(d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
-        tr *= 1.0 - fresnel(cos_i, T_IOR);
+        tr *= 1.0 - t_fresnel(cos_i, T_IOR);
         refract_dir(d, n, 1.0 / T_IOR);
         double cos_t = -(d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
         double len = T_SLAB_THICK / cos_t;
         for (int k = 0; k < 3; k++) o[k] += len * d[k];
-        tr *= exp(-sigma * len) * (1.0 - fresnel(cos_t, 1.0 / T_IOR));
+        tr *= exp(-sigma * len) * (1.0 - t_fresnel(cos_t, 1.0 / T_IOR));
         refract_dir(d, n, T_IOR); /* out through the parallel back face: d regains its angle */
     }
     double t = (T_EMITTER_Z - o[2]) / d[2];

@@ -239,11 +239,7 @@ static void run_replay(const char *label, const xrsc_samplecache_options *opt)
         fprintf(stderr, "%s\n", xrsc_diag_format(&diag, msg, sizeof(msg)));
         goto done;
     }
-    XrPosef viewpoint = {
-        .orientation = {cpu->viewpoint_orientation[0], cpu->viewpoint_orientation[1],
-                        cpu->viewpoint_orientation[2], cpu->viewpoint_orientation[3]},
-        .position = {cpu->viewpoint_position[0], cpu->viewpoint_position[1],
-                     cpu->viewpoint_position[2]}};
+    XrPosef viewpoint = tsc_viewpoint(cpu);
     hs_pose_stream_anchor(stream, viewpoint);
     xrsc_headset hs;
     xrsc_headset_default(&hs);

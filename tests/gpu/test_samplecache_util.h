@@ -144,6 +144,21 @@ static inline XrPosef tsc_viewpoint(const sc_scene *s)
     return p;
 }
 
+/** Frame k at display time time_s: both eyes at the scene's viewpoint, +-32 mm along x, a
+ *  symmetric field of view of half-angle atan 0.6 (~62 deg; the skinned-figure tests). */
+static inline xrsc_frame tsc_viewpoint_stereo(const sc_scene *s, uint32_t k, double time_s)
+{
+    xrsc_frame f = {.frame_index = k, .display_time_ns = (int64_t)(time_s * 1e9)};
+    XrPosef head = tsc_viewpoint(s);
+    float a = (float)atan(0.6);
+    for (int e = 0; e < 2; e++) {
+        f.views[e].pose = head;
+        f.views[e].pose.position.x += e == 0 ? -0.032f : 0.032f;
+        f.views[e].fov = (XrFovf){-a, a, a, -a};
+    }
+    return f;
+}
+
 /** A frame of the default headset at head pose `head`. */
 static inline xrsc_frame tsc_headset_frame(XrPosef head, uint32_t frame_index)
 {

@@ -216,20 +216,6 @@ static void test_morph_half(void)
 #define T_RP_T0 0.3 /* s: the frames that fill the cache */
 #define T_RP_T1 0.5 /* s: the frame whose reprojection is checked */
 
-/** Both eyes at the scene's viewpoint (+-32 mm), a symmetric field of view tan 0.6. */
-static xrsc_frame rp_frame(const sc_scene *s, uint32_t k, double time_s)
-{
-    xrsc_frame f = {.frame_index = k, .display_time_ns = (int64_t)(time_s * 1e9)};
-    XrPosef head = tsc_viewpoint(s);
-    float a = (float)atan(0.6);
-    for (int e = 0; e < 2; e++) {
-        f.views[e].pose = head;
-        f.views[e].pose.position.x += e == 0 ? -0.032f : 0.032f;
-        f.views[e].fov = (XrFovf){-a, a, a, -a};
-    }
-    return f;
-}
-
 /** World position of first hit fh on the CPU reference pose (sc_scene_posed_vertex). */
 static void posed_hit_world(const sc_scene *s, const uint32_t fh[4], double out[3])
 {
@@ -283,13 +269,13 @@ static void run_reprojection(bool deform, uint32_t *out_n, uint32_t *out_off, do
         return;
     }
     for (uint32_t k = 0; k < 2; k++) {
-        xrsc_frame f = rp_frame(rig.cpu, k, T_RP_T0);
+        xrsc_frame f = tsc_viewpoint_stereo(rig.cpu, k, T_RP_T0);
         tsc_set_time(&rig, T_RP_T0);
         if (!tsc_render(rig.m, &f))
             goto done;
     }
     gpu_scene_set_deform_enabled(rig.gs, deform);
-    xrsc_frame g = rp_frame(rig.cpu, 2, T_RP_T1);
+    xrsc_frame g = tsc_viewpoint_stereo(rig.cpu, 2, T_RP_T1);
     tsc_set_time(&rig, T_RP_T1);
     CHECK_EQ_INT(mt_samplecache_debug_stop_after(rig.m, MT_SC_PASS_REPROJECT, NULL), XRSC_OK);
     if (!tsc_render(rig.m, &g))
@@ -364,7 +350,7 @@ static void run_taa(bool follow, double *out_blended, double *out_err)
     post = (mt_post){.record = taa_post, .user = taa};
     const double times[3] = {T_RP_T0, T_RP_T0, T_RP_T1};
     for (uint32_t k = 0; res == XRSC_OK && k < 3; k++) {
-        xrsc_frame f = rp_frame(r.cpu, k, times[k]);
+        xrsc_frame f = tsc_viewpoint_stereo(r.cpu, k, times[k]);
         tsc_set_time(&r, times[k]);
         res = tsc_render(r.m, &f) ? XRSC_OK : XRSC_ERROR_VULKAN;
     }
@@ -441,7 +427,7 @@ static double run_hashcache(bool follow)
     uint64_t lookups = 0, history = 0;
     for (uint32_t k = 0; res == XRSC_OK && k < T_HC_FRAMES; k++) {
         double t = 0.3 + k * T_HC_DT;
-        xrsc_frame f = rp_frame(r.cpu, k, t);
+        xrsc_frame f = tsc_viewpoint_stereo(r.cpu, k, t);
         tsc_set_time(&r, t);
         res = tsc_render(r.m, &f) ? XRSC_OK : XRSC_ERROR_VULKAN;
         uint32_t l = 0, h = 0;

@@ -500,11 +500,7 @@ static void camera_motion_case(bool translate)
         rig_close(&r);
         return;
     }
-    XrPosef head = {
-        .orientation = {r.cpu->viewpoint_orientation[0], r.cpu->viewpoint_orientation[1],
-                        r.cpu->viewpoint_orientation[2], r.cpu->viewpoint_orientation[3]},
-        .position = {r.cpu->viewpoint_position[0], r.cpu->viewpoint_position[1],
-                     r.cpu->viewpoint_position[2]}};
+    XrPosef head = tsc_viewpoint(r.cpu);
     xrsc_frame f0 = tsc_headset_frame(head, 0);
     xrsc_frame f1 = moved_frame(&f0, T_TURN_PX, translate ? T_SHIFT_M : 0.0f);
     t_eye *prev = calloc(2, sizeof(t_eye)), *cur = calloc(2, sizeof(t_eye));
@@ -742,11 +738,7 @@ static void test_pfj23_weights(void)
         rig_close(&r);
         return;
     }
-    XrPosef head = {
-        .orientation = {r.cpu->viewpoint_orientation[0], r.cpu->viewpoint_orientation[1],
-                        r.cpu->viewpoint_orientation[2], r.cpu->viewpoint_orientation[3]},
-        .position = {r.cpu->viewpoint_position[0], r.cpu->viewpoint_position[1],
-                     r.cpu->viewpoint_position[2]}};
+    XrPosef head = tsc_viewpoint(r.cpu);
     t_eye *e = calloc(1, sizeof(t_eye));
     bool ok = true;
     for (uint32_t i = 0; i < 16 && ok; i++) {
@@ -807,11 +799,7 @@ static void test_no_light_ring(void)
         rig_close(&r);
         return;
     }
-    XrPosef head = {
-        .orientation = {r.cpu->viewpoint_orientation[0], r.cpu->viewpoint_orientation[1],
-                        r.cpu->viewpoint_orientation[2], r.cpu->viewpoint_orientation[3]},
-        .position = {r.cpu->viewpoint_position[0], r.cpu->viewpoint_position[1],
-                     r.cpu->viewpoint_position[2]}};
+    XrPosef head = tsc_viewpoint(r.cpu);
     xrsc_frame f0 = tsc_headset_frame(head, 0);
     xrsc_frame f1 = moved_frame(&f0, T_RING_TURN_PX, T_SHIFT_M);
     t_eye *prev = calloc(2, sizeof(t_eye)), *cur = calloc(2, sizeof(t_eye));
