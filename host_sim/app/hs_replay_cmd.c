@@ -605,8 +605,8 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
         printf(", estimate %s", xrsc_blend_estimate_name(opt->renderer.blend_estimate));
     xrsc_taa_mode taa = xrsc_taa_mode_resolve(opt->renderer.method, opt->renderer.taa.mode);
     printf(", temporal filter: %s", xrsc_taa_mode_name(taa));
-    if (taa == XRSC_TAA_ON)
-        printf(" (alpha %g)", opt->renderer.taa.alpha > 0 ? (double)opt->renderer.taa.alpha : 0.1);
+    if (taa == XRSC_TAA_ON && opt->renderer.taa.alpha > 0) /* given; else the plugin's */
+        printf(" (alpha %g)", (double)opt->renderer.taa.alpha);
     printf("\n");
     printf("frames: %u  load %.2f s  total %.2f s\n", st->frames, st->load_s, st->total_s);
     const xrsc_scene_info *si = &st->scene;
