@@ -40,8 +40,10 @@
  * Cornell orbit (issue 19). In the resolve space every value is below 1 and a bright tap
  * weighs as a saturated one.
  * 3. ON: the history is clipped towards the mean of the current 3 x 3 neighbourhood to the box
- *    mean +- gamma sigma in YCoCg (variance clipping, [Sal16], [YLS20]) and blended with the
- *    fixed alpha. PFJ23 (seed 004 §4.2): no rectification (seed 004 §5.1 leaves history
+ *    mean +- gamma sigma in YCoCg (variance clipping, [Sal16], [YLS20]) and blended with
+ *    alpha for its trusted share, XS_TF_UNTRUSTED_ALPHA for the rest (history_at: taps not
+ *    showing the surface themselves, which a box spanning an edge cannot clip; issue 19).
+ *    The history is resampled bilinearly, or with Catmull-Rom (history_filter). PFJ23 (seed 004 §4.2): no rectification (seed 004 §5.1 leaves history
  *    rectification out); alpha per channel = Eq. 4 with sigma_Y^2 from the current 3 x 3
  *    neighbourhood (Eq. 10) and E[(X - Y)^2] from the history X against each neighbour (Eq. 11),
  *    xs_st_beta_pfj23 of the stereo blend with the history in place of the other eye.
@@ -189,6 +191,123 @@ vec4 reproject_eye_space(uvec2 px, uint eye, float depth, uint inst)
     return vec4((prev_view * p_prev).xyz, 1.0);
 }
 
+/** Catmull-Rom weights of the taps at offsets -1, 0, 1, 2 for a point at fraction t in [0, 1)
+ *  past tap 0 (a cubic with tension 0.5: sums to 1, exact at t = 0). */
+vec4 catmull_rom_weights(float t)
+{
+    float t2 = t * t, t3 = t2 * t;
+    return vec4(-0.5 * t3 + t2 - 0.5 * t, 1.5 * t3 - 2.5 * t2 + 1.0,
+                -1.5 * t3 + 2.0 * t2 + 0.5 * t, 0.5 * t3 - 0.5 * t2);
+}
+
+/** The history at the point whose 2 x 2 bilinear taps start at base (fraction f), resampled
+ *  with the 4 x 4 Catmull-Rom taps around it in the resolve space (XS_TF_HISTORY_CATMULL_ROM):
+ *  a bilinear fetch every frame is a low-pass filter applied again each frame under sub-pixel
+ *  motion, which blurs texture within a surface under a pan (test_taa: 0.75 x the bilinear
+ *  fetch's error on a textured pan). inner: the 2 x 2 taps' values (x + 2 y), all showing the
+ *  surface. An outer tap off
+ *  the image or not showing the surface (same test as the inner ones) takes the value of its
+ *  nearest inner tap (clamp to edge), so no other surface leaks in. The result is clamped to
+ *  the inner taps' range: the negative lobes cannot ring (overshoot) at an edge, and the
+ *  neighbourhood clip of step 3 follows. */
+vec3 catmull_rom_history(ivec2 base, vec2 f, uint eye, uint inst, float d_exp, float tol,
+                         vec3 inner[4])
+{
+    vec4 wx = catmull_rom_weights(f.x), wy = catmull_rom_weights(f.y);
+    vec3 lo = min(min(inner[0], inner[1]), min(inner[2], inner[3]));
+    vec3 hi = max(max(inner[0], inner[1]), max(inner[2], inner[3]));
+    vec3 sum = vec3(0.0);
+    for (int j = 0; j < 4; j++) {
+        for (int i = 0; i < 4; i++) {
+            ivec2 o = ivec2(i, j) - 1, c = clamp(o, ivec2(0), ivec2(1));
+            vec3 v = inner[c.x + 2 * c.y];
+            float w = wx[i] * wy[j];
+            if (w != 0.0 && any(notEqual(o, c)) &&
+                same_surface(base + o, eye, inst, d_exp, tol))
+                v = to_resolve(imageLoad(tf_history, ivec3(base + o, eye)).rgb);
+            sum += w * v;
+        }
+    }
+    return clamp(sum, lo, hi);
+}
+
+/** The history (resolve space) at pos, the reprojected point of pixel px (inst at depth here,
+ *  d_exp = its depth in the last frame), from the 2 x 2 bilinear taps near which the last
+ *  frame showed the same surface; out_wsum = their share of the bilinear weight, out_own the
+ *  share of the taps it can trust: those that showed the surface themselves, and, in a still
+ *  view (the point within XS_TF_STILL_PX of the pixel's centre), those read at the tap as an
+ *  edge's mix (the pixel's own antialiased history). Under motion such a tap is the last
+ *  frame's colour of another surface beside an edge, and a thin feature's rim smeared by
+ *  about a pixel a frame (issue 19's `edges` and `disocclusion` cases). The full
+ *  tolerance (slope term) and the neighbours are only looked at for a tap that fails the
+ *  relative tolerance alone (which implies the full one). With XS_TF_HISTORY_CATMULL_ROM and
+ *  every tap of non-zero weight showing the surface itself, the Catmull-Rom resampling
+ *  (catmull_rom_history) replaces the bilinear mean. */
+vec3 history_at(vec2 pos, ivec2 px, uint eye, uint inst, float depth, float d_exp,
+                out float out_wsum, out float out_own)
+{
+    float tol_rel = tfp.depth_tolerance * d_exp, tol = -1.0, wsum = 0.0, own = 0.0;
+    /* a still view (the point at the pixel's own centre, any jitter) */
+    bool still = all(lessThan(abs(pos - (vec2(px) + 0.5)), vec2(XS_TF_STILL_PX)));
+    vec2 b = pos - 0.5;
+    ivec2 base = ivec2(floor(b));
+    ivec2 home = ivec2(floor(pos)); /* the last frame's pixel holding the point */
+    vec2 f = b - vec2(base);
+    vec3 x = vec3(0.0), inner[4];
+    uint have = 0u;      /* bit k: inner[k] read */
+    bool own_all = true; /* every tap of non-zero weight accepted at itself */
+    for (int k = 0; k < 4; k++) {
+        ivec2 o = ivec2(k & 1, k >> 1);
+        ivec2 p = base + o;
+        float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
+        if (w <= 0.0)
+            continue;
+        own_all = own_all && inside(p);
+        if (!inside(p))
+            continue;
+        uvec2 geo = imageLoad(tf_prev_geo, ivec3(p, eye)).xy;
+        bool near = same_geo(geo, inst, d_exp, tol_rel);
+        if (!near && inst != XS_MISS_INSTANCE) {
+            if (tol < 0.0)
+                tol = depth_tolerance(px, eye, inst, depth, d_exp);
+            near = same_geo(geo, inst, d_exp, tol);
+        }
+        own_all = own_all && near;
+        bool trusted = near;
+        /* a tap accepted through neighbour q is read at q unless its footprint holds
+         * the point (then it covered the surface: an edge's mix, antialiasing);
+         * read at the tap, a light panel's rim leaked into the ceiling around it */
+        ivec2 src = p;
+        for (int n = 0; n < 9 && !near; n++) {
+            ivec2 q = p + ivec2(n % 3 - 1, n / 3 - 1);
+            if (n != 4 && same_surface(q, eye, inst, d_exp, max(tol, 0.0))) {
+                near = true;
+                src = p == home ? p : q;
+                trusted = p == home && still;
+            }
+        }
+        if (!near)
+            continue;
+        inner[k] = to_resolve(imageLoad(tf_history, ivec3(src, eye)).rgb);
+        have |= 1u << k;
+        own += trusted ? w : 0.0;
+        x += w * inner[k];
+        wsum += w;
+    }
+    out_wsum = wsum;
+    out_own = own;
+    if (wsum <= 0.0)
+        return x;
+    x /= wsum;
+    if (tfp.history_filter != XS_TF_HISTORY_CATMULL_ROM || !own_all)
+        return x;
+    for (int k = 0; k < 4; k++) /* taps of zero weight: zero weight in both filters */
+        inner[k] = (have & (1u << k)) != 0u ? inner[k] : x;
+    if (tol < 0.0 && inst != XS_MISS_INSTANCE)
+        tol = depth_tolerance(px, eye, inst, depth, d_exp);
+    return catmull_rom_history(base, f, eye, inst, d_exp, max(tol, tol_rel), inner);
+}
+
 void main()
 {
     uvec3 g = gl_GlobalInvocationID;
@@ -212,7 +331,7 @@ void main()
     imageStore(tf_next_geo, coord, uvec4(floatBitsToUint(depth), inst, 0u, 0u));
     float status = XS_TF_STATUS_NO_HISTORY;
     vec3 x = vec3(0.0);
-    float wsum = 0.0;
+    float wsum = 0.0, own = 0.0;
     if (tfp.history_valid != 0u) {
         status = XS_TF_STATUS_REJECTED;
         vec4 q = reproject_eye_space(g.xy, eye, depth, inst);
@@ -221,49 +340,10 @@ void main()
             vec2 t = q.xy / -q.z;
             vec2 pos = vec2((t.x - tf.x) / (tf.y - tf.x), (t.y - tf.z) / (tf.w - tf.z)) *
                        vec2(size);
-            float d_exp = -q.z;
-            /* 2. bilinear taps near which the last frame showed the same surface; the full
-             * tolerance (slope term) and the neighbours are only looked at for a tap that
-             * fails the relative tolerance alone (which implies the full one) */
-            float tol_rel = tfp.depth_tolerance * d_exp, tol = -1.0;
-            vec2 b = pos - 0.5;
-            ivec2 base = ivec2(floor(b));
-            ivec2 home = ivec2(floor(pos)); /* the last frame's pixel holding the point */
-            vec2 f = b - vec2(base);
-            for (int k = 0; k < 4; k++) {
-                ivec2 o = ivec2(k & 1, k >> 1);
-                ivec2 p = base + o;
-                float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
-                if (w <= 0.0 || !inside(p))
-                    continue;
-                uvec2 geo = imageLoad(tf_prev_geo, ivec3(p, eye)).xy;
-                bool near = same_geo(geo, inst, d_exp, tol_rel);
-                if (!near && inst != XS_MISS_INSTANCE) {
-                    if (tol < 0.0)
-                        tol = depth_tolerance(ivec2(g.xy), eye, inst, depth, d_exp);
-                    near = same_geo(geo, inst, d_exp, tol);
-                }
-                /* a tap accepted through neighbour q is read at q unless its footprint holds
-                 * the point (then it covered the surface: an edge's mix, antialiasing);
-                 * read at the tap, a light panel's rim leaked into the ceiling around it */
-                ivec2 src = p;
-                for (int n = 0; n < 9 && !near; n++) {
-                    ivec2 q = p + ivec2(n % 3 - 1, n / 3 - 1);
-                    if (n != 4 && same_surface(q, eye, inst, d_exp, max(tol, 0.0))) {
-                        near = true;
-                        src = p == home ? p : q;
-                    }
-                }
-                if (!near)
-                    continue;
-                x += w * to_resolve(imageLoad(tf_history, ivec3(src, eye)).rgb);
-                wsum += w;
-            }
-            if (wsum >= tfp.min_weight) {
-                x /= wsum;
-                if (finite3(x))
-                    status = XS_TF_STATUS_BLENDED;
-            }
+            /* 2. the history at pos from the taps that show the same surface */
+            x = history_at(pos, ivec2(g.xy), eye, inst, depth, -q.z, wsum, own);
+            if (wsum >= tfp.min_weight && finite3(x))
+                status = XS_TF_STATUS_BLENDED;
         }
     }
     if (tfp.debug != 0u)
@@ -299,7 +379,12 @@ void main()
         vec3 mean = m1 / 9.0;
         vec3 sigma = sqrt(max(m2 / 9.0 - mean * mean, vec3(0.0)));
         x = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(x), mean, tfp.gamma * sigma));
-        alpha = vec3(tfp.alpha);
+        /* the history's trusted share (own, see history_at) keeps alpha; the rest of the
+         * weight, read through a neighbour or renormalised over fewer taps, is an
+         * extrapolation that a box spanning both sides of an edge cannot clip: it takes
+         * the current frame at XS_TF_UNTRUSTED_ALPHA */
+        float a = tfp.alpha;
+        alpha = vec3(a + (max(XS_TF_UNTRUSTED_ALPHA, a) - a) * (1.0 - own));
     }
 
     /* 4. out = lerp(history, current, alpha) in the resolve space, back to radiance */

@@ -57,6 +57,18 @@
  *  tolerance alone rejected the jittered history at grazing silhouettes of a still view. */
 #define XS_TF_DEPTH_TOLERANCE 0.05f
 #define XS_TF_SLOPE_PX 2.0f
+/** Mode ON's weight of the current frame for the share of the history that is not trusted
+ *  (taa.comp history_at: taps that did not show the pixel's surface themselves, read through
+ *  a neighbour, off the image or rejected; in motion also those read at the tap as an edge's
+ *  mix): alpha_used = alpha + (max(XS_TF_UNTRUSTED_ALPHA, alpha) - alpha) x (1 - trusted
+ *  weight). At an edge the 3 x 3 box spans both surfaces and cannot clip such a history, so
+ *  at alpha 0.1 a thin feature's rim and an early frame's error stayed for ~10 frames under
+ *  a pan or a sideways move (issue 19: `edges` 0.181 -> 0.155 relMSE, `disocclusion`
+ *  0.063 -> 0.054 at 2 x 96^2; bench/results/issue19-taasharp/). */
+#define XS_TF_UNTRUSTED_ALPHA 0.5f
+/** A reprojected point within this many pixels of its pixel's centre (each axis) is a still
+ *  view: its edge taps read at the tap are the pixel's own antialiased mix (trusted). */
+#define XS_TF_STILL_PX 0.01f
 /** Below this share of the bilinear kernel's weight on accepted taps the history is rejected
  *  (disocclusion), as the stereo blend does (XS_ST_MIN_WEIGHT). */
 #define XS_TF_MIN_WEIGHT 0.5f
@@ -66,6 +78,10 @@
  *  the bilinear history or escapes the clipping box (issue 19). The floor keeps the inverse
  *  finite; it caps the output luma at about 1 / XS_TF_TONEMAP_FLOOR. */
 #define XS_TF_TONEMAP_FLOOR 1e-6f
+
+/* History resampling (xs_tf_params.history_filter; the public xrsc_taa_history values). */
+#define XS_TF_HISTORY_BILINEAR 1u    /* the 2 x 2 bilinear taps */
+#define XS_TF_HISTORY_CATMULL_ROM 2u /* 4 x 4 Catmull-Rom taps where the surface allows (taa.comp) */
 
 /** Method `taa`'s jitter: the Halton(2,3) points 1..XS_TF_HALTON_PERIOD, repeating ([YLS20]
  *  §3.1: a short low-discrepancy sequence; index 0 = (0, 0) is skipped). */
@@ -84,7 +100,7 @@ XS_STRUCT(xs_tf_params)
     xs_uint instance_count; /* entries of the transform buffers */
     xs_uint debug;          /* 1: write XS_TF_BIND_REPROJ */
     xs_uint deform;         /* 1: PREV_POS follows skinned/morphed surfaces (issue 21) */
-    xs_uint pad1;
+    xs_uint history_filter; /* XS_TF_HISTORY_*: how the reprojected history is resampled */
 } XS_END(xs_tf_params);
 
 #ifndef XRSC_GLSL

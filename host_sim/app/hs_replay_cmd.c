@@ -113,6 +113,14 @@ static int parse_taa(const hs_opt_arg *a)
     return 0;
 }
 
+static int parse_taa_history(const hs_opt_arg *a)
+{
+    if (!strcmp(a->value, "default") ||
+        xrsc_taa_history_from_name(a->value, &M(a)->opt.renderer.taa.history) != XRSC_OK)
+        return bad_arg(a->opt->name, a->value, "expected bilinear or catmull-rom");
+    return 0;
+}
+
 static int parse_blend(const hs_opt_arg *a)
 {
     if (xrsc_blend_from_name(a->value, &M(a)->opt.renderer.blend) != XRSC_OK)
@@ -453,6 +461,10 @@ static const hs_opt k_replay_opts[] = {
      parse_taa, 0, NULL},
     {"--taa-alpha", "X", "weight of the current frame with --taa on [0.1]", hs_opt_positive,
      RO(taa.alpha), NUM(0, 1, NULL)},
+    {"--taa-history", "F",
+     "bilinear | catmull-rom: how the TAA pass resamples its reprojected\n"
+     "history (catmull-rom keeps texture sharper under motion) [bilinear]",
+     parse_taa_history, 0, NULL},
 
     TEXT("\nOpenXR (the default path):\n"
          "  The plugin runs as an OpenXR application (XR_KHR_vulkan_enable2) on the runtime that\n"

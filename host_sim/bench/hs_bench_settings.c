@@ -264,6 +264,18 @@ static const char *set_taa(xrsc_renderer_options *o, const char *v)
     return NULL;
 }
 
+static const char *set_taa_alpha(xrsc_renderer_options *o, const char *v)
+{
+    return parse_pos(v, 1, &o->taa.alpha) ? NULL : "(0, 1]";
+}
+
+static const char *set_taa_history(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "default") || xrsc_taa_history_from_name(v, &o->taa.history) != XRSC_OK)
+        return "bilinear, catmull-rom";
+    return NULL;
+}
+
 static const char *set_r(xrsc_renderer_options *o, const char *v)
 {
     char *end;
@@ -294,6 +306,10 @@ static const bench_key keys[] = {
      "[samples]"},
     {"taa", M_ALL, set_taa, "taa",
      "TAA post-pass off | on | pfj23 [on for taa, pfj23 for hashcache/hybrid, else off]"},
+    {"taa_alpha", M_ALL, set_taa_alpha, "ta",
+     "weight of the current frame with taa=on, (0, 1] [0.1]"},
+    {"taa_history", M_ALL, set_taa_history, "",
+     "TAA history resampling bilinear | catmull-rom [bilinear]"},
     {"spp", M_SPP, set_spp, "", "samples per pixel per frame, 1..4096 [1]"},
     {"bounces", M_SPP | M_SC | M_ISRT | M_HC | M_HY, set_bounces, "b", "bounces after the first hit, 0..16 [3]"},
     {"trace", M_SC | M_ISRT | M_HY, set_trace, "", "single | multi | adaptive [adaptive]"},

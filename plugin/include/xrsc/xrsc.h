@@ -408,7 +408,8 @@ typedef struct xrsc_samplecache_options {
  * - XRSC_TAA_DEFAULT (0): the method's default: on for `taa`, pfj23 for `hashcache` and
  *   `hybrid`, off for the others.
  * - XRSC_TAA_OFF: no temporal filter.
- * - XRSC_TAA_ON: fixed blend weight alpha (default 0.1) for the current frame.
+ * - XRSC_TAA_ON: blend weight alpha (default 0.1) for the current frame, rising towards 0.5
+ *   for history that did not show the pixel's surface itself (::xrsc_taa_options).
  * - XRSC_TAA_PFJ23: per-pixel variance-based temporal blend weights of seed 004 instead of
  *   the fixed alpha: its Eq. 4 per pixel and colour channel, with the current frame's variance
  *   over the 3 x 3 neighbourhood (Eq. 10) and the mean squared difference of the reprojected
@@ -432,10 +433,37 @@ xrsc_result xrsc_taa_mode_from_name(const char *name, xrsc_taa_mode *out_mode);
  *  (above), any other mode as it is. */
 xrsc_taa_mode xrsc_taa_mode_resolve(xrsc_method method, xrsc_taa_mode mode);
 
-/** TAA options. Zero fields mean the defaults: mode per method (above), alpha 0.1. */
+/**
+ * How the TAA pass resamples the reprojected history (both modes):
+ * - XRSC_TAA_HISTORY_DEFAULT (0): bilinear.
+ * - XRSC_TAA_HISTORY_BILINEAR: the 2 x 2 bilinear taps. Resampled every frame under sub-pixel
+ *   motion, it low-pass filters the history again each frame (texture blurs under a pan); it
+ *   also averages noise away, and on issue 19's bench cases it gave the default pipeline a
+ *   lower relMSE than Catmull-Rom (bench/results/issue19-taasharp/), hence the default.
+ * - XRSC_TAA_HISTORY_CATMULL_ROM: the 4 x 4 Catmull-Rom taps where all 2 x 2 inner taps show
+ *   the pixel's surface themselves (else bilinear, as validated); an outer tap that does not
+ *   show it takes its nearest inner tap's value, and the result is clamped to the inner taps'
+ *   range (no ringing) before the neighbourhood clip. Sharper texture under motion.
+ */
+typedef enum xrsc_taa_history {
+    XRSC_TAA_HISTORY_DEFAULT = 0,
+    XRSC_TAA_HISTORY_BILINEAR = 1,
+    XRSC_TAA_HISTORY_CATMULL_ROM = 2,
+} xrsc_taa_history;
+/** "default" / "bilinear" / "catmull-rom"; NULL for unknown values. */
+const char *xrsc_taa_history_name(xrsc_taa_history filter);
+/** Parses a history filter name; XRSC_ERROR_INVALID_ARGUMENT when unknown. */
+xrsc_result xrsc_taa_history_from_name(const char *name, xrsc_taa_history *out_filter);
+
+/** TAA options. Zero fields mean the defaults: mode per method (above), alpha 0.1, history
+ *  filter bilinear. With XRSC_TAA_ON the current frame's weight rises from alpha towards 0.5
+ *  for the share of the history that did not show the pixel's surface itself (edges,
+ *  disocclusions; XS_TF_UNTRUSTED_ALPHA in shaders/xs_taa.h), where the neighbourhood clip
+ *  cannot correct it. */
 typedef struct xrsc_taa_options {
     xrsc_taa_mode mode;
-    float alpha; /**< weight of the current frame with XRSC_TAA_ON, (0, 1] */
+    float alpha; /**< weight of the current frame with XRSC_TAA_ON, (0, 1] (trusted history) */
+    xrsc_taa_history history; /**< history resampling (::xrsc_taa_history) */
 } xrsc_taa_options;
 
 /** How the hash cache picks a voxel's level of detail (seed 000 §4, Fig. 9). */

@@ -389,6 +389,31 @@ const char *xrsc_taa_mode_name(xrsc_taa_mode mode)
     return NULL;
 }
 
+const char *xrsc_taa_history_name(xrsc_taa_history filter)
+{
+    switch (filter) {
+    case XRSC_TAA_HISTORY_DEFAULT:
+        return "default";
+    case XRSC_TAA_HISTORY_BILINEAR:
+        return "bilinear";
+    case XRSC_TAA_HISTORY_CATMULL_ROM:
+        return "catmull-rom";
+    }
+    return NULL;
+}
+
+xrsc_result xrsc_taa_history_from_name(const char *name, xrsc_taa_history *out_filter)
+{
+    for (int i = XRSC_TAA_HISTORY_DEFAULT; name && i <= XRSC_TAA_HISTORY_CATMULL_ROM; i++) {
+        if (!strcmp(name, xrsc_taa_history_name((xrsc_taa_history)i))) {
+            if (out_filter)
+                *out_filter = (xrsc_taa_history)i;
+            return XRSC_OK;
+        }
+    }
+    return XRSC_ERROR_INVALID_ARGUMENT;
+}
+
 xrsc_result xrsc_taa_mode_from_name(const char *name, xrsc_taa_mode *out_mode)
 {
     for (int i = XRSC_TAA_DEFAULT; name && i <= XRSC_TAA_PFJ23; i++) {
@@ -481,7 +506,8 @@ static xrsc_result taa_create(xrsc_renderer *r, xrsc_diag *diag)
     r->opt.taa.mode = xrsc_taa_mode_resolve(r->opt.method, r->opt.taa.mode);
     if (r->opt.taa.mode == XRSC_TAA_OFF)
         return XRSC_OK;
-    tf_settings set = {.mode = r->opt.taa.mode, .alpha = r->opt.taa.alpha};
+    tf_settings set = {
+        .mode = r->opt.taa.mode, .alpha = r->opt.taa.alpha, .history = r->opt.taa.history};
     tf_images imgs = {
         .color = mt_method_output_image(r->method, XRSC_OUTPUT_COLOR),
         .depth = mt_method_output_image(r->method, XRSC_OUTPUT_DEPTH),
@@ -500,10 +526,11 @@ static xrsc_result renderer_options_check(const xrsc_renderer_options *opt, xrsc
                           "blend %d with R = %g, estimate %d (R must be in [0, 1])",
                           (int)opt->blend, (double)opt->blend_r, (int)opt->blend_estimate);
     if ((unsigned)opt->taa.mode > XRSC_TAA_PFJ23 || !(opt->taa.alpha >= 0.0f) ||
-        !(opt->taa.alpha <= 1.0f))
+        !(opt->taa.alpha <= 1.0f) || (unsigned)opt->taa.history > XRSC_TAA_HISTORY_CATMULL_ROM)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa",
-                          "TAA mode %d with alpha = %g (alpha must be in (0, 1], 0 = default)",
-                          (int)opt->taa.mode, (double)opt->taa.alpha);
+                          "TAA mode %d with alpha = %g, history filter %d (alpha must be in "
+                          "(0, 1], 0 = default)",
+                          (int)opt->taa.mode, (double)opt->taa.alpha, (int)opt->taa.history);
     return XRSC_OK;
 }
 

@@ -87,6 +87,9 @@ static xrsc_result check_args(const tf_settings *set, const tf_images *imgs, uin
     if (!(set->alpha > 0.0f && set->alpha <= 1.0f))
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa.alpha",
                           "alpha = %g is not in (0, 1]", (double)set->alpha);
+    if ((unsigned)set->history > XRSC_TAA_HISTORY_CATMULL_ROM)
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa.history",
+                          "history filter %d is not bilinear or catmull-rom", (int)set->history);
     if (!imgs || !size_ok(imgs->color, w, h) || !size_ok(imgs->depth, w, h) ||
         !size_ok(imgs->hitid, w, h))
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "images",
@@ -160,6 +163,8 @@ xrsc_result tf_taa_create(gpu_context *ctx, gpu_scene *scene, uint32_t instance_
     tf_settings set = settings ? *settings : (tf_settings){0};
     if (set.alpha == 0.0f)
         set.alpha = XS_TF_DEFAULT_ALPHA;
+    if (set.history == XRSC_TAA_HISTORY_DEFAULT)
+        set.history = XRSC_TAA_HISTORY_BILINEAR;
     xrsc_result res = check_args(&set, imgs, width, height, diag);
     if (res != XRSC_OK)
         return res;
@@ -223,6 +228,8 @@ static void upload_constants(tf_taa *t, const xs_frame *xf)
         .instance_count = t->instance_count,
         .debug = t->set.debug ? 1u : 0u,
         .deform = t->deform ? 1u : 0u,
+        .history_filter = t->set.history == XRSC_TAA_HISTORY_CATMULL_ROM ? XS_TF_HISTORY_CATMULL_ROM
+                                                                         : XS_TF_HISTORY_BILINEAR,
     };
     memcpy(p.prev_eyes, t->prev_eyes, sizeof(p.prev_eyes));
     memcpy(t->params.mapped, &p, sizeof(p));

@@ -40,6 +40,8 @@ extern "C" {
 typedef struct tf_settings {
     xrsc_taa_mode mode;
     float alpha;
+    /** History resampling; XRSC_TAA_HISTORY_DEFAULT = bilinear. */
+    xrsc_taa_history history;
     bool debug;
     /** Tests: reproject skinned and morphed surfaces as if rigid (the control of issue 21's
      *  deformation motion; zero = follow them through gpu_scene_prev_positions). */
