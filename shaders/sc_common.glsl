@@ -251,6 +251,7 @@ xs_surface sc_surface(uvec4 fh)
 struct sc_tri {
     uint instance; /* XS_SC_BACKGROUND: empty */
     uint primitive;
+    bool attributes; /* the fields below were loaded */
     vec3 p0, p1, p2;
     vec3 ng_unsigned;
     /* with attributes (sc_tri_fetch): the vertex normals in world space, not normalised, and
@@ -263,15 +264,17 @@ void sc_tri_init(out sc_tri tri)
 {
     tri.instance = XS_SC_BACKGROUND;
     tri.primitive = 0u;
+    tri.attributes = false;
     tri.p0 = tri.p1 = tri.p2 = tri.ng_unsigned = tri.n0 = tri.n1 = tri.n2 = vec3(0.0);
     tri.uv0 = tri.uv1 = tri.uv2 = vec4(0.0);
 }
 
-/** Makes tri the triangle of surface hit fh (loads it unless it is already); attributes:
- *  also the vertex normals and uv (sc_tri_outside, sc_tri_uv). */
+/** Makes tri the triangle of surface hit fh (loads it unless it is already, with the
+ *  attributes when asked); attributes: also the vertex normals and uv (sc_tri_outside,
+ *  sc_tri_uv). */
 void sc_tri_fetch(inout sc_tri tri, uvec4 fh, bool attributes)
 {
-    if (tri.instance == fh.w && tri.primitive == fh.z)
+    if (tri.instance == fh.w && tri.primitive == fh.z && (tri.attributes || !attributes))
         return;
     xs_instance inst = instances[fh.w];
     uint base = inst.first_index + 3u * fh.z;
@@ -286,6 +289,7 @@ void sc_tri_fetch(inout sc_tri tri, uvec4 fh, bool attributes)
     vec3 cr = cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
     float cr_len = length(cr);
     tri.ng_unsigned = cr_len > 0.0 ? cr / cr_len : vec3(0.0, 0.0, 1.0);
+    tri.attributes = attributes;
     if (!attributes)
         return;
     vec4 b0 = vertices[vi.x].normal_v, b1 = vertices[vi.y].normal_v, b2 = vertices[vi.z].normal_v;
