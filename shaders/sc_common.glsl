@@ -387,14 +387,23 @@ void sc_count_importance(uint eye, float w)
     atomicMax(sc_stats[si].w_max, floatBitsToUint(w));
 }
 
-/** Variance-guided shading: the relative variance of one observation in pixel pix of copy c
- *  (xs_sc_pixel_variance) from its samples `cand` (visible surface samples) that have been
- *  shaded (c_s > 0). */
-float sc_pixel_variance(uint c, uint pix, uint cand)
+/** Variance-guided shading: the visible surface samples of pixel pix in copy c (as
+ *  sc_shade_candidates) and out_v, the relative variance of one observation
+ *  (xs_sc_pixel_variance) from those of them that have been shaded (c_s > 0), in one walk
+ *  (each pool address, first hit and radiance record loaded once: on lavapipe every per-lane
+ *  load is a gather). */
+uint sc_shade_candidates_variance(uint c, uint pix, out float out_v)
 {
+    uint m = sc_mask[sc_mask_at(c, pix)];
+    uint cand = 0u;
     float k = 0.0, sc = 0.0, scl = 0.0, scl2 = 0.0;
-    for (uint b = cand; b != 0u; b &= b - 1u) {
-        vec4 r = sc_rad_load(sc_rad_at(c, uint(findLSB(b)), pix));
+    for (uint bits = sc_vis(m) & sc_occ(m) & sc_all_slots(); bits != 0u; bits &= bits - 1u) {
+        uint s = uint(findLSB(bits));
+        uint a = sc_slot_at(c, s, pix);
+        if (sc_is_background(sc_fh[a]))
+            continue;
+        cand |= sc_obit(s);
+        vec4 r = sc_rad_load(sc_rad_of(a));
         if (!(r.w > 0.0))
             continue;
         float l = dot(r.rgb, vec3(0.2126, 0.7152, 0.0722));
@@ -403,7 +412,8 @@ float sc_pixel_variance(uint c, uint pix, uint cand)
         scl += r.w * l;
         scl2 += r.w * l * l;
     }
-    return xs_sc_pixel_variance(k, sc, scl, scl2);
+    out_v = xs_sc_pixel_variance(k, sc, scl, scl2);
+    return cand;
 }
 
 /** The visible surface samples of pixel pix in copy c (background samples need no shading). */

@@ -9,8 +9,8 @@
  * - adaptive: one candidate of one pixel per block x block block as base rate (as in
  *   sc_trace_mask.comp), plus a share of all candidates chosen by importance w = 1 / (1 + c_s)
  *   (adaptive-variance: w = the relative variance of the sample's mean, v / (1 + c_s), v from
- *   the spread of the pixel's samples, xs_sc_pixel_variance; histogram from
- *   sc_shade_importance.comp):
+ *   the spread of the pixel's samples, which sc_shade_importance.comp leaves in plan.z with
+ *   this frame's histogram):
  *   the budget B = shade_rate * width * height - (base-rate shadings) is met by walking the
  *   histogram of this frame (counted during reprojection and tracing into XS_SC_BUCKETS
  *   logarithmic buckets between the previous frame's w_min and w_max) from the most important
@@ -105,7 +105,8 @@ void main()
         bool bounded = sc_prev_bounds(eye, w_min, w_max);
         xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_SHADE_STREAM, frame.seed);
         bool by_variance = scp.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE;
-        float v = by_variance ? sc_pixel_variance(cur, pix, cand) : 0.0;
+        /* the pixel's variance, as sc_shade_importance.comp computed it */
+        float v = by_variance ? uintBitsToFloat(sc_plan[pix].z) : 0.0;
         for (uint cb = cand; cb != 0u; cb &= cb - 1u) {
             uint s = uint(findLSB(cb));
             float c_s = sc_rad_load(sc_rad_at(cur, s, pix)).w;
