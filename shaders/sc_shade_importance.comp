@@ -15,8 +15,8 @@
  * same bucket and one each for the count and the bounds, instead of four per sample (all
  * invocations of an eye add to the same words; on lavapipe each atomic is a per-lane loop and
  * they were most of this pass). Integer sums, minimum and maximum: the same words in any
- * order. The pixel's variance v goes to plan.z for sc_shade_select.comp, which replaces it
- * with the shade bits.
+ * order. The pixel's candidates (above the new-sample bits of plan.y) and variance v (plan.z)
+ * are left for sc_shade_select.comp, which restores plan.y and writes the shade bits to plan.z.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -37,7 +37,8 @@ void main()
     uint cur = scp.cur;
     float v;
     uint cand = sc_shade_candidates_variance(cur, pix, v);
-    sc_plan[pix].z = floatBitsToUint(v);
+    /* for sc_shade_select.comp: the candidates above the new-sample bits, the variance */
+    sc_plan[pix].yz = uvec2(sc_plan[pix].y | (cand << XS_SC_MAX_SLOTS), floatBitsToUint(v));
     if (cand == 0u)
         return;
     float w_min, w_max;
