@@ -32,6 +32,7 @@ void main()
     uvec3 g = gl_GlobalInvocationID;
     if (g.x >= frame.width || g.y >= frame.height)
         return;
+    g = sc_work_item(g); /* tests: the histogram's atomics in another order */
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
     uint cur = scp.cur;
