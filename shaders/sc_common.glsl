@@ -251,6 +251,7 @@ xs_surface sc_surface(uvec4 fh)
 struct sc_tri {
     uint instance; /* XS_SC_BACKGROUND: empty */
     uint primitive;
+    bool attributes; /* the fields below were loaded */
     vec3 p0, p1, p2;
     vec3 ng_unsigned;
     /* with attributes (sc_tri_fetch): the vertex normals in world space, not normalised, and
@@ -263,15 +264,17 @@ void sc_tri_init(out sc_tri tri)
 {
     tri.instance = XS_SC_BACKGROUND;
     tri.primitive = 0u;
+    tri.attributes = false;
     tri.p0 = tri.p1 = tri.p2 = tri.ng_unsigned = tri.n0 = tri.n1 = tri.n2 = vec3(0.0);
     tri.uv0 = tri.uv1 = tri.uv2 = vec4(0.0);
 }
 
-/** Makes tri the triangle of surface hit fh (loads it unless it is already); attributes:
- *  also the vertex normals and uv (sc_tri_outside, sc_tri_uv). */
+/** Makes tri the triangle of surface hit fh (loads it unless it is already, with the
+ *  attributes when asked); attributes: also the vertex normals and uv (sc_tri_outside,
+ *  sc_tri_uv). */
 void sc_tri_fetch(inout sc_tri tri, uvec4 fh, bool attributes)
 {
-    if (tri.instance == fh.w && tri.primitive == fh.z)
+    if (tri.instance == fh.w && tri.primitive == fh.z && (tri.attributes || !attributes))
         return;
     xs_instance inst = instances[fh.w];
     uint base = inst.first_index + 3u * fh.z;
@@ -286,6 +289,7 @@ void sc_tri_fetch(inout sc_tri tri, uvec4 fh, bool attributes)
     vec3 cr = cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
     float cr_len = length(cr);
     tri.ng_unsigned = cr_len > 0.0 ? cr / cr_len : vec3(0.0, 0.0, 1.0);
+    tri.attributes = attributes;
     if (!attributes)
         return;
     vec4 b0 = vertices[vi.x].normal_v, b1 = vertices[vi.y].normal_v, b2 = vertices[vi.z].normal_v;
@@ -383,14 +387,23 @@ void sc_count_importance(uint eye, float w)
     atomicMax(sc_stats[si].w_max, floatBitsToUint(w));
 }
 
-/** Variance-guided shading: the relative variance of one observation in pixel pix of copy c
- *  (xs_sc_pixel_variance) from its samples `cand` (visible surface samples) that have been
- *  shaded (c_s > 0). */
-float sc_pixel_variance(uint c, uint pix, uint cand)
+/** Variance-guided shading: the visible surface samples of pixel pix in copy c (as
+ *  sc_shade_candidates) and out_v, the relative variance of one observation
+ *  (xs_sc_pixel_variance) from those of them that have been shaded (c_s > 0), in one walk
+ *  (each pool address, first hit and radiance record loaded once: on lavapipe every per-lane
+ *  load is a gather). */
+uint sc_shade_candidates_variance(uint c, uint pix, out float out_v)
 {
+    uint m = sc_mask[sc_mask_at(c, pix)];
+    uint cand = 0u;
     float k = 0.0, sc = 0.0, scl = 0.0, scl2 = 0.0;
-    for (uint b = cand; b != 0u; b &= b - 1u) {
-        vec4 r = sc_rad_load(sc_rad_at(c, uint(findLSB(b)), pix));
+    for (uint bits = sc_vis(m) & sc_occ(m) & sc_all_slots(); bits != 0u; bits &= bits - 1u) {
+        uint s = uint(findLSB(bits));
+        uint a = sc_slot_at(c, s, pix);
+        if (sc_is_background(sc_fh[a]))
+            continue;
+        cand |= sc_obit(s);
+        vec4 r = sc_rad_load(sc_rad_of(a));
         if (!(r.w > 0.0))
             continue;
         float l = dot(r.rgb, vec3(0.2126, 0.7152, 0.0722));
@@ -399,7 +412,8 @@ float sc_pixel_variance(uint c, uint pix, uint cand)
         scl += r.w * l;
         scl2 += r.w * l * l;
     }
-    return xs_sc_pixel_variance(k, sc, scl, scl2);
+    out_v = xs_sc_pixel_variance(k, sc, scl, scl2);
+    return cand;
 }
 
 /** The visible surface samples of pixel pix in copy c (background samples need no shading). */

@@ -33,12 +33,12 @@ void copy_sample(uint eye, uint pix, uint s, uint addr, bool visible)
     uint src_slot = addr / plane;
     uint src_pix = addr - src_slot * plane;
     uint a = sc_slot_at(prev, src_slot, src_pix);
-    uvec4 fh = sc_fh[a];
     sc_idx[sc_idx_at(scp.cur, s, pix)] = a;
     sc_pool_take(a);
     if (scp.shade_cache == 0u) /* radiance is not carried between frames */
         sc_rad[a] = uvec2(0u);
-    if (visible && !sc_is_background(fh) && scp.shade_mode == XS_SC_SHADE_ADAPTIVE) {
+    /* the first hit is read only here (16 bytes per sample less to move otherwise) */
+    if (visible && scp.shade_mode == XS_SC_SHADE_ADAPTIVE && !sc_is_background(sc_fh[a])) {
         /* the radiance record is read only here: 8 bytes per sample less to move */
         uvec2 rad = scp.shade_cache != 0u ? sc_rad[sc_rad_of(a)] : uvec2(0u);
         sc_count_importance(eye, xs_sc_importance(unpackHalf2x16(rad.y).y));

@@ -51,11 +51,15 @@ bool rc_specific(xs_mat mt)
            xs_sc_eye_specific(mt.metallic, mt.transmission, mt.roughness, mt.ior) != 0u;
 }
 
-/** Albedo (xs_demod_albedo) and emitted radiance towards the eye (xs_emitted) of the sample of
- *  material id at uv (both sets, xs_surface.uv), seen from its outside or not. */
-void rc_material_at(inout rc_material c, uint id, vec4 uv, bool outside, out vec3 albedo,
+/** Albedo (xs_demod_albedo) and emitted radiance towards the eye (xs_emitted) of surface
+ *  sample fh on tri (fetched), seen along unit direction wo (sample to eye). A constant
+ *  material whose emission does not depend on the side (none, or double-sided) needs neither
+ *  the uv nor the side, so tri's vertex attributes are loaded only for the others (on
+ *  lavapipe they were most of this pass's loads); the values are the same either way. */
+void rc_material_at(inout rc_material c, inout sc_tri tri, uvec4 fh, vec3 wo, out vec3 albedo,
                     out vec3 emitted, out bool specific)
 {
+    uint id = sc_material(fh);
     if (c.id != id) {
         xs_material m = materials[id];
         c.id = id;
@@ -69,13 +73,21 @@ void rc_material_at(inout rc_material c, uint id, vec4 uv, bool outside, out vec
             c.specific = rc_specific(mt);
         }
     }
-    if (c.constant) {
+    if (c.constant && (c.double_sided || all(equal(c.emission, vec3(0.0))))) {
         albedo = c.albedo;
-        emitted = (outside || c.double_sided) ? c.emission : vec3(0.0);
+        emitted = c.emission;
         specific = c.specific;
         return;
     }
-    xs_mat mt = xs_material_at(id, uv);
+    sc_tri_fetch(tri, fh, true);
+    bool outside = sc_tri_outside(tri, fh, wo);
+    if (c.constant) {
+        albedo = c.albedo;
+        emitted = outside ? c.emission : vec3(0.0);
+        specific = c.specific;
+        return;
+    }
+    xs_mat mt = xs_material_at(id, sc_tri_uv(tri, fh));
     albedo = xs_demod_albedo(mt);
     emitted = xs_emitted(mt, outside);
     specific = rc_specific(mt);
@@ -126,13 +138,12 @@ void rc_sums_init(out rc_sums r)
 void rc_surface(inout rc_sums r, inout sc_tri tri, inout rc_material mc, uvec4 fh, uint s,
                 uint pix, vec3 o, xs_eye e, out vec3 x, out float c, out bool specific)
 {
-    sc_tri_fetch(tri, fh, true);
+    sc_tri_fetch(tri, fh, false);
     vec3 sp = sc_tri_position(tri, fh);
     vec3 d = sp - o;
     float t = length(d);
-    bool outside = sc_tri_outside(tri, fh, -d / max(t, 1e-30));
     vec3 a, emitted;
-    rc_material_at(mc, sc_material(fh), sc_tri_uv(tri, fh), outside, a, emitted, specific);
+    rc_material_at(mc, tri, fh, -d / max(t, 1e-30), a, emitted, specific);
     r.albedo_sum += a;
     if (t < r.best_t) {
         r.best_t = t;

@@ -6,10 +6,17 @@
  *
  * Count-based adaptive shading counts each sample's importance 1 / (1 + c_s) as it arrives
  * (reprojection, tracing). A sample's variance-guided importance v / (1 + c_s) depends on the
- * other samples of its pixel (v: xs_sc_pixel_variance), known only once the pixel's set of
+ * other samples of its pixel (v: sc_shade_candidates_variance), known only once the pixel's set of
  * visible samples is final, so this pass counts them after tracing, one invocation per pixel,
- * with the same sc_count_importance (§3.5: logarithmic buckets between the previous frame's
- * bounds). sc_shade_select.comp then walks the histogram as for count-based importance.
+ * with the same buckets as sc_count_importance (§3.5: logarithmic buckets between the previous
+ * frame's bounds). sc_shade_select.comp then walks the histogram as for count-based importance.
+ *
+ * The pixel's counts are summed in the invocation first: one atomic per run of samples in the
+ * same bucket and one each for the count and the bounds, instead of four per sample (all
+ * invocations of an eye add to the same words; on lavapipe each atomic is a per-lane loop and
+ * they were most of this pass). Integer sums, minimum and maximum: the same words in any
+ * order. The pixel's candidates (above the new-sample bits of plan.y) and variance v (plan.z)
+ * are left for sc_shade_select.comp, which restores plan.y and writes the shade bits to plan.z.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -25,13 +32,37 @@ void main()
     uvec3 g = gl_GlobalInvocationID;
     if (g.x >= frame.width || g.y >= frame.height)
         return;
+    g = sc_work_item(g); /* tests: the histogram's atomics in another order */
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
     uint cur = scp.cur;
-    uint cand = sc_shade_candidates(cur, pix);
-    float v = sc_pixel_variance(cur, pix, cand);
+    float v;
+    uint cand = sc_shade_candidates_variance(cur, pix, v);
+    /* for sc_shade_select.comp: the candidates above the new-sample bits, the variance */
+    sc_plan[pix].yz = uvec2(sc_plan[pix].y | (cand << XS_SC_MAX_SLOTS), floatBitsToUint(v));
+    if (cand == 0u)
+        return;
+    float w_min, w_max;
+    bool bounded = sc_prev_bounds(eye, w_min, w_max);
+    uint si = sc_stats_at(cur, eye);
+    uint n = 0u, run = 0u, run_bucket = 0u, bits_min = 0xFFFFFFFFu, bits_max = 0u;
     for (uint b = cand; b != 0u; b &= b - 1u) {
         float c_s = sc_rad_load(sc_rad_at(cur, uint(findLSB(b)), pix)).w;
-        sc_count_importance(eye, xs_sc_variance_importance(v, c_s));
+        float w = xs_sc_variance_importance(v, c_s);
+        /* sc_count_importance: without previous bounds each sample is its own range */
+        uint bucket = bounded ? xs_sc_bucket(w, w_min, w_max) : xs_sc_bucket(w, w, w);
+        if (run > 0u && bucket != run_bucket) {
+            atomicAdd(sc_stats[si].hist[run_bucket], run);
+            run = 0u;
+        }
+        run_bucket = bucket;
+        run++;
+        n++;
+        bits_min = min(bits_min, floatBitsToUint(w));
+        bits_max = max(bits_max, floatBitsToUint(w));
     }
+    atomicAdd(sc_stats[si].hist[run_bucket], run);
+    atomicAdd(sc_stats[si].count, n);
+    atomicMax(sc_stats[si].w_min_inv, ~bits_min);
+    atomicMax(sc_stats[si].w_max, bits_max);
 }

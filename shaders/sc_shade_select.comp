@@ -9,8 +9,8 @@
  * - adaptive: one candidate of one pixel per block x block block as base rate (as in
  *   sc_trace_mask.comp), plus a share of all candidates chosen by importance w = 1 / (1 + c_s)
  *   (adaptive-variance: w = the relative variance of the sample's mean, v / (1 + c_s), v from
- *   the spread of the pixel's samples, xs_sc_pixel_variance; histogram from
- *   sc_shade_importance.comp):
+ *   the spread of the pixel's samples, which sc_shade_importance.comp leaves in plan.z, with
+ *   the candidates in plan.y's upper half and this frame's histogram):
  *   the budget B = shade_rate * width * height - (base-rate shadings) is met by walking the
  *   histogram of this frame (counted during reprojection and tracing into XS_SC_BUCKETS
  *   logarithmic buckets between the previous frame's w_min and w_max) from the most important
@@ -67,7 +67,14 @@ void main()
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
     uint cur = scp.cur;
-    uint cand = sc_shade_candidates(cur, pix);
+    uint cand;
+    if (scp.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE) { /* sc_shade_importance.comp's */
+        uint y = sc_plan[pix].y;
+        cand = y >> XS_SC_MAX_SLOTS;
+        sc_plan[pix].y = y & ((1u << XS_SC_MAX_SLOTS) - 1u); /* the new-sample bits again */
+    } else {
+        cand = sc_shade_candidates(cur, pix);
+    }
     uint foreign = sc_foreign_bits(cur, pix); /* cross-eye reuse: the other eye's copies */
     uint start = (frame.frame_index + SC_SHADE_RR_OFFSET) % scp.slots;
     int rr = sc_round_robin(cand, start);
@@ -105,7 +112,8 @@ void main()
         bool bounded = sc_prev_bounds(eye, w_min, w_max);
         xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_SHADE_STREAM, frame.seed);
         bool by_variance = scp.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE;
-        float v = by_variance ? sc_pixel_variance(cur, pix, cand) : 0.0;
+        /* the pixel's variance, as sc_shade_importance.comp computed it */
+        float v = by_variance ? uintBitsToFloat(sc_plan[pix].z) : 0.0;
         for (uint cb = cand; cb != 0u; cb &= cb - 1u) {
             uint s = uint(findLSB(cb));
             float c_s = sc_rad_load(sc_rad_at(cur, s, pix)).w;

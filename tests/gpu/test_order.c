@@ -6,14 +6,15 @@
  *
  * lavapipe runs a dispatch's invocations in a fixed order, so a result that depends on that
  * order looks reproducible there. XRSC_DEBUG_PERMUTE=1 (mt_samplecache.c) makes the reproject,
- * density, trace, shade select and shade launches take their work items in reverse order (so
- * the sample pool hands its free entries out in another order too: issue 19); each case renders
- * the same frames (the head sliding sideways, so reprojection piles several samples onto some
- * pixels, and the visibility cache on) with the identity and the reversed order and asserts
- * the same colour bits and the same visibility cache counters. Before the order-independent
- * reservation (sc_reproject.comp) and insertion (xs_viscache.glsl), every case failed (the
- * commit that added this test: 2757 of 8192 floats differed with default options at 32 x 32,
- * and the visibility cache's counters differed from frame 0 on).
+ * density, trace, shade importance, shade select and shade launches take their work items in
+ * reverse order (so the sample pool hands its free entries out in another order too: issue
+ * 19); each case renders the same frames (the head sliding sideways, so reprojection piles
+ * several samples onto some pixels, and the visibility cache on) with the identity and the
+ * reversed order and asserts the same colour bits and the same visibility cache counters.
+ * Before the order-independent reservation (sc_reproject.comp) and insertion
+ * (xs_viscache.glsl), every case failed (the commit that added this test: 2757 of 8192 floats
+ * differed with default options at 32 x 32, and the visibility cache's counters differed from
+ * frame 0 on).
  */
 #include "test_samplecache_util.h"
 
@@ -113,6 +114,10 @@ static void test_order(void)
     xrsc_samplecache_options vis = {.visibility = {.enabled = true}};
     check_case(&rig, "cross-eye", &cross, false);
     check_case(&rig, "visibility cache", &vis, true);
+    /* variance-guided shading (issue 19): the importance pass sums each pixel's histogram
+     * counts before its atomics and hands candidates and variance to the selection */
+    xrsc_samplecache_options var = {.shade = XRSC_SC_SHADE_ADAPTIVE_VARIANCE, .shade_rate = 0.3f};
+    check_case(&rig, "variance-guided shading", &var, false);
     tsc_close(&rig);
 }
 
