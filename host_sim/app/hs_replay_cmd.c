@@ -48,6 +48,7 @@ typedef struct main_args {
     bool quiet, direct, overwrite;
     bool blend_given;                             /* --blend: else hs_replay_default_blend(method) */
     bool taa_given;                               /* --taa: else hs_replay_default_taa(method) */
+    bool shade_given, shade_rate_given;           /* else hs_replay_default_shading */
     bool size_given, ipd_given, refresh_given;    /* these win over --headset */
     const char *pose_columns, *pose_time_unit, *pose_handedness;
     const char *headset_name, *headsets_path; /* --headset, --headsets */
@@ -104,11 +105,12 @@ static int parse_method(const hs_opt_arg *a)
     return 0;
 }
 
+/* --taa MODE; "default": the method's own (off after samplecache, as before issue 19; what a
+ * run.conf without a taa line means, hs_args_spec.record_defaults) */
 static int parse_taa(const hs_opt_arg *a)
 {
-    if (!strcmp(a->value, "default") ||
-        xrsc_taa_mode_from_name(a->value, &M(a)->opt.renderer.taa.mode) != XRSC_OK)
-        return bad_arg(a->opt->name, a->value, "expected off, on or pfj23");
+    if (xrsc_taa_mode_from_name(a->value, &M(a)->opt.renderer.taa.mode) != XRSC_OK)
+        return bad_arg(a->opt->name, a->value, "expected off, on, pfj23 or default");
     M(a)->taa_given = true;
     return 0;
 }
@@ -164,7 +166,15 @@ static int parse_shade_rate(const hs_opt_arg *a)
 {
     int r = hs_opt_positive(a);
     M(a)->opt.renderer.samplecache.shade_rate *= 0.01f;
+    M(a)->shade_rate_given = true;
     return r;
+}
+
+/* --sc-shade S */
+static int parse_shade(const hs_opt_arg *a)
+{
+    M(a)->shade_given = true;
+    return hs_opt_enum(a);
 }
 
 /* on | off into a field that means off ("no_..."). */
@@ -401,9 +411,12 @@ static const hs_opt k_replay_opts[] = {
      parse_on_means_false, SC(no_shading_cache), NULL},
     {"--sc-shade", "S",
      "uniform | adaptive | adaptive-variance (importance = the\n"
-     "relative variance of each sample's mean)   [uniform]",
-     hs_opt_enum, SC(shade), k_sc_shade},
-    {"--sc-shade-rate", "P", "adaptive shading rate, percent of the pixels [100]",
+     "relative variance of each sample's mean)\n"
+     "[adaptive-variance after samplecache, else uniform]",
+     parse_shade, SC(shade), k_sc_shade},
+    {"--sc-shade-rate", "P",
+     "adaptive shading rate, percent of the pixels [30 with the\n"
+     "default shading, 100 with --sc-shade]",
      parse_shade_rate, SC(shade_rate), NUM(0, 1600, NULL)},
     {"--sc-alpha", "A", "clamped | fixed (temporal blend, App. C) [clamped]", hs_opt_enum,
      SC(alpha), k_sc_alpha},
@@ -456,8 +469,8 @@ static const hs_opt k_replay_opts[] = {
 
     TEXT("\nTemporal antialiasing (after reconstruction, before the stereo blend; seed 000 "
          "section 5.1):\n"),
-    {"--taa", "T", "off | on | pfj23  [on for samplecache and taa, pfj23 for hashcache and hybrid,\n"
-     "                      else off]",
+    {"--taa", "T", "off | on | pfj23 | default (the method's own)  [on for samplecache\n"
+     "and taa, pfj23 for hashcache and hybrid, else off]",
      parse_taa, 0, NULL},
     {"--taa-alpha", "X", "weight of the current frame with --taa on [0.1]", hs_opt_positive,
      RO(taa.alpha), NUM(0, 1, NULL)},
@@ -619,6 +632,13 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
     printf(", temporal filter: %s", xrsc_taa_mode_name(taa));
     if (taa == XRSC_TAA_ON && opt->renderer.taa.alpha > 0) /* given; else the plugin's */
         printf(" (alpha %g)", (double)opt->renderer.taa.alpha);
+    const xrsc_samplecache_options *sc = &opt->renderer.samplecache;
+    if (opt->renderer.method == XRSC_METHOD_SAMPLECACHE || opt->renderer.method == XRSC_METHOD_ISRT) {
+        const char *shade = hs_opt_enum_name(k_sc_shade, (int)sc->shade);
+        printf(", shading: %s", shade ? shade : "uniform");
+        if (sc->shade != XRSC_SC_SHADE_DEFAULT && sc->shade != XRSC_SC_SHADE_UNIFORM)
+            printf(" %g %%", (double)(sc->shade_rate > 0.0f ? sc->shade_rate : 1.0f) * 100.0);
+    }
     printf("\n");
     printf("frames: %u  load %.2f s  total %.2f s\n", st->frames, st->load_s, st->total_s);
     const xrsc_scene_info *si = &st->scene;
@@ -727,6 +747,7 @@ static int finish_args(main_args *m)
         opt->renderer.blend = hs_replay_default_blend(opt->renderer.method);
     if (!m->taa_given)
         opt->renderer.taa.mode = hs_replay_default_taa(opt->renderer.method);
+    hs_replay_default_shading(&opt->renderer, m->shade_given, m->shade_rate_given);
     if (opt->frame_bounds && opt->viewpoint.kind != HS_VIEWPOINT_DEFAULT)
         return bad_arg("--viewpoint", NULL, "--frame and --viewpoint both place the view: give one");
     opt->frame_keep_ipd = m->ipd_given;
@@ -744,11 +765,16 @@ static int run_with_record(main_args *m, const hs_args *args, const char *const 
                            size_t value_count, hs_run_info *run)
 {
     hs_replay_options *opt = &m->opt;
-    char res_s[32], spp_s[16], ipd_s[32], refresh_s[32];
+    char res_s[32], spp_s[16], ipd_s[32], refresh_s[32], rate_buf[32];
     snprintf(res_s, sizeof(res_s), "%ux%u", opt->renderer.width, opt->renderer.height);
     snprintf(spp_s, sizeof(spp_s), "%u", opt->renderer.spp.samples_per_pixel);
     snprintf(ipd_s, sizeof(ipd_s), "%g", (double)opt->headset.ipd_m * 1e3);
     snprintf(refresh_s, sizeof(refresh_s), "%g", (double)opt->headset.refresh_hz);
+    /* the shading recorded as typed: a run.conf names it, so a later default cannot change it */
+    const xrsc_samplecache_options *sc = &opt->renderer.samplecache;
+    const char *shade_s = hs_opt_enum_name(k_sc_shade, (int)sc->shade);
+    snprintf(rate_buf, sizeof(rate_buf), "%g", (double)sc->shade_rate * 100.0);
+    const char *rate_s = sc->shade_rate > 0.0f ? rate_buf : NULL;
     const hs_run_setting defaults[] = {
         {"--scene", opt->scene_path},   {"--poses", opt->poses_path},
         {"--pose-format", "auto"},      {"--start", "0"},
@@ -759,6 +785,7 @@ static int run_with_record(main_args *m, const hs_args *args, const char *const 
         {"--blend-r", "0"},             {"--blend-estimate", "samples"},
         {"--taa", xrsc_taa_mode_name(xrsc_taa_mode_resolve(opt->renderer.method,
                                                            opt->renderer.taa.mode))},
+        {"--sc-shade", shade_s},        {"--sc-shade-rate", rate_s},
         {"--spp", spp_s},
         {"--resolution", res_s},        {"--seed", "0"},
         {"--ipd", ipd_s},               {"--refresh", refresh_s},
@@ -801,8 +828,13 @@ int hs_replay_main(int argc, char **argv)
     const char *value_options[HS_OPT_MAX];
     size_t value_count = hs_opt_value_names(k_replay_opts, REPLAY_OPT_COUNT, value_options,
                                             HS_OPT_MAX);
+    /* what a run.conf without these lines ran (older builds did not name them): the
+     * library's own temporal filter and uniform shading (the defaults before issue 19) */
+    static const char *const record_defaults[] = {"--taa", "default", "--sc-shade", "uniform"};
     const hs_args_spec spec = {.cmd = "xrsc", .value_options = value_options,
-                               .value_count = value_count, .config = true};
+                               .value_count = value_count, .config = true,
+                               .record_defaults = record_defaults,
+                               .record_default_count = 4};
     int r = hs_args_prepare(&args, &spec, argc, argv);
     if (r)
         return r;

@@ -537,7 +537,8 @@ static void conf_flag(void *u, const char *flag)
 static void write_conf(FILE *f, const hs_run_info *info)
 {
     fprintf(f,
-            "# xrsc %s, run started %s: its settings in --config format (xrsc --help).\n"
+            HS_ARGS_RECORD_HEAD "%s" HS_ARGS_RECORD_MARK
+            "%s: its settings in --config format (xrsc --help).\n"
             "# Repeat it with: xrsc --config %s/" HS_RUN_CONF " --out NEW_FOLDER\n",
             XRSC_VERSION, info->start_utc, info->out_dir);
     for (size_t k = 0; k < info->value_count; k++) {

@@ -321,8 +321,10 @@ static const bench_key keys[] = {
     {"eps1", M_SC | M_ISRT | M_HY, set_eps1, "e1", "edge test epsilon (Eq. 2) [0.005]"},
     {"block", M_SC | M_ISRT | M_HY, set_block, "blk", "base-rate block size [4]"},
     {"shading_cache", M_SC | M_ISRT, set_shading_cache, "shc", "on | off [on]"},
-    {"shade", M_SC | M_ISRT, set_shade, "shade", "uniform | adaptive | adaptive-variance [uniform]"},
-    {"shade_rate", M_SC | M_ISRT, set_shade_rate, "rate", "adaptive shading rate, percent [100]"},
+    {"shade", M_SC | M_ISRT, set_shade, "shade",
+     "uniform | adaptive | adaptive-variance [uniform; default: adaptive-variance]"},
+    {"shade_rate", M_SC | M_ISRT, set_shade_rate, "rate",
+     "adaptive shading rate, percent [100; default: 30 unless shade is given]"},
     {"alpha", M_SC | M_ISRT, set_alpha, "alpha", "clamped | fixed [clamped]"},
     {"alpha_fixed", M_SC | M_ISRT, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},
     {"cross_eye", M_SC, set_cross_eye, "xeye",
@@ -418,7 +420,7 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
              !product && s->renderer.method == XRSC_METHOD_SAMPLECACHE ? "sc" : method);
     char name[HS_BENCH_SPEC_MAX] = "";
     char *save = NULL;
-    bool first = true;
+    bool first = true, shade_given = false, rate_given = false;
     for (char *kv = args ? strtok_r(args, ",", &save) : NULL; kv;
          kv = strtok_r(NULL, ",", &save)) {
         trim(&kv);
@@ -446,6 +448,8 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
         if (!(bk->methods & (1u << s->renderer.method)))
             return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
                               "key '%s' does not apply to method %s", key, method);
+        shade_given |= !strcmp(key, "shade");
+        rate_given |= !strcmp(key, "shade_rate");
         const char *why = bk->set(&s->renderer, val);
         if (why)
             return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
@@ -467,6 +471,8 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
             append(label, sizeof(label), "-", item);
         }
     }
+    if (product) /* a shading mode given without a rate: the library's rate, as in the replay */
+        hs_replay_default_shading(&s->renderer, shade_given, rate_given);
     const char *final = name[0] ? name : label;
     if (!valid_name(final))
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",

@@ -241,10 +241,29 @@ static xrsc_result config_line(hs_args *out, const hs_args_spec *spec, const cha
     return XRSC_OK;
 }
 
+/** Whether text (a config file) is a run's record: its first line as HS_ARGS_RECORD_HEAD. */
+static bool is_run_record(const char *text)
+{
+    size_t head = strlen(HS_ARGS_RECORD_HEAD);
+    const char *eol = strchr(text, '\n');
+    const char *mark = strstr(text, HS_ARGS_RECORD_MARK);
+    return !strncmp(text, HS_ARGS_RECORD_HEAD, head) && mark && (!eol || mark < eol);
+}
+
+/** The older builds' values before a run record's lines (hs_args_spec.record_defaults). */
+static xrsc_result push_record_defaults(hs_args *out, const hs_args_spec *spec, const char *path,
+                                        xrsc_diag *diag)
+{
+    for (size_t i = 0; i < spec->record_default_count; i++)
+        if (!args_push(out, (char *)spec->record_defaults[i]))
+            return config_error(diag, path, 0, "--config", "too many options");
+    return XRSC_OK;
+}
+
 xrsc_result hs_args_config_text(hs_args *out, const hs_args_spec *spec, const char *path,
                                 char *text, xrsc_diag *diag)
 {
-    xrsc_result res = XRSC_OK;
+    xrsc_result res = is_run_record(text) ? push_record_defaults(out, spec, path, diag) : XRSC_OK;
     int line_no = 0;
     for (char *line = text; line && res == XRSC_OK; line_no++) {
         char *next = strchr(line, '\n');

@@ -70,7 +70,17 @@ typedef struct hs_args_spec {
      *  error naming file, line and key; NULL: such keys are kept for the option table. */
     const char *const *flag_options;
     size_t flag_count;
+    /** Options ("--key", "value", ...) put before the lines of a config file that is a run's
+     *  record (run.conf: its first line starts with HS_ARGS_RECORD_HEAD and holds
+     *  HS_ARGS_RECORD_MARK): the settings that older builds' run.conf did not name, at the
+     *  values those builds used, so an old run.conf repeats its run; the file's lines win. */
+    const char *const *record_defaults;
+    size_t record_default_count;
 } hs_args_spec;
+
+/** How a run's record (run.conf, hs_run.h) starts: "# xrsc VERSION, run started TIME: ...". */
+#define HS_ARGS_RECORD_HEAD "# xrsc "
+#define HS_ARGS_RECORD_MARK ", run started "
 
 /**
  * A command line after hs_args_prepare: argv[0..argc) (argv[argc] is NULL) points into the

@@ -238,3 +238,11 @@ int hs_opt_enum(const hs_opt_arg *a)
         }
     return hs_bad_arg(a->cmd, a->opt->name, a->value, names[0].why);
 }
+
+const char *hs_opt_enum_name(const hs_opt_name *names, int value)
+{
+    for (const hs_opt_name *p = names; p->name; p++)
+        if (p->value == value)
+            return p->name;
+    return NULL;
+}

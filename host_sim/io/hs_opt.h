@@ -96,6 +96,8 @@ typedef struct hs_opt_name {
     const char *why;
 } hs_opt_name;
 int hs_opt_enum(const hs_opt_arg *a);
+/** The name of value in names (as typed, e.g. for run.conf), or NULL when none has it. */
+const char *hs_opt_enum_name(const hs_opt_name *names, int value);
 
 #ifdef __cplusplus
 }

@@ -599,6 +599,15 @@ xrsc_taa_mode hs_replay_default_taa(xrsc_method method)
     return method == XRSC_METHOD_SAMPLECACHE ? XRSC_TAA_ON : XRSC_TAA_DEFAULT;
 }
 
+void hs_replay_default_shading(xrsc_renderer_options *o, bool shade_given, bool rate_given)
+{
+    bool product = o->method == XRSC_METHOD_SAMPLECACHE && !shade_given;
+    if (!shade_given)
+        o->samplecache.shade = product ? XRSC_SC_SHADE_ADAPTIVE_VARIANCE : XRSC_SC_SHADE_DEFAULT;
+    if (!rate_given)
+        o->samplecache.shade_rate = product ? HS_REPLAY_DEFAULT_SHADE_RATE : 0.0f;
+}
+
 void hs_replay_default_renderer(xrsc_renderer_options *out)
 {
     *out = (xrsc_renderer_options){.method = XRSC_METHOD_SAMPLECACHE,
@@ -607,4 +616,5 @@ void hs_replay_default_renderer(xrsc_renderer_options *out)
                                    .spp = {.samples_per_pixel = HS_REPLAY_DEFAULT_SPP}};
     out->blend = hs_replay_default_blend(out->method);
     out->taa.mode = hs_replay_default_taa(out->method);
+    hs_replay_default_shading(out, false, false);
 }

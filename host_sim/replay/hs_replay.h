@@ -202,9 +202,23 @@ xrsc_blend hs_replay_default_blend(xrsc_method method);
  */
 xrsc_taa_mode hs_replay_default_taa(xrsc_method method);
 
+/** The shading rate of the main job's variance-guided shading: 0.3 shadings per pixel. */
+#define HS_REPLAY_DEFAULT_SHADE_RATE 0.3f
+
+/**
+ * The sample cache's shading when --sc-shade / --sc-shade-rate (bench keys shade, shade_rate)
+ * are not given: after `samplecache`, variance-guided shading (xrsc_sc_shade
+ * XRSC_SC_SHADE_ADAPTIVE_VARIANCE) at HS_REPLAY_DEFAULT_SHADE_RATE, chosen by the issue-19
+ * table (bench/results/issue19-defaults/: at headset size it costs 0.70x uniform shading, what
+ * 1 spp costs, with lower relMSE on 7 of 10 cases); a mode given without a rate keeps the
+ * library's rate (100 %), and after other methods nothing given means the library's own.
+ */
+void hs_replay_default_shading(xrsc_renderer_options *o, bool shade_given, bool rate_given);
+
 /**
  * The renderer options `xrsc replay` runs when no option is given: the main job (seed 000),
- * the per-eye sample cache with the blend of ::hs_replay_default_blend, at
+ * the per-eye sample cache with the blend of ::hs_replay_default_blend, the temporal filter of
+ * ::hs_replay_default_taa and the shading of ::hs_replay_default_shading, at
  * HS_REPLAY_DEFAULT_SIZE_PX with HS_REPLAY_DEFAULT_SPP. The one source of the replay's
  * defaults and of `xrsc bench`'s setting `default` (the product as shipped).
  */

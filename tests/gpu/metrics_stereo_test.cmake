@@ -152,8 +152,9 @@ run(bench bench --settings @${OUT_DIR}/settings.txt --frames 4 --warmup 1 --scor
 # The same frames through the replay (direct path), and scored from the files.
 run(rep_spp replay --direct --method spp --spp 1 ${size} --frames 4 --write exr
     --out ${OUT_DIR}/spp --quiet --validation)
-# (a bench `samplecache` has neither the replay's blend nor its TAA: both named off here)
-run(rep_sc replay --direct --method samplecache --blend none --taa off ${size} --frames 4 --write exr
+# (a bench `samplecache` has neither the replay's blend, its TAA nor its variance-guided
+# shading: all three named here)
+run(rep_sc replay --direct --method samplecache --blend none --taa off --sc-shade uniform ${size} --frames 4 --write exr
     --out ${OUT_DIR}/sc --quiet --validation)
 # Issue 19 item 1: the bench's setting `default` is what `xrsc replay` renders without a
 # method, blend or TAA option (its figures equal the replay's, as for the other settings).
