@@ -27,12 +27,16 @@
 
 layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1) in;
 
-void main()
+/* The workgroup's share of both eyes' statistics (sc_work_item may hand it the other eye),
+ * added to sc_stats once per workgroup: one pixel's atomics on a handful of global words
+ * serialised on GPUs (3.3 ms of a 28 ms frame at 2 x 1440 x 1600 on an H200). */
+shared uint s_hist[2][XS_SC_BUCKETS_STORED];
+shared uint s_count[2], s_min_inv[2], s_max[2];
+
+/** Pixel g's candidates and variance into sc_plan, its samples' importance buckets into the
+ *  workgroup's histogram. */
+void count_pixel(uvec3 g)
 {
-    uvec3 g = gl_GlobalInvocationID;
-    if (g.x >= frame.width || g.y >= frame.height)
-        return;
-    g = sc_work_item(g); /* tests: the histogram's atomics in another order */
     uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
     uint cur = scp.cur;
@@ -44,7 +48,6 @@ void main()
         return;
     float w_min, w_max;
     bool bounded = sc_prev_bounds(eye, w_min, w_max);
-    uint si = sc_stats_at(cur, eye);
     uint n = 0u, run = 0u, run_bucket = 0u, bits_min = 0xFFFFFFFFu, bits_max = 0u;
     for (uint b = cand; b != 0u; b &= b - 1u) {
         float c_s = sc_rad_load(sc_rad_at(cur, uint(findLSB(b)), pix)).w;
@@ -52,7 +55,7 @@ void main()
         /* sc_count_importance: without previous bounds each sample is its own range */
         uint bucket = bounded ? xs_sc_bucket(w, w_min, w_max) : xs_sc_bucket(w, w, w);
         if (run > 0u && bucket != run_bucket) {
-            atomicAdd(sc_stats[si].hist[run_bucket], run);
+            atomicAdd(s_hist[eye][run_bucket], run);
             run = 0u;
         }
         run_bucket = bucket;
@@ -61,8 +64,36 @@ void main()
         bits_min = min(bits_min, floatBitsToUint(w));
         bits_max = max(bits_max, floatBitsToUint(w));
     }
-    atomicAdd(sc_stats[si].hist[run_bucket], run);
-    atomicAdd(sc_stats[si].count, n);
-    atomicMax(sc_stats[si].w_min_inv, ~bits_min);
-    atomicMax(sc_stats[si].w_max, bits_max);
+    atomicAdd(s_hist[eye][run_bucket], run);
+    atomicAdd(s_count[eye], n);
+    atomicMax(s_min_inv[eye], ~bits_min);
+    atomicMax(s_max[eye], bits_max);
+}
+
+void main()
+{
+    uint lid = gl_LocalInvocationIndex;
+    if (lid < 2u * XS_SC_BUCKETS_STORED)
+        s_hist[lid / XS_SC_BUCKETS_STORED][lid % XS_SC_BUCKETS_STORED] = 0u;
+    if (lid < 2u) {
+        s_count[lid] = 0u;
+        s_min_inv[lid] = 0u;
+        s_max[lid] = 0u;
+    }
+    barrier();
+    uvec3 g = gl_GlobalInvocationID;
+    if (g.x < frame.width && g.y < frame.height)
+        count_pixel(sc_work_item(g)); /* tests: the atomics in another order */
+    barrier();
+    if (lid < 2u * XS_SC_BUCKETS_STORED) {
+        uint e = lid / XS_SC_BUCKETS_STORED, b = lid % XS_SC_BUCKETS_STORED;
+        if (s_hist[e][b] != 0u)
+            atomicAdd(sc_stats[sc_stats_at(scp.cur, e)].hist[b], s_hist[e][b]);
+    }
+    if (lid < 2u && s_count[lid] != 0u) {
+        uint si = sc_stats_at(scp.cur, lid);
+        atomicAdd(sc_stats[si].count, s_count[lid]);
+        atomicMax(sc_stats[si].w_min_inv, s_min_inv[lid]);
+        atomicMax(sc_stats[si].w_max, s_max[lid]);
+    }
 }

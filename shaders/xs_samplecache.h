@@ -284,6 +284,8 @@ _Static_assert(sizeof(xs_sc_stats) == 80, "xs_sc_stats layout (std430)");
 _Static_assert(sizeof(xs_sc_selftest_io) == 96, "xs_sc_selftest_io layout (std430)");
 _Static_assert(offsetof(xs_sc_selftest_io, packed) == 48, "xs_sc_selftest_io layout");
 _Static_assert(XS_SC_BUCKETS <= XS_SC_BUCKETS_STORED, "histogram storage");
+_Static_assert(XS_SC_GROUP * XS_SC_GROUP >= 2u * XS_SC_BUCKETS_STORED,
+               "sc_shade_importance.comp: a workgroup clears and adds both eyes' histograms");
 _Static_assert((1u << XS_SC_SHADE_SLOT_BITS) >= XS_SC_MAX_SLOTS, "shade-list slot bits");
 _Static_assert(XS_SC_POOL_NONE == XS_SC_SRC_NONE, "a slot no key reached: no pool address");
 _Static_assert(XS_SC_POOL_ISRT_FACTOR * XS_SC_MAX_SLOTS <= 32u, "pool entries: 32-bit used word");
