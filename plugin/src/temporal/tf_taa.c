@@ -256,9 +256,9 @@ void tf_taa_cmd_record(tf_taa *t, VkCommandBuffer cmd, gpu_timer *timer, const x
     cmd_copy_image(cmd, &t->next_geo, &t->prev_geo);
     VkBufferCopy region = {0, 0, t->prev_xform.size};
     vkCmdCopyBuffer(cmd, t->next_xform.buffer, t->prev_xform.buffer, 1, &region);
+    gpu_cmd_barrier_all(cmd); /* before the end stamp: the span holds the copies' completion */
     if (timer)
         gpu_timer_cmd_end(cmd, timer, pass);
-    gpu_cmd_barrier_all(cmd);
     memcpy(t->prev_eyes, xf->eyes, sizeof(t->prev_eyes));
     t->have_history = true;
 }
