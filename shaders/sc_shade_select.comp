@@ -5,10 +5,7 @@
  *        re-shaded this frame (plan.z).
  *
  * Candidates are the visible surface samples (background samples need no shading).
- * - uniform: one candidate per pixel, round robin over the candidates (§3.3): the
- *   (frame mod n)-th of the pixel's n, so each is shaded once in n frames while the set stays
- *   (shade_rank; a round robin over the slot index, as tracing's, gave slot 0 of a pixel
- *   with samples in slots 0..3 of 12 nine frames in twelve and the others one);
+ * - uniform: one candidate per pixel, round robin over the slots (§3.3);
  * - adaptive: one candidate of one pixel per block x block block as base rate (as in
  *   sc_trace_mask.comp), plus a share of all candidates chosen by importance w = 1 / (1 + c_s)
  *   (adaptive-variance: w = the relative variance of the sample's mean, v / (1 + c_s), v from
@@ -20,10 +17,6 @@
  *   bucket down: buckets above the one where the prefix sum crosses B are all shaded, that
  *   bucket's samples by a coin toss with probability (B - above) / count, so B samples are
  *   shaded in expectation (§3.5, Fig. 5).
- * A pixel with samples whose instance moved since the previous frame shades one of them more,
- * in every mode: the next moving one in the round robin that is not chosen yet
- * (XS_SC_MOVING_ALPHA_MIN: their cached radiance belongs to the old pose); at most one more
- * shading per pixel, so a view full of moving objects costs at most twice the shading.
  * The chosen samples are recorded per pixel in plan.z and compacted into the shade list (one
  * atomicAdd per pixel), which sc_shade.rgen walks, so pixels with many chosen samples do not
  * serialise the shading launch; entries beyond scp.shade_capacity are dropped (the count
@@ -41,38 +34,8 @@ layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1)
 
 /* RNG stream of the coin tosses (sample index of xs_rng_seed). */
 #define SC_SHADE_STREAM 0x5EADE000u
-/* Offset of the shading round robin (by rank, shade_rank) against the tracing one (by slot). */
+/* Offset of the shading round robin against the tracing one (different slots when possible). */
 #define SC_SHADE_RR_OFFSET 1u
-
-/** The ((k mod n) + 1)-th lowest set bit of bits (n of them), or -1 when bits is 0: the round
- *  robin over a pixel's candidates, fair whichever slots they sit in. */
-int shade_rank(uint bits, uint k)
-{
-    uint n = uint(bitCount(bits));
-    if (n == 0u)
-        return -1;
-    for (uint i = k % n; i > 0u; i--)
-        bits &= bits - 1u;
-    return findLSB(bits);
-}
-
-/** The candidates among cand whose instance moved since the previous frame (a pixel's samples
- *  mostly share one instance: its transforms are compared once per run of them). */
-uint moving_candidates(uint cur, uint pix, uint cand)
-{
-    uint moving = 0u, last = XS_SC_BACKGROUND;
-    bool moved = false;
-    for (uint cb = cand; cb != 0u; cb &= cb - 1u) {
-        uint s = uint(findLSB(cb));
-        uint instance = sc_fh[sc_slot_at(cur, s, pix)].w;
-        if (instance != last)
-            moved = sc_instance_moved(instance);
-        last = instance;
-        if (moved)
-            moving |= sc_obit(s);
-    }
-    return moving;
-}
 
 /* RNG stream of cross-eye reuse's uniform shading coin (sample index of xs_rng_seed). */
 #define SC_SHADE_SHARE_STREAM 0x5EADE5E1u
@@ -84,10 +47,10 @@ uint moving_candidates(uint cur, uint pix, uint cand)
  * copy whenever one sits in the slots it favours (a free-slot reservation puts samples into
  * the lowest free slots, so slots are not equally likely).
  */
-uint uniform_share(uvec3 g, uint cand, uint foreign, uint k)
+uint uniform_share(uvec3 g, uint cand, uint foreign, uint start)
 {
     uint own = cand & ~foreign;
-    int rr = shade_rank(own, k);
+    int rr = sc_round_robin(own, start);
     if (rr < 0)
         return 0u;
     xs_rng rng = xs_rng_seed(g.xy, g.z, frame.frame_index, SC_SHADE_SHARE_STREAM, frame.seed);
@@ -113,12 +76,12 @@ void main()
         cand = sc_shade_candidates(cur, pix);
     }
     uint foreign = sc_foreign_bits(cur, pix); /* cross-eye reuse: the other eye's copies */
-    uint k = frame.frame_index + SC_SHADE_RR_OFFSET;
-    int rr = shade_rank(cand, k);
+    uint start = (frame.frame_index + SC_SHADE_RR_OFFSET) % scp.slots;
+    int rr = sc_round_robin(cand, start);
     uint one = rr >= 0 ? sc_obit(uint(rr)) : 0u;
     uint bits = 0u;
     if (scp.shade_mode == XS_SC_SHADE_UNIFORM && scp.cross_eye != 0u) {
-        bits = uniform_share(g, cand, foreign, k);
+        bits = uniform_share(g, cand, foreign, start);
     } else if (scp.shade_mode == XS_SC_SHADE_UNIFORM) {
         bits = one;
     } else {
@@ -161,11 +124,6 @@ void main()
                 bits |= sc_obit(s);
         }
     }
-    /* one more shading for a pixel with moving samples (XS_SC_MOVING_ALPHA_MIN): the next of
-     * them in the round robin not chosen yet (mt_samplecache.c's list capacity has room) */
-    int rm = shade_rank(moving_candidates(cur, pix, cand) & ~bits & ~foreign, k);
-    if (rm >= 0)
-        bits |= sc_obit(uint(rm));
     /* cross-eye reuse: the other eye's copies are shaded by their owner (its round robin and
      * its budget); choosing among all of a pixel's samples and skipping the copies keeps each
      * sample's shading rate while each eye shades only its share */

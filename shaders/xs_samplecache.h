@@ -186,25 +186,6 @@
  * one is capped relative to its running mean. */
 #define XS_SC_FIREFLY_MIN_COUNT 4.0
 
-/* Moving objects (issue 19, case `moving`): a sample rides on its instance (App. D), but the
- * radiance it cached was shaded at the instance's old pose: a turning face sees the light
- * under another angle, a moving one passes through other shadows and indirect light. While
- * its instance moves (object_to_world != prev_object_to_world, sc_instance_moved),
- * - its pixel shades one of its moving samples more each frame (sc_shade_select.comp): about
- *   two shadings a frame for a pixel of moving samples (a rotating cone kept its faces' old
- *   shading and came out 12 % too dark at frame 60),
- * - its blend factor is at least XS_SC_MOVING_ALPHA_MIN x min(1, the angle its face turned
- *   since the previous frame / XS_SC_MOVING_TURN_RAD) (sc_shade.rgen): a history of about
- *   1 / XS_SC_MOVING_ALPHA_MIN shadings on a turning face, instead of all of them; a face that
- *   only slides (the sun's cosine unchanged) keeps its history (measured on `moving`,
- *   2 x 64^2, 60 frames, no TAA, with two shadings a frame: 0.25 / 0.5 gave relMSE 0.00129 /
- *   0.00130; with every moving sample shaded every frame 0.125 / 0.25 / 0.5 gave 0.00126 /
- *   0.00121 / 0.00124 at 8 % more rays, but up to n_target times the shading when the view is
- *   full of moving objects; before the rule 0.00192).
- * Skinned and morphed meshes deform without a change of transform: not covered. */
-#define XS_SC_MOVING_ALPHA_MIN 0.5
-#define XS_SC_MOVING_TURN_RAD 0.01
-
 /* Compute workgroup size (x, y) of every sample-cache compute shader. */
 #define XS_SC_GROUP 8u
 

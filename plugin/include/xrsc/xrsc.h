@@ -283,9 +283,7 @@ typedef enum xrsc_sc_reproject {
 /** Which cached samples are re-shaded each frame (seed 000 §3.3, §3.5). */
 typedef enum xrsc_sc_shade {
     XRSC_SC_SHADE_DEFAULT = 0, /**< uniform */
-    /** one visible sample per pixel, round robin over them; in every mode a pixel with
-     *  samples on a moving instance shades one of them more (issue 19, XS_SC_MOVING_ALPHA_MIN) */
-    XRSC_SC_SHADE_UNIFORM,
+    XRSC_SC_SHADE_UNIFORM,     /**< one visible sample per pixel, round robin */
     XRSC_SC_SHADE_ADAPTIVE,    /**< base rate + importance 1/(1+c_s) histogram at shade_rate */
     /** as adaptive, with importance = the estimated relative variance of each sample's mean,
      *  v_pixel / (1 + c_s) (xs_sc_variance_importance; issue 12, seed 000 §6's future work) */
@@ -296,9 +294,7 @@ typedef enum xrsc_sc_alpha {
     XRSC_SC_ALPHA_DEFAULT = 0, /**< clamped */
     /** max(1/(c_s+1), alpha_min(roughness)) for metal/glass lobes; the glass (transmission)
      *  share scaled by how far the sample's view turned since the previous frame, from 0 for a
-     *  still view to all of it from 1/8 pixel per frame (XS_SC_VIEW_MOTION_PIXELS); and at
-     *  least 0.5 on a face of a moving instance that turned 0.01 rad or more since the last
-     *  frame, less in proportion below (XS_SC_MOVING_ALPHA_MIN, XS_SC_MOVING_TURN_RAD) */
+     *  still view to all of it from 1/8 pixel per frame (XS_SC_VIEW_MOTION_PIXELS) */
     XRSC_SC_ALPHA_CLAMPED,
     XRSC_SC_ALPHA_FIXED,       /**< max(1/(c_s+1), alpha_fixed) for every sample */
 } xrsc_sc_alpha;

@@ -109,21 +109,18 @@ _Static_assert(offsetof(mt_samplecache, base) == 0, "base first");
  * holds that with this much headroom (plus the base rate); more are dropped that frame. */
 #define MT_SC_SHADE_HEADROOM 1.25
 
-/** Entries of the shade list for both eyes: uniform shading needs one per pixel (adaptive: its
- *  budget), and so does the trace list that uses the same buffer before it (at least one entry
- *  per pixel); plus one per pixel for the one more shading of a pixel with moving samples
- *  (sc_shade_select.comp, XS_SC_MOVING_ALPHA_MIN). */
+/** Entries of the shade list for both eyes: uniform shading needs one per pixel, and so does
+ *  the trace list that uses the same buffer before it (at least one entry per pixel). */
 static uint32_t shade_capacity(const xrsc_samplecache_options *o, uint32_t w, uint32_t h)
 {
     double px = 2.0 * w * h;
     double per_pixel = 1.0;
     if (o->shade == XRSC_SC_SHADE_ADAPTIVE || o->shade == XRSC_SC_SHADE_ADAPTIVE_VARIANCE)
         per_pixel = o->shade_rate * MT_SC_SHADE_HEADROOM + 1.0 / ((double)o->block * o->block);
-    if (per_pixel < 1.0)
-        per_pixel = 1.0;
-    per_pixel += 1.0; /* a pixel with moving samples shades one more (XS_SC_MOVING_ALPHA_MIN) */
     if (per_pixel > o->slots)
         per_pixel = o->slots;
+    if (per_pixel < 1.0)
+        per_pixel = 1.0;
     return (uint32_t)ceil(px * per_pixel);
 }
 
