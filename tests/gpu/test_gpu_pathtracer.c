@@ -508,6 +508,9 @@ static void test_furnace_diffuse_flat(void)
  *  emissive triangles, MIS of emission hit by BSDF rays, bounce counting and (B >= 2)
  *  Russian roulette: at the 2nd bounce the throughput is rho = 0.5, so survival is 0.5 and a
  *  roulette that forgets to divide loses ~10 %. */
+/* issue 22 (test time): 32 x 32 per eye (was 48 x 48): the per-pixel statistics (16 spp x 4
+ * frames) are as before, the image mean's standard error ~1.5 x larger (tests/times.md) */
+#define CLOSED_SIZE 32u
 static void test_furnace_closed_emitter(void)
 {
     if (!g_ctx)
@@ -529,7 +532,7 @@ static void test_furnace_closed_emitter(void)
             expect += rk;
         xrsc_frame view = make_frame(0, 0, 0, 0.05f, 0.6f, 0);
         furnace_run f;
-        if (!furnace_render(scene, 48, 16, bounces[b], 4, &view, &f)) {
+        if (!furnace_render(scene, CLOSED_SIZE, 16, bounces[b], 4, &view, &f)) {
             furnace_free(&f);
             continue;
         }
@@ -551,6 +554,9 @@ static void test_furnace_closed_emitter(void)
  *  base gains up to ~14 % at grazing angles (~1 % averaged over the sphere), so it gets an
  *  upper bound of PLASTIC_MAX_GAIN instead. */
 #define PLASTIC_MAX_GAIN 1.03
+/* issue 22 (test time): 2 frames of 16 spp (was 4): only the mean is asserted, within ranges
+ * far wider than its standard error (tests/times.md) */
+#define METAL_GLASS_FRAMES 2u
 static void test_furnace_metal_glass(void)
 {
     if (!g_ctx)
@@ -566,7 +572,7 @@ static void test_furnace_metal_glass(void)
          PLASTIC_MAX_GAIN},
     };
     for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
-        furnace_run f = run_outside_furnace(&cases[i].s, 16, 4);
+        furnace_run f = run_outside_furnace(&cases[i].s, 16, METAL_GLASS_FRAMES);
         if (!f.hit_inst)
             continue;
         CHECK(!f.any_nonfinite);

@@ -409,7 +409,7 @@ static bool glossy_open(glossy_rig *g)
     xrsc_renderer *r = NULL;
     CHECK_EQ_INT(xrsc_renderer_create(g->ctx, g->scene, &ro, &r, NULL), XRSC_OK);
     g->ref = malloc(2 * px * 16), g->ref_depth = malloc(2 * px * 4);
-    for (uint32_t f = 0; f < T_REF_FRAMES; f++) {
+    for (uint32_t f = 0; f < env_u32("T_REF_FRAMES", T_REF_FRAMES); f++) {
         xrsc_frame rf = g->frame;
         rf.frame_index = 1000 + f;
         CHECK_EQ_INT(xrsc_renderer_render(r, &rf), XRSC_OK);
@@ -645,7 +645,7 @@ static void glossy_compare(glossy_rig *g, input_kind kind, bool claims)
                env_f("T_CACHE_YAW", T_CACHE_YAW));
     printf("; reference %u spp; means over both eyes and %u inputs (+- standard error over the "
            "inputs)\n",
-           T_REF_SPP * T_REF_FRAMES, n_in);
+           T_REF_SPP * env_u32("T_REF_FRAMES", T_REF_FRAMES), n_in);
     printf("  %-14s %21s %24s %8s %8s %8s %6s\n", "blend", "relMSE", "discrepancy", "CPBD",
            "blended", "kept", "beta");
     printf("  %-14s %21s %24.6f %8.4f   (the converged images' own)\n", "reference", "-",
