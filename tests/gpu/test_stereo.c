@@ -30,8 +30,8 @@
  * more than 3 standard errors of the paired difference; on both inputs: disoccluded and
  * background pixels are untouched, swapping the eyes swaps the result, the renderer's in-frame
  * blend equals the pass run on the same inputs; zero validation errors.
- * Experiments (environment): T_INPUTS (<= 16), T_REF_FRAMES, T_CACHE_FRAMES, T_CACHE_YAW (head turn per cache
- * frame, rad, towards the scored view), T_PIXEL_MEAN (Eq. 8 of the pixel values: estimate
+ * Experiments (environment): T_INPUTS (<= 16), T_REF_FRAMES, T_CACHE_FRAMES, T_CACHE_YAW (head
+ * turn per cache frame, rad, towards the scored view), T_PIXEL_MEAN (Eq. 8 of the pixel values: estimate
  * `mean`), T_NO_SPP, T_VAR_STATS (the estimates against the pixels' actual variance over the
  * inputs, and the blend with that variance and with the best fixed per-pixel beta: issue 12,
  * bench/results/issue12-fig15/). The estimate `mean` on the device equals xs_st_beta_eq8_mean,
