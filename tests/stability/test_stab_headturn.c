@@ -10,7 +10,7 @@
  * Two runs (64 x 64, seed 5):
  * - noise-free shading (sky off, one bounce: the sun's direct light only): what the turn
  *   invalidates is the cache's visibility, and the new view's samples are traced while it comes
- *   into view: measured 0 frames after the turn's end to within 1.2 x (0.0037 vs 0.0034;
+ *   into view: measured 0 frames after the turn's end to within 1.2 x (0.0035 vs 0.0035;
  *   an empty cache's first frame is 0.0082). Asserted: within issue 9's 15 frames.
  * - with the sky (noisy shading): measured 44 frames. That is Monte Carlo convergence, not the
  *   cache: before the turn every pixel's samples were shaded over 60+ frames (one shading per
