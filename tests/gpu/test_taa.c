@@ -38,7 +38,7 @@
  *    neighbour's surface test read that neighbour, not the panel).
  * 6. A bright emitter under motion (issue 19): Cornell box, `spp` 8 spp per frame, 12 frames
  *    turning and moving: relMSE of the last frame with TAA on and pfj23 at most
- *    T_EMIT_RATIO x without (measured 0.11 x and 0.12 x; at 16 spp 0.21 x and 0.28 x, on
+ *    T_EMIT_RATIO x without (measured 0.09 x and 0.12 x; at 16 spp 0.21 x and 0.28 x, on
  *    0.29 x before the untrusted history alpha; 7.4 x and 5.1 x with the resolve in linear
  *    radiance, the light panel leaking into the ceiling beside it).
  * 7. Edges and texture under a slow pan (issue 19), `primary` (exact frames), 12 frames of a
@@ -904,8 +904,8 @@ static bool render_moving(xrsc_context *ctx, xrsc_scene *scene, const xrsc_rende
  * relMSE(on), relMSE(pfj23) <= T_EMIT_RATIO x relMSE(off). Resolving in linear radiance
  * (before issue 19's fix) leaked the panel into the ceiling around it through the bilinear
  * history and the clipping box that holds the panel too: measured on 7.4 x, pfj23 5.1 x off
- * at 16 spp (then 0.29 x and 0.28 x; now, at 8 spp, 0.11 x and 0.12 x: off's noise, 0.38, is
- * still well below the leak's ~0.9).
+ * at 16 spp (then 0.29 x and 0.28 x; 0.21 x and 0.28 x after issue 19's untrusted history alpha;
+ * now, at 8 spp, 0.09 x and 0.12 x: off's noise, 0.38, is still well below the leak's ~0.9).
  */
 static void test_emitter_motion(void)
 {
