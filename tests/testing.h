@@ -48,7 +48,8 @@ extern t_state t_g;
     CHECK_MSG((long long)(a) == (long long)(b), "%s = %lld, %s = %lld", #a, (long long)(a), #b,    \
               (long long)(b))
 
-/** Runs one case: RUN(fn) calls fn() and records whether it added failures. */
+/** Runs one case: RUN(fn) calls fn() and records whether it added failures. The environment
+ *  can pick cases by name: T_CASES=a,b runs only those, T_SKIP_CASES=a,b all others. */
 #define RUN(fn) t_run(#fn, fn)
 void t_run(const char *name, void (*fn)(void));
 /** Prints the summary line and returns the process exit code. */

@@ -508,6 +508,9 @@ static void test_furnace_diffuse_flat(void)
  *  emissive triangles, MIS of emission hit by BSDF rays, bounce counting and (B >= 2)
  *  Russian roulette: at the 2nd bounce the throughput is rho = 0.5, so survival is 0.5 and a
  *  roulette that forgets to divide loses ~10 %. */
+/* issue 22 (test time): 32 x 32 per eye (was 48 x 48): the per-pixel statistics (16 spp x 4
+ * frames) are as before, the image mean's standard error ~1.5 x larger (tests/times.md) */
+#define CLOSED_SIZE 32u
 static void test_furnace_closed_emitter(void)
 {
     if (!g_ctx)
@@ -529,7 +532,7 @@ static void test_furnace_closed_emitter(void)
             expect += rk;
         xrsc_frame view = make_frame(0, 0, 0, 0.05f, 0.6f, 0);
         furnace_run f;
-        if (!furnace_render(scene, 48, 16, bounces[b], 4, &view, &f)) {
+        if (!furnace_render(scene, CLOSED_SIZE, 16, bounces[b], 4, &view, &f)) {
             furnace_free(&f);
             continue;
         }
@@ -551,7 +554,13 @@ static void test_furnace_closed_emitter(void)
  *  base gains up to ~14 % at grazing angles (~1 % averaged over the sphere), so it gets an
  *  upper bound of PLASTIC_MAX_GAIN instead. */
 #define PLASTIC_MAX_GAIN 1.03
-static void test_furnace_metal_glass(void)
+/* issue 22 (test time): 2 frames of 16 spp (was 4): only the mean is asserted, within ranges
+ * far wider than its standard error (tests/times.md) */
+#define METAL_GLASS_FRAMES 2u
+/* cases[first .. first + count - 1] of the table below (issue 22: two test cases of two spheres
+ * each, which ctest can run as separate entries: each sphere's pipelines compile for ~20 s on
+ * an empty Mesa shader cache) */
+static void furnace_materials(size_t first, size_t count)
 {
     if (!g_ctx)
         return;
@@ -565,8 +574,8 @@ static void test_furnace_metal_glass(void)
         {{"furnace_plastic.gltf", {1, 1, 1}, 0, 0.4f, 0, 1.5f, 0, false, 24, 48, 1}, 0.95,
          PLASTIC_MAX_GAIN},
     };
-    for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
-        furnace_run f = run_outside_furnace(&cases[i].s, 16, 4);
+    for (size_t i = first; i < first + count && i < sizeof(cases) / sizeof(cases[0]); i++) {
+        furnace_run f = run_outside_furnace(&cases[i].s, 16, METAL_GLASS_FRAMES);
         if (!f.hit_inst)
             continue;
         CHECK(!f.any_nonfinite);
@@ -578,6 +587,14 @@ static void test_furnace_metal_glass(void)
         CHECK_MSG(sm.mean >= cases[i].lo, "%s loses too much: %.5f", cases[i].s.name, sm.mean);
         furnace_free(&f);
     }
+}
+static void test_furnace_metal_glass(void)
+{
+    furnace_materials(0, 2);
+}
+static void test_furnace_rough_glass_plastic(void)
+{
+    furnace_materials(2, 2);
 }
 
 /** scenes/furnace.gltf (helper-made: diffuse sphere rho 0.5, environment 1, IOR 1) gives
@@ -850,6 +867,7 @@ int main(void)
     RUN(test_furnace_diffuse_flat);
     RUN(test_furnace_closed_emitter);
     RUN(test_furnace_metal_glass);
+    RUN(test_furnace_rough_glass_plastic);
     RUN(test_furnace_scene_file);
     RUN(test_frames_vs_spp);
     RUN(test_accumulate);
