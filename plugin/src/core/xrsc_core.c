@@ -624,6 +624,8 @@ xrsc_result xrsc_renderer_create(xrsc_context *ctx, xrsc_scene *scene,
         free(r);
         return res;
     }
+    if (r->taa && r->blend) /* TAA's history is a copy of its output: the blend reads it */
+        st_blend_use_source(r->blend, tf_taa_history(r->taa));
     if (r->taa || r->blend)
         r->post = (mt_post){.record = post_record, .user = r};
     *out_renderer = r;

@@ -127,6 +127,15 @@ void st_eyes_from_views(const xrsc_view views[2], xs_eye out_eyes[2])
     }
 }
 
+void st_blend_use_source(st_blend *st, const gpu_image *src)
+{
+    if (!st || !src)
+        return;
+    gpu_descriptors_write_storage_image(st->ctx, &st->prog.set0, XS_ST_BIND_SRC, src);
+    gpu_image_destroy(st->ctx, &st->src); /* its own copy is not needed (16 B per pixel) */
+    st->src_given = true;
+}
+
 void st_blend_cmd_record(st_blend *st, VkCommandBuffer cmd, gpu_timer *timer,
                          const xs_eye eyes[2])
 {
@@ -152,9 +161,11 @@ void st_blend_cmd_record(st_blend *st, VkCommandBuffer cmd, gpu_timer *timer,
         .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2},
         .extent = {st->width, st->height, 1},
     };
-    vkCmdCopyImage(cmd, st->color->image, VK_IMAGE_LAYOUT_GENERAL, st->src.image,
-                   VK_IMAGE_LAYOUT_GENERAL, 1, &region);
-    gpu_cmd_barrier_all(cmd);
+    if (!st->src_given) {
+        vkCmdCopyImage(cmd, st->color->image, VK_IMAGE_LAYOUT_GENERAL, st->src.image,
+                       VK_IMAGE_LAYOUT_GENERAL, 1, &region);
+        gpu_cmd_barrier_all(cmd);
+    }
     gpu_compute_program_cmd_dispatch(cmd, &st->prog, NULL,
                                      (st->width + XS_ST_GROUP - 1) / XS_ST_GROUP,
                                      (st->height + XS_ST_GROUP - 1) / XS_ST_GROUP, 2);

@@ -263,6 +263,11 @@ void tf_taa_cmd_record(tf_taa *t, VkCommandBuffer cmd, gpu_timer *timer, const x
     t->have_history = true;
 }
 
+const gpu_image *tf_taa_history(const tf_taa *t)
+{
+    return t ? &t->history : NULL;
+}
+
 xrsc_result tf_taa_read(tf_taa *t, uint32_t eye, tf_image_kind kind, float *dst, size_t dst_size,
                         xrsc_diag *diag)
 {

@@ -78,6 +78,10 @@ void tf_taa_reset(tf_taa *taa);
  *  ones; they become the history's eyes). */
 void tf_taa_cmd_record(tf_taa *taa, VkCommandBuffer cmd, gpu_timer *timer, const xs_frame *xf);
 
+/** The history image (2 eyes, rgba32f): after tf_taa_cmd_record, a copy of the frame's TAA
+ *  output (st_blend_use_source reads it). */
+const gpu_image *tf_taa_history(const tf_taa *taa);
+
 /** For tests: copies one eye of an image of the last frame (rows top to bottom, RGBA floats)
  *  into dst. XRSC_ERROR_INVALID_ARGUMENT for TF_IMAGE_REPROJ without debug. */
 xrsc_result tf_taa_read(tf_taa *taa, uint32_t eye, tf_image_kind kind, float *dst, size_t dst_size,
