@@ -133,7 +133,6 @@ void st_blend_use_source(st_blend *st, const gpu_image *src)
         return;
     gpu_descriptors_write_storage_image(st->ctx, &st->prog.set0, XS_ST_BIND_SRC, src);
     gpu_image_destroy(st->ctx, &st->src); /* its own copy is not needed (16 B per pixel) */
-    st->src_given = true;
 }
 
 void st_blend_cmd_record(st_blend *st, VkCommandBuffer cmd, gpu_timer *timer,
@@ -161,7 +160,7 @@ void st_blend_cmd_record(st_blend *st, VkCommandBuffer cmd, gpu_timer *timer,
         .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2},
         .extent = {st->width, st->height, 1},
     };
-    if (!st->src_given) {
+    if (st->src.image) { /* its own copy of the colour (no st_blend_use_source) */
         vkCmdCopyImage(cmd, st->color->image, VK_IMAGE_LAYOUT_GENERAL, st->src.image,
                        VK_IMAGE_LAYOUT_GENERAL, 1, &region);
         gpu_cmd_barrier_all(cmd);

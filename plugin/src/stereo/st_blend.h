@@ -47,10 +47,9 @@ typedef struct st_blend {
     st_settings set;
     gpu_compute_program prog;
     gpu_buffer params; /**< xs_st_params, host-visible */
-    gpu_image src, aux;
+    gpu_image src, aux; /**< src: none (freed) once st_blend_use_source gave one */
     gpu_image stub; /**< 1 x 1 x 2 rgba32f bound for absent moments */
     const gpu_image *color; /**< borrowed: read (copied to src) and overwritten */
-    bool src_given;         /**< st_blend_use_source: src is not copied each frame */
 } st_blend;
 
 /** Creates the pass for images of width x height, bound to imgs. Errors:
