@@ -834,7 +834,8 @@ int hs_replay_main(int argc, char **argv)
     const hs_args_spec spec = {.cmd = "xrsc", .value_options = value_options,
                                .value_count = value_count, .config = true,
                                .record_defaults = record_defaults,
-                               .record_default_count = 4};
+                               .record_default_count =
+                                   sizeof(record_defaults) / sizeof(record_defaults[0])};
     int r = hs_args_prepare(&args, &spec, argc, argv);
     if (r)
         return r;

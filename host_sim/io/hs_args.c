@@ -244,10 +244,11 @@ static xrsc_result config_line(hs_args *out, const hs_args_spec *spec, const cha
 /** Whether text (a config file) is a run's record: its first line as HS_ARGS_RECORD_HEAD. */
 static bool is_run_record(const char *text)
 {
-    size_t head = strlen(HS_ARGS_RECORD_HEAD);
+    if (strncmp(text, HS_ARGS_RECORD_HEAD, strlen(HS_ARGS_RECORD_HEAD)))
+        return false;
     const char *eol = strchr(text, '\n');
     const char *mark = strstr(text, HS_ARGS_RECORD_MARK);
-    return !strncmp(text, HS_ARGS_RECORD_HEAD, head) && mark && (!eol || mark < eol);
+    return mark && (!eol || mark < eol);
 }
 
 /** The older builds' values before a run record's lines (hs_args_spec.record_defaults). */
