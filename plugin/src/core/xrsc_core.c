@@ -337,145 +337,72 @@ static xrsc_result scene_set_time(xrsc_scene *s, int64_t time_ns, xrsc_diag *dia
     return gpu_scene_stage_instances(s->ctx->gpu, s->gpu, s->cpu, diag);
 }
 
-/* ---- methods ---- */
+/* ---- names of the option enums (xrsc.h): one table each, indexed by value ---- */
 
-const char *xrsc_method_name(xrsc_method method)
+#define NAMES_COUNT(t) ((int)(sizeof(t) / sizeof((t)[0])))
+
+static const char *const method_names[] = {
+    [XRSC_METHOD_SPP] = "spp",         [XRSC_METHOD_PRIMARY] = "primary",
+    [XRSC_METHOD_SAMPLECACHE] = "samplecache", [XRSC_METHOD_TAA] = "taa",
+    [XRSC_METHOD_HASHCACHE] = "hashcache", [XRSC_METHOD_HYBRID] = "hybrid",
+    [XRSC_METHOD_ISRT] = "isrt",
+};
+_Static_assert(NAMES_COUNT(method_names) == XRSC_METHOD_COUNT, "a name per method");
+static const char *const taa_mode_names[] = {
+    [XRSC_TAA_DEFAULT] = "default", [XRSC_TAA_OFF] = "off",
+    [XRSC_TAA_ON] = "on",           [XRSC_TAA_PFJ23] = "pfj23",
+};
+static const char *const taa_history_names[] = {
+    [XRSC_TAA_HISTORY_DEFAULT] = "default",
+    [XRSC_TAA_HISTORY_BILINEAR] = "bilinear",
+    [XRSC_TAA_HISTORY_CATMULL_ROM] = "catmull-rom",
+};
+static const char *const blend_names[] = {
+    [XRSC_BLEND_NONE] = "none", [XRSC_BLEND_PFJ23] = "pfj23", [XRSC_BLEND_MOMENTS] = "moments",
+};
+static const char *const blend_estimate_names[] = {
+    [XRSC_BLEND_ESTIMATE_SAMPLES] = "samples", [XRSC_BLEND_ESTIMATE_MEAN] = "mean",
+};
+
+/** names[value], or NULL for a value outside the table. */
+static const char *name_of(const char *const *names, int count, int value)
 {
-    switch (method) {
-    case XRSC_METHOD_SPP:
-        return "spp";
-    case XRSC_METHOD_PRIMARY:
-        return "primary";
-    case XRSC_METHOD_SAMPLECACHE:
-        return "samplecache";
-    case XRSC_METHOD_TAA:
-        return "taa";
-    case XRSC_METHOD_HASHCACHE:
-        return "hashcache";
-    case XRSC_METHOD_HYBRID:
-        return "hybrid";
-    case XRSC_METHOD_ISRT:
-        return "isrt";
-    }
-    return NULL;
+    return value >= 0 && value < count ? names[value] : NULL;
 }
 
-xrsc_result xrsc_method_from_name(const char *name, xrsc_method *out_method)
+/** The value whose name is `name` into *out (when out is not NULL); `unknown` when none is. */
+static xrsc_result value_of(const char *const *names, int count, const char *name, int *out,
+                            xrsc_result unknown)
 {
-    for (int i = 0; name && i < XRSC_METHOD_COUNT; i++) {
-        if (!strcmp(name, xrsc_method_name((xrsc_method)i))) {
-            if (out_method)
-                *out_method = (xrsc_method)i;
+    for (int i = 0; name && i < count; i++) {
+        if (names[i] && !strcmp(name, names[i])) {
+            *out = i;
             return XRSC_OK;
         }
     }
-    return XRSC_ERROR_UNKNOWN_METHOD;
+    return unknown;
 }
 
-/* ---- temporal antialiasing ---- */
-
-const char *xrsc_taa_mode_name(xrsc_taa_mode mode)
-{
-    switch (mode) {
-    case XRSC_TAA_DEFAULT:
-        return "default";
-    case XRSC_TAA_OFF:
-        return "off";
-    case XRSC_TAA_ON:
-        return "on";
-    case XRSC_TAA_PFJ23:
-        return "pfj23";
+/* Defines xrsc_<what>_name and xrsc_<what>_from_name over the table <what>_names. */
+#define XRSC_ENUM_NAMES(what, type, unknown)                                                   \
+    const char *xrsc_##what##_name(type value)                                                 \
+    {                                                                                          \
+        return name_of(what##_names, NAMES_COUNT(what##_names), (int)value);                   \
+    }                                                                                          \
+    xrsc_result xrsc_##what##_from_name(const char *name, type *out)                           \
+    {                                                                                          \
+        int v = 0;                                                                             \
+        xrsc_result res = value_of(what##_names, NAMES_COUNT(what##_names), name, &v, unknown); \
+        if (res == XRSC_OK && out)                                                             \
+            *out = (type)v;                                                                    \
+        return res;                                                                            \
     }
-    return NULL;
-}
 
-const char *xrsc_taa_history_name(xrsc_taa_history filter)
-{
-    switch (filter) {
-    case XRSC_TAA_HISTORY_DEFAULT:
-        return "default";
-    case XRSC_TAA_HISTORY_BILINEAR:
-        return "bilinear";
-    case XRSC_TAA_HISTORY_CATMULL_ROM:
-        return "catmull-rom";
-    }
-    return NULL;
-}
-
-xrsc_result xrsc_taa_history_from_name(const char *name, xrsc_taa_history *out_filter)
-{
-    for (int i = XRSC_TAA_HISTORY_DEFAULT; name && i <= XRSC_TAA_HISTORY_CATMULL_ROM; i++) {
-        if (!strcmp(name, xrsc_taa_history_name((xrsc_taa_history)i))) {
-            if (out_filter)
-                *out_filter = (xrsc_taa_history)i;
-            return XRSC_OK;
-        }
-    }
-    return XRSC_ERROR_INVALID_ARGUMENT;
-}
-
-xrsc_result xrsc_taa_mode_from_name(const char *name, xrsc_taa_mode *out_mode)
-{
-    for (int i = XRSC_TAA_DEFAULT; name && i <= XRSC_TAA_PFJ23; i++) {
-        if (!strcmp(name, xrsc_taa_mode_name((xrsc_taa_mode)i))) {
-            if (out_mode)
-                *out_mode = (xrsc_taa_mode)i;
-            return XRSC_OK;
-        }
-    }
-    return XRSC_ERROR_INVALID_ARGUMENT;
-}
-
-/* ---- stereo blends ---- */
-
-const char *xrsc_blend_name(xrsc_blend blend)
-{
-    switch (blend) {
-    case XRSC_BLEND_NONE:
-        return "none";
-    case XRSC_BLEND_PFJ23:
-        return "pfj23";
-    case XRSC_BLEND_MOMENTS:
-        return "moments";
-    }
-    return NULL;
-}
-
-xrsc_result xrsc_blend_from_name(const char *name, xrsc_blend *out_blend)
-{
-    static const xrsc_blend all[] = {XRSC_BLEND_NONE, XRSC_BLEND_PFJ23, XRSC_BLEND_MOMENTS};
-    for (size_t i = 0; name && i < sizeof(all) / sizeof(all[0]); i++) {
-        if (!strcmp(name, xrsc_blend_name(all[i]))) {
-            if (out_blend)
-                *out_blend = all[i];
-            return XRSC_OK;
-        }
-    }
-    return XRSC_ERROR_INVALID_ARGUMENT;
-}
-
-const char *xrsc_blend_estimate_name(xrsc_blend_estimate estimate)
-{
-    switch (estimate) {
-    case XRSC_BLEND_ESTIMATE_SAMPLES:
-        return "samples";
-    case XRSC_BLEND_ESTIMATE_MEAN:
-        return "mean";
-    }
-    return NULL;
-}
-
-xrsc_result xrsc_blend_estimate_from_name(const char *name, xrsc_blend_estimate *out_estimate)
-{
-    for (int i = XRSC_BLEND_ESTIMATE_SAMPLES; name && i <= XRSC_BLEND_ESTIMATE_MEAN; i++) {
-        if (!strcmp(name, xrsc_blend_estimate_name((xrsc_blend_estimate)i))) {
-            if (out_estimate)
-                *out_estimate = (xrsc_blend_estimate)i;
-            return XRSC_OK;
-        }
-    }
-    return XRSC_ERROR_INVALID_ARGUMENT;
-}
+XRSC_ENUM_NAMES(method, xrsc_method, XRSC_ERROR_UNKNOWN_METHOD)
+XRSC_ENUM_NAMES(taa_mode, xrsc_taa_mode, XRSC_ERROR_INVALID_ARGUMENT)
+XRSC_ENUM_NAMES(taa_history, xrsc_taa_history, XRSC_ERROR_INVALID_ARGUMENT)
+XRSC_ENUM_NAMES(blend, xrsc_blend, XRSC_ERROR_INVALID_ARGUMENT)
+XRSC_ENUM_NAMES(blend_estimate, xrsc_blend_estimate, XRSC_ERROR_INVALID_ARGUMENT)
 
 /** mt_post: the post-passes after the method's last pass, in its command buffer and timer:
  *  TAA (its history is the filtered colour before any blend), then the stereo blend (seed 004
