@@ -312,6 +312,25 @@ static xrsc_result check_quat(hs_parser *p, XrQuaternionf *q, const char *field)
     return XRSC_OK;
 }
 
+/** Appends (time_ns, pose) to the array *samples of *count entries and *capacity slots,
+ *  doubling it when full; out of memory is the parser's error at its current line. */
+static xrsc_result append_sample(hs_parser *p, hs_pose_sample **samples, size_t *count,
+                                 size_t *capacity, int64_t time_ns, XrPosef pose)
+{
+    if (*count == *capacity) {
+        size_t cap = *capacity ? *capacity * 2 : HS_INITIAL_CAPACITY;
+        hs_pose_sample *n = realloc(*samples, cap * sizeof(*n));
+        if (!n)
+            return u_diag_set(p->diag, XRSC_ERROR_OUT_OF_MEMORY, p->name, p->line, "",
+                              "cannot grow a pose sample array to %zu samples", cap);
+        *samples = n;
+        *capacity = cap;
+    }
+    (*samples)[*count] = (hs_pose_sample){.time_ns = time_ns, .pose = pose};
+    (*count)++;
+    return XRSC_OK;
+}
+
 /**
  * Appends a sample whose time (relative to the first sample) is time_ns; the caller has
  * already checked it against the previous sample. Equal times: the later sample replaces the
@@ -325,19 +344,7 @@ static xrsc_result push_sample(hs_parser *p, int64_t time_ns, XrPosef pose)
         s->dropped_duplicates++;
         return XRSC_OK;
     }
-    if (s->count == p->capacity) {
-        size_t cap = p->capacity ? p->capacity * 2 : HS_INITIAL_CAPACITY;
-        hs_pose_sample *n = realloc(s->samples, cap * sizeof(*n));
-        if (!n)
-            return u_diag_set(p->diag, XRSC_ERROR_OUT_OF_MEMORY, p->name, p->line, "",
-                              "cannot grow the sample array to %zu samples", cap);
-        s->samples = n;
-        p->capacity = cap;
-    }
-    s->samples[s->count].time_ns = time_ns;
-    s->samples[s->count].pose = pose;
-    s->count++;
-    return XRSC_OK;
+    return append_sample(p, &s->samples, &s->count, &p->capacity, time_ns, pose);
 }
 
 /**
@@ -752,19 +759,7 @@ static xrsc_result librnr_keep_head(hs_parser *p, hs_librnr *st, int64_t t, XrPo
                           "record's %" PRId64,
                           t, st->last_head_time);
     st->last_head_time = t;
-    if (st->head_count == st->head_capacity) {
-        size_t cap = st->head_capacity ? st->head_capacity * 2 : HS_INITIAL_CAPACITY;
-        hs_pose_sample *nh = realloc(st->heads, cap * sizeof(*nh));
-        if (!nh)
-            return u_diag_set(p->diag, XRSC_ERROR_OUT_OF_MEMORY, p->name, p->line, "",
-                              "cannot grow the head record array to %zu", cap);
-        st->heads = nh;
-        st->head_capacity = cap;
-    }
-    st->heads[st->head_count].time_ns = t;
-    st->heads[st->head_count].pose = pose;
-    st->head_count++;
-    return XRSC_OK;
+    return append_sample(p, &st->heads, &st->head_count, &st->head_capacity, t, pose);
 }
 
 /** An `s` (space) record of n fields at time t: kept when it is the head's. */
