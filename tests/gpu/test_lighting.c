@@ -197,7 +197,8 @@ static const char *write_hdr(const char *name, uint32_t w, uint32_t h, const uin
     return path;
 }
 
-static double decoded(uint8_t m, uint8_t e) { return (m + 0.5) * ldexp(1.0, e - 136); }
+/** RGBE as the .hdr reader decodes it (stb_image: m x 2^(e - 136), no +0.5; sc_hdr.h). */
+static double decoded(uint8_t m, uint8_t e) { return m * ldexp(1.0, e - 136); }
 
 /** Sphere pixel mask (1 sphere, 2 background, 0 neither) of pixel (x, y). */
 static int pixel_class(uint32_t x, uint32_t y, uint32_t n)

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file test_hdr_env.c
- * @brief Issue 11 (lighting), CPU side: the Radiance .hdr reader (flat, old and adaptive RLE,
- *        bottom-up, EXPOSURE; truncated and garbage files give errors naming file, line and
- *        field), the environment map's sampling tables (pdf integrates to 1 over the sphere
+ * @brief Issue 11 (lighting), CPU side: the Radiance .hdr reader (flat and adaptive RLE
+ *        through stb_image, bottom-up, EXPOSURE, no FORMAT line; truncated, garbage and
+ *        CVE-2021-42715 files give errors naming file, line and field; every cut of a file is
+ *        refused and trailing bytes are not), the environment map's sampling tables (pdf integrates to 1 over the sphere
  *        and follows luminance x sin theta), the Preetham sky, and the default environment
  *        of a scene without lights (emissive materials notwithstanding) through the loader.
  */
@@ -49,8 +50,9 @@ static void rgbe_of(const float c[3], uint8_t out[4])
     out[3] = (uint8_t)(e + 128);
 }
 
-/** Decoded value of RGBE byte pair (mantissa byte, exponent byte), as the reader decodes it. */
-static double decoded(uint8_t m, uint8_t e) { return e ? (m + 0.5) * ldexp(1.0, e - 136) : 0.0; }
+/** Decoded value of RGBE byte pair (mantissa byte, exponent byte), as the reader decodes it
+ *  (stb_image: m x 2^(e - 136), without Radiance's +0.5; exact in float). */
+static double decoded(uint8_t m, uint8_t e) { return e ? m * ldexp(1.0, e - 136) : 0.0; }
 
 /** A test pattern: a smooth gradient with one bright texel. */
 static void pattern(uint32_t x, uint32_t y, uint32_t w, uint32_t h, float c[3])
@@ -198,18 +200,33 @@ static void test_exposure_and_old_rle(void)
     static t_buf b;
     b.n = 0;
     header(&b, 10, 1, "EXPOSURE=2\nEXPOSURE=4\nGAMMA=1\n", "-");
-    /* first pixel, then an old-style run (1,1,1,n) repeating it 9 times */
     uint8_t px[4] = {128, 64, 32, 129}, run[4] = {1, 1, 1, 9};
-    put(&b, px, 4);
-    put(&b, run, 4);
+    for (int i = 0; i < 10; i++) put(&b, i == 9 ? run : px, 4);
     sc_hdr_image img;
     xrsc_diag d = {0};
-    CHECK_MSG(sc_hdr_decode("old.hdr", b.data, b.n, &img, &d) == XRSC_OK, "%s", d.message);
+    CHECK_MSG(sc_hdr_decode("exposure.hdr", b.data, b.n, &img, &d) == XRSC_OK, "%s", d.message);
     CHECK_EQ_INT(img.width, 10);
     if (img.rgb) {
         CHECK_NEAR(img.rgb[0], decoded(128, 129) / 8.0, 1e-7); /* EXPOSURE 2 x 4 */
-        CHECK_NEAR(img.rgb[9 * 3 + 2], decoded(32, 129) / 8.0, 1e-7);
+        CHECK_NEAR(img.rgb[8 * 3 + 2], decoded(32, 129) / 8.0, 1e-7);
+        /* old-style runs (1,1,1,n) are not recognised: stb_image reads them as a pixel */
+        CHECK_NEAR(img.rgb[9 * 3], decoded(1, 9) / 8.0, 1e-30);
     }
+    sc_hdr_image_free(&img);
+    /* a file of old-style runs is shorter than any encoding stb_image reads: refused */
+    b.n = 0;
+    header(&b, 10, 1, "", "-");
+    put(&b, px, 4);
+    put(&b, run, 4);
+    CHECK_EQ_INT(sc_hdr_decode("old.hdr", b.data, b.n, &img, &d), XRSC_ERROR_TRUNCATED_LINE);
+    /* no FORMAT line (Radiance's default) and CRLF lines: accepted, though stb_image itself
+     * refuses both (the reader hands it a header of its own) */
+    b.n = 0;
+    put_s(&b, "#?RADIANCE\r\n# no format\r\n\r\n-Y 1 +X 2\r\n");
+    put(&b, px, 4);
+    put(&b, px, 4);
+    CHECK_MSG(sc_hdr_decode("noformat.hdr", b.data, b.n, &img, &d) == XRSC_OK, "%s", d.message);
+    if (img.rgb) CHECK_NEAR(img.rgb[3 + 1], decoded(64, 129), 0.0);
     sc_hdr_image_free(&img);
 }
 
@@ -236,20 +253,20 @@ static void test_bad_files(void)
     expect_error("empty", b.data, 0, XRSC_ERROR_EMPTY_FILE, 0, "");
     const char *png = "\x89PNG\r\n\x1a\n garbage";
     expect_error("garbage", (const uint8_t *)png, strlen(png), XRSC_ERROR_BAD_HEADER, 1, "magic");
-    /* truncated in the pixel data: the scanline that ends early is named */
+    /* truncated in the pixel data (stb_image does not say where: line 0) */
     size_t header_bytes = (size_t)(strstr((const char *)b.data, "+X 32\n") - (char *)b.data) + 6;
-    expect_error("truncated", b.data, b.n - 10, XRSC_ERROR_TRUNCATED_LINE, 8, "scanline");
-    expect_error("no pixels", b.data, header_bytes, XRSC_ERROR_TRUNCATED_LINE, 1, "scanline");
+    expect_error("truncated", b.data, b.n - 10, XRSC_ERROR_TRUNCATED_LINE, 0, "pixels");
+    expect_error("no pixels", b.data, header_bytes, XRSC_ERROR_TRUNCATED_LINE, 0, "pixels");
     expect_error("header cut", b.data, 20, XRSC_ERROR_TRUNCATED_LINE, 2, "header");
     /* a run that overruns its scanline (first channel: a run of 40 > 32) */
     memcpy(g.data, b.data, b.n);
     g.n = b.n;
     g.data[header_bytes + 4] = 128 + 40;
-    expect_error("overrun", g.data, g.n, XRSC_ERROR_TRUNCATED_LINE, 1, "scanline");
+    expect_error("overrun", g.data, g.n, XRSC_ERROR_TRUNCATED_LINE, 0, "pixels");
     /* a scanline marker whose width differs */
     memcpy(g.data, b.data, b.n);
     g.data[header_bytes + 3] = 31;
-    expect_error("width", g.data, g.n, XRSC_ERROR_TRUNCATED_LINE, 1, "scanline");
+    expect_error("width", g.data, g.n, XRSC_ERROR_TRUNCATED_LINE, 0, "pixels");
     /* header fields */
     const char *xyz = "#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 1 +X 1\n\1\1\1\1";
     expect_error("xyze", (const uint8_t *)xyz, strlen(xyz), XRSC_ERROR_BAD_HEADER, 2, "FORMAT");
@@ -265,22 +282,83 @@ static void test_bad_files(void)
     const char *zero = "#?RADIANCE\n\n-Y 0 +X 4\n";
     expect_error("zero", (const uint8_t *)zero, strlen(zero), XRSC_ERROR_BAD_HEADER, 3,
                  "resolution");
-    const char *norun = "#?RADIANCE\n\n-Y 1 +X 2\n\1\1\1\5\1\1\1\1";
-    expect_error("run first", (const uint8_t *)norun, strlen(norun), XRSC_ERROR_TRUNCATED_LINE, 1,
-                 "scanline");
+    /* a header asking for 16 Mpixel over a few bytes: refused before anything is allocated */
+    const char *big = "#?RADIANCE\n\n-Y 4096 +X 4096\n\2\2\20\0\377\1";
+    expect_error("big, no data", (const uint8_t *)big, strlen(big), XRSC_ERROR_TRUNCATED_LINE, 0,
+                 "pixels");
     /* CVE-2021-42715: a zero count in an adaptive-RLE scanline, and a scanline cut after its
-     * marker, make stb_image 2.27 (Debian's libstb-dev) loop forever; refused here (see
-     * sc_hdr.h for why this reader is not stbi_loadf) */
+     * marker, make stb_image 2.27 (Debian's libstb-dev) loop forever when it reads them
+     * itself; refused here (sc_hdr.c) */
     memcpy(g.data, b.data, b.n);
     g.data[header_bytes + 4] = 0;
-    expect_error("zero count", g.data, g.n, XRSC_ERROR_TRUNCATED_LINE, 1, "scanline");
-    expect_error("cut after marker", b.data, header_bytes + 5, XRSC_ERROR_TRUNCATED_LINE, 1,
-                 "scanline");
+    expect_error("zero count", g.data, g.n, XRSC_ERROR_TRUNCATED_LINE, 0, "pixels");
+    expect_error("cut after marker", b.data, header_bytes + 5, XRSC_ERROR_TRUNCATED_LINE, 0,
+                 "pixels");
     /* a missing file */
     sc_hdr_image img;
     xrsc_diag d = {0};
     CHECK_EQ_INT(sc_hdr_load("/nonexistent/x.hdr", &img, &d), XRSC_ERROR_IO);
     CHECK(!strcmp(d.file, "/nonexistent/x.hdr"));
+}
+
+/** The two CVE-2021-42715 cases with enough bytes to pass the reader's size check, so that
+ *  stb_image decodes them (both hang stbi_loadf of Debian's libstb 2.27): an 8 x 4 picture
+ *  whose last scanline is 8 zero counts, and an 8 x 2 one cut inside a literal run. */
+static void test_stb_hangs(void)
+{
+    static t_buf b;
+    const uint8_t mark[4] = {2, 2, 0, 8}, runs[8] = {0x88, 100, 0x88, 80, 0x88, 60, 0x88, 129};
+    const uint8_t zeros[8] = {0}, lit[9] = {8, 1, 2, 3, 4, 5, 6, 7, 8};
+    b.n = 0;
+    header(&b, 8, 4, "", "-");
+    for (int y = 0; y < 3; y++) put(&b, mark, 4), put(&b, runs, 8);
+    put(&b, mark, 4);
+    put(&b, zeros, 8);
+    expect_error("zero counts", b.data, b.n, XRSC_ERROR_TRUNCATED_LINE, 0, "pixels");
+    b.n = 0;
+    header(&b, 8, 2, "", "-");
+    put(&b, mark, 4);
+    for (int c = 0; c < 4; c++) put(&b, lit, 9);
+    put(&b, mark, 4);
+    put(&b, lit, 5);
+    expect_error("cut literal", b.data, b.n, XRSC_ERROR_TRUNCATED_LINE, 0, "pixels");
+}
+
+/** Every cut of a file inside its pixel data is refused, and bytes after the last scanline
+ *  (1..300 of them, so every remainder of stb_image's 128-byte reads) change nothing: the
+ *  reader's padding (sc_hdr.c) counts exactly the bytes stb_image needed past the end. */
+static void test_every_cut(void)
+{
+    static t_buf b;
+    for (int rle = 0; rle < 2; rle++) {
+        b.n = 0;
+        if (rle) write_rle(&b, 40, 6, false);
+        else write_flat(&b, 6, 5);
+        size_t head = (size_t)(strstr((const char *)b.data, rle ? "+X 40\n" : "+X 6\n") -
+                               (char *)b.data) + (rle ? 6 : 5);
+        sc_hdr_image ref, img;
+        xrsc_diag d = {0};
+        CHECK_EQ_INT(sc_hdr_decode("ref.hdr", b.data, b.n, &ref, &d), XRSC_OK);
+        int accepted = 0, differ = 0;
+        for (size_t cut = head; cut < b.n; cut++) {
+            accepted += sc_hdr_decode("cut.hdr", b.data, cut, &img, &d) != XRSC_ERROR_TRUNCATED_LINE;
+            sc_hdr_image_free(&img);
+        }
+        CHECK_MSG(accepted == 0, "%s: %d of %zu cuts not refused as truncated",
+                  rle ? "rle" : "flat", accepted, b.n - head);
+        size_t n = b.n;
+        for (size_t extra = 1; extra <= 300 && ref.rgb; extra++) {
+            b.n = n;
+            for (size_t k = 0; k < extra; k++) put(&b, &(uint8_t){(uint8_t)(k * 37 + 2)}, 1);
+            xrsc_result r = sc_hdr_decode("extra.hdr", b.data, b.n, &img, &d);
+            differ += r != XRSC_OK ||
+                      memcmp(img.rgb, ref.rgb, sizeof(float) * 3 * ref.width * ref.height) != 0;
+            sc_hdr_image_free(&img);
+        }
+        CHECK_MSG(differ == 0, "%s: %d of 300 trailing lengths change the picture",
+                  rle ? "rle" : "flat", differ);
+        sc_hdr_image_free(&ref);
+    }
 }
 
 /* ---- the map's sampling tables ---- */
@@ -542,6 +620,8 @@ int main(void)
     RUN(test_rle);
     RUN(test_exposure_and_old_rle);
     RUN(test_bad_files);
+    RUN(test_stb_hangs);
+    RUN(test_every_cut);
     RUN(test_env_pdf);
     RUN(test_sky);
     RUN(test_default_environment);

@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file sc_hdr.c
- * @brief Radiance `.hdr` (RGBE) decoding: header, resolution line, flat / old RLE / adaptive
- *        RLE scanlines (format as documented with Radiance's picture file format).
+ * @brief Radiance `.hdr` (RGBE) decoding: the header and resolution line here, the scanlines
+ *        (flat or adaptive RLE) by stb_image's stbi_loadf_from_callbacks (Debian's libstb).
  */
 #include "sc_hdr.h"
 
 #include "u_diag.h"
+
+#include <stb_image.h>
 
 #include <errno.h>
 #include <math.h>
@@ -19,11 +21,9 @@
 #define HDR_MAX_LINE 1024
 /** Files over this are refused before reading. */
 #define HDR_MAX_FILE_BYTES (1ull << 30)
-/** The adaptive RLE is used only for widths in [8, 0x7fff] (its 15-bit width field). */
+/** stb_image reads adaptive-RLE scanlines only for widths in [8, 0x7fff] (15-bit field). */
 #define HDR_RLE_MIN_WIDTH 8u
 #define HDR_RLE_MAX_WIDTH 0x7fffu
-/** RGBE exponent bias: value = (mantissa + 0.5) x 2^(e - 128 - 8). */
-#define HDR_EXP_BIAS 136
 
 typedef struct hdr_reader {
     const char *name;
@@ -131,92 +131,146 @@ static xrsc_result read_resolution(hdr_reader *r, uint32_t *w, uint32_t *h, bool
     return XRSC_OK;
 }
 
-static xrsc_result scan_error(hdr_reader *r, uint32_t row, const char *msg)
-{
-    return u_diag_set(r->diag, XRSC_ERROR_TRUNCATED_LINE, r->name, (int)row + 1, "scanline",
-                      "%s", msg);
-}
+/* ---- pixel data: stb_image ----
+ *
+ * The pixels are decoded by Debian's stb_image (libstb, v2.27) through
+ * stbi_loadf_from_callbacks, over a stream of bytes served by hdr_stream: a header of our own
+ * (below), then the file's bytes after its resolution line, then pad bytes 0xFF without end.
+ * The read callback never reports the end of data, because stb_image 2.27 loops forever when
+ * it does (CVE-2021-42715: stbi__get8 then returns 0 for ever, and a count byte 0 in an
+ * adaptive-RLE scanline is a literal run of no pixels). As stream_read never returns 0,
+ * stbi__get8 never takes that branch. Why every loop of stbi__hdr_load ends:
+ *  - the header loops (stbi__hdr_test_core, stbi__hdr_gettoken and its flush loop, the
+ *    variable loop until an empty line, the resolution line) read only the header this file
+ *    writes: whole '\n'-ended lines under 256 bytes, so they never reach the file's bytes or
+ *    the padding. (Over padding they would not end: each stbi__refill_buffer serves 128 more
+ *    pad bytes, so stbi__hdr_gettoken never returns the empty line; that is why the file's own
+ *    header is read by read_header above and never shown to stb_image.)
+ *  - a scanline's marker (2, 2, hi, lo) read over padding is 0xFF..., not a marker: stb_image
+ *    then reads flat pixels, loops bounded by width x height (bounded by SC_HDR_MAX_PIXELS).
+ *  - the RLE loop `while ((nleft = width - i) > 0)`: every pass takes one count byte; a count
+ *    of 0 makes no progress, but only the file's own bytes can hold one (finitely many); over
+ *    padding every count is 0xFF, a run of 127 pixels, which either fits (progress) or trips
+ *    stb_image's "count > nleft" error ("bad RLE data").
+ * Afterwards a picture for which any pad byte was served is refused as truncated. That is
+ * exact because the header is lengthened (a comment line of spaces) until header + file bytes
+ * are a multiple of HDR_STB_REFILL: stb_image's refills then start at multiples of it, so a
+ * refill can reach past the file's bytes only when stb_image needs a byte there, and
+ * stbi__getn's direct reads (flat pixels) take all they are served. test_every_cut
+ * (tests/scene/test_hdr_env.c) fails if this stops holding (another stb_image refill size). */
 
-/** One scanline in the adaptive RLE (after its 4-byte marker): 4 channel planes of runs. */
-static xrsc_result read_rle(hdr_reader *r, uint32_t row, uint32_t w, uint8_t *rgbe)
-{
-    for (int c = 0; c < 4; c++) {
-        uint32_t x = 0;
-        while (x < w) {
-            if (r->p >= r->end)
-                return scan_error(r, row, "data ends inside the scanline");
-            uint32_t n = *r->p++;
-            if (n > 128) {
-                n -= 128;
-                if (n > w - x || r->p >= r->end)
-                    return scan_error(r, row, "a run overruns the scanline");
-                uint8_t v = *r->p++;
-                for (uint32_t i = 0; i < n; i++) rgbe[(x + i) * 4 + c] = v;
-            } else {
-                if (n == 0 || n > w - x || (size_t)(r->end - r->p) < n)
-                    return scan_error(r, row, "a literal run is empty or overruns the scanline");
-                for (uint32_t i = 0; i < n; i++) rgbe[(x + i) * 4 + c] = r->p[i];
-                r->p += n;
-            }
-            x += n;
-        }
-    }
-    return XRSC_OK;
-}
+/** Bytes per stbi__refill_buffer (sizeof stbi__context.buffer_start in stb_image 2.27). */
+#define HDR_STB_REFILL 128
+/** Served after the file's bytes: an RLE count of 0xFF is a run of 127 (see above). */
+#define HDR_PAD_BYTE 0xFF
 
-/** One scanline flat, with old-style runs: (1,1,1,n) repeats the previous pixel n << shift
- *  times, shift growing by 8 for consecutive run pixels. */
-static xrsc_result read_flat(hdr_reader *r, uint32_t row, uint32_t w, uint8_t *rgbe)
+typedef struct hdr_stream {
+    char head[256]; /* the header handed to stb_image */
+    size_t head_size;
+    const uint8_t *data; /* the file's bytes after its resolution line */
+    size_t data_size;
+    size_t pos;     /* bytes served */
+    size_t padding; /* pad bytes served */
+} hdr_stream;
+
+/** Fills all size bytes (never a short read, never 0): header, file, then padding. */
+static int stream_read(void *user, char *out, int size)
 {
-    uint32_t x = 0, shift = 0;
-    while (x < w) {
-        if (r->end - r->p < 4)
-            return scan_error(r, row, "data ends inside the scanline");
-        const uint8_t *q = r->p;
-        r->p += 4;
-        if (q[0] == 1 && q[1] == 1 && q[2] == 1) {
-            if (x == 0 || shift > 16)
-                return scan_error(r, row, "a run has no pixel to repeat");
-            uint64_t n = (uint64_t)q[3] << shift;
-            if (n > w - x)
-                return scan_error(r, row, "a run overruns the scanline");
-            for (uint32_t i = 0; i < (uint32_t)n; i++)
-                memcpy(&rgbe[(x + i) * 4], &rgbe[(x - 1) * 4], 4);
-            x += (uint32_t)n;
-            shift += 8;
+    hdr_stream *s = user;
+    for (size_t n = 0, want = size > 0 ? (size_t)size : 0, chunk; n < want; n += chunk) {
+        size_t off = s->pos - s->head_size;
+        if (s->pos < s->head_size) {
+            chunk = s->head_size - s->pos < want - n ? s->head_size - s->pos : want - n;
+            memcpy(out + n, s->head + s->pos, chunk);
+        } else if (off < s->data_size) {
+            chunk = s->data_size - off < want - n ? s->data_size - off : want - n;
+            memcpy(out + n, s->data + off, chunk);
         } else {
-            memcpy(&rgbe[x * 4], q, 4);
-            x++;
-            shift = 0;
+            chunk = want - n;
+            memset(out + n, HDR_PAD_BYTE, chunk);
+            s->padding += chunk;
         }
+        s->pos += chunk;
     }
-    return XRSC_OK;
+    return size;
 }
 
-static xrsc_result read_scanline(hdr_reader *r, uint32_t row, uint32_t w, uint8_t *rgbe)
+/** stbi__hdr_load never skips; kept consistent with stream_read anyway. */
+static void stream_skip(void *user, int n)
 {
-    if (w >= HDR_RLE_MIN_WIDTH && w <= HDR_RLE_MAX_WIDTH && r->end - r->p >= 4 &&
-        r->p[0] == 2 && r->p[1] == 2 && !(r->p[2] & 0x80)) {
-        uint32_t mark = ((uint32_t)r->p[2] << 8) | r->p[3];
-        if (mark != w)
-            return scan_error(r, row, "the run-length scanline's width differs from the "
-                                      "resolution line");
-        r->p += 4;
-        return read_rle(r, row, w, rgbe);
-    }
-    return read_flat(r, row, w, rgbe);
+    if (n > 0) ((hdr_stream *)user)->pos += (size_t)n;
 }
 
-static void rgbe_to_float(const uint8_t *rgbe, uint32_t n, double scale, float *rgb)
+static int stream_eof(void *user) { return ((hdr_stream *)user)->padding > 0; }
+
+/** The header stb_image reads: what it accepts (FORMAT present, -Y H +X W), padded with a
+ *  comment line of spaces so that header + data_size is a multiple of HDR_STB_REFILL. */
+static void stream_init(hdr_stream *s, uint32_t w, uint32_t h, const uint8_t *data,
+                        size_t data_size)
 {
-    for (uint32_t i = 0; i < n; i++) {
-        const uint8_t *q = &rgbe[i * 4];
-        if (q[3] == 0) {
-            rgb[i * 3] = rgb[i * 3 + 1] = rgb[i * 3 + 2] = 0.0f;
-            continue;
+    static const char fmt[] = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n#%*s\n\n-Y %u +X %u\n";
+    memset(s, 0, sizeof(*s));
+    int len = snprintf(s->head, sizeof s->head, fmt, 0, "", h, w);
+    int spaces = (int)((HDR_STB_REFILL - ((size_t)len + data_size) % HDR_STB_REFILL) %
+                       HDR_STB_REFILL);
+    s->head_size = (size_t)snprintf(s->head, sizeof s->head, fmt, spaces, "", h, w);
+    s->data = data;
+    s->data_size = data_size;
+}
+
+/** Fewest bytes one scanline of width w takes in any file stb_image decodes: 4 per pixel
+ *  flat, or in the adaptive RLE (widths 8..0x7fff) a 4-byte marker and, per channel, pieces
+ *  of at least 2 bytes that cover at most 127 pixels each (128 for literals of 129 bytes). */
+static uint64_t min_scanline_bytes(uint32_t w)
+{
+    if (w < HDR_RLE_MIN_WIDTH || w > HDR_RLE_MAX_WIDTH) return 4ull * w;
+    return 4 + 4 * 2 * (((uint64_t)w + 126) / 127);
+}
+
+/** The pixel data after the resolution line as w x h RGB floats, top row first in the file;
+ *  a file too short for them is refused before stb_image allocates the picture. */
+static xrsc_result decode_pixels(hdr_reader *r, uint32_t w, uint32_t h, float **out_rgb)
+{
+    size_t n = (size_t)(r->end - r->p);
+    if (n < min_scanline_bytes(w) * h)
+        return u_diag_set(r->diag, XRSC_ERROR_TRUNCATED_LINE, r->name, 0, "pixels",
+                          "the pixel data (%zu bytes) is shorter than any encoding of %u x %u "
+                          "pixels",
+                          n, w, h);
+    hdr_stream s;
+    stream_init(&s, w, h, r->p, n);
+    stbi_io_callbacks io = {stream_read, stream_skip, stream_eof};
+    int x = 0, y = 0, comp = 0;
+    float *rgb = stbi_loadf_from_callbacks(&io, &s, &x, &y, &comp, 3);
+    if (rgb && !s.padding && (uint32_t)x == w && (uint32_t)y == h) {
+        *out_rgb = rgb;
+        return XRSC_OK;
+    }
+    const char *why = rgb ? "unexpected size" : stbi_failure_reason();
+    stbi_image_free(rgb);
+    if (s.padding)
+        return u_diag_set(r->diag, XRSC_ERROR_TRUNCATED_LINE, r->name, 0, "pixels",
+                          "the pixel data ends before its last scanline");
+    if (why && !strcmp(why, "outofmem"))
+        return u_diag_set(r->diag, XRSC_ERROR_OUT_OF_MEMORY, r->name, 0, "pixels",
+                          "out of memory for %u x %u pixels", w, h);
+    return u_diag_set(r->diag, XRSC_ERROR_TRUNCATED_LINE, r->name, 0, "pixels",
+                      "bad pixel data (stb_image: %s): a run overruns its scanline or a "
+                      "scanline's width differs from the resolution line",
+                      why ? why : "no reason given");
+}
+
+/** +Y pictures store the bottom row first: turn them top down. */
+static void flip_rows(float *rgb, uint32_t w, uint32_t h)
+{
+    size_t n = (size_t)w * 3;
+    for (uint32_t y = 0; y < h / 2; y++) {
+        float *a = &rgb[y * n], *b = &rgb[(h - 1 - y) * n];
+        for (size_t i = 0; i < n; i++) {
+            float t = a[i];
+            a[i] = b[i];
+            b[i] = t;
         }
-        double f = ldexp(1.0, (int)q[3] - HDR_EXP_BIAS) * scale;
-        for (int c = 0; c < 3; c++) rgb[i * 3 + c] = (float)((q[c] + 0.5) * f);
     }
 }
 
@@ -227,33 +281,22 @@ xrsc_result sc_hdr_decode(const char *name, const uint8_t *data, size_t size, sc
     if (!name) name = "";
     if (!data || size == 0)
         return u_diag_set(diag, XRSC_ERROR_EMPTY_FILE, name, 0, "", "the file is empty");
+    if (size > HDR_MAX_FILE_BYTES) /* stb_image counts bytes read in an int */
+        return u_diag_set(diag, XRSC_ERROR_FILE_TOO_LARGE, name, 0, "",
+                          "%zu bytes: larger than 1 GiB", size);
     hdr_reader r = {.name = name, .p = data, .end = data + size, .diag = diag};
     double exposure;
     uint32_t w, h;
     bool bottom_up;
+    float *rgb = NULL;
     xrsc_result res = read_header(&r, &exposure);
-    if (res == XRSC_OK)
-        res = read_resolution(&r, &w, &h, &bottom_up);
-    if (res != XRSC_OK)
-        return res;
-    uint8_t *rgbe = malloc((size_t)w * 4);
-    float *rgb = malloc((size_t)w * h * 3 * sizeof(float));
-    if (!rgbe || !rgb) {
-        free(rgbe);
-        free(rgb);
-        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, name, 0, "", "out of memory");
-    }
-    for (uint32_t y = 0; y < h && res == XRSC_OK; y++) {
-        res = read_scanline(&r, y, w, rgbe);
-        uint32_t row = bottom_up ? h - 1 - y : y;
-        if (res == XRSC_OK)
-            rgbe_to_float(rgbe, w, 1.0 / exposure, &rgb[(size_t)row * w * 3]);
-    }
-    free(rgbe);
-    if (res != XRSC_OK) {
-        free(rgb);
-        return res;
-    }
+    if (res == XRSC_OK) res = read_resolution(&r, &w, &h, &bottom_up);
+    if (res == XRSC_OK) res = decode_pixels(&r, w, h, &rgb);
+    if (res != XRSC_OK) return res;
+    if (bottom_up) flip_rows(rgb, w, h);
+    const double scale = 1.0 / exposure;
+    if (exposure != 1.0)
+        for (size_t i = 0; i < (size_t)w * h * 3; i++) rgb[i] = (float)(rgb[i] * scale);
     out->width = w;
     out->height = h;
     out->rgb = rgb;

@@ -3,29 +3,27 @@
  * @file sc_hdr.h
  * @brief Reader of Radiance `.hdr` pictures (RGBE) for equirectangular environment maps.
  *
+ * The header and resolution line are read here; the scanlines are decoded by stb_image's
+ * stbi_loadf_from_callbacks (Debian's libstb), guarded against its endless loops (sc_hdr.c).
+ *
  * Accepted: the magic line `#?RADIANCE` or `#?RGBE`; header variables until an empty line
  * (`FORMAT=32-bit_rle_rgbe` when present, `EXPOSURE=x` divides the values, others ignored);
  * the resolution line `-Y H +X W` (rows top to bottom) or `+Y H +X W` (bottom to top);
- * scanlines flat, old-style run-length (1,1,1,n) or the adaptive RLE of Radiance
- * (2,2,hi,lo per scanline, four channel runs). Refused with an error: XYZE pixels, other
- * resolution orders (rotated pictures), sides over ::SC_HDR_MAX_SIDE or more than
- * ::SC_HDR_MAX_PIXELS pixels, scanlines that overrun or end early.
+ * scanlines flat or in the adaptive RLE of Radiance (2,2,hi,lo per scanline, four channel
+ * runs; widths 8..32767), all scanlines alike. Values are mantissa x 2^(exponent - 136), as
+ * stb_image decodes them (no +0.5). Old-style runs (1,1,1,n) are not recognised: stb_image
+ * reads them as pixels. Refused with an error: XYZE pixels, other resolution orders (rotated
+ * pictures), sides over ::SC_HDR_MAX_SIDE or more than ::SC_HDR_MAX_PIXELS pixels, pixel data
+ * that ends early, runs that overrun a scanline, scanline widths that differ from the
+ * resolution line.
  *
  * Errors fill diag: file = the name given, line = the header line (1-based) for header
- * errors, or the scanline (1-based, in file order) for pixel data, field = "magic",
- * "FORMAT", "EXPOSURE", "resolution" or "scanline". Codes: XRSC_ERROR_EMPTY_FILE,
+ * errors, 0 for pixel data (stb_image does not say where), field = "magic", "header",
+ * "FORMAT", "EXPOSURE", "resolution" or "pixels". Codes: XRSC_ERROR_EMPTY_FILE,
  * XRSC_ERROR_BAD_HEADER (magic, format, resolution, a side of 0), XRSC_ERROR_BAD_NUMBER
- * (EXPOSURE),
- * XRSC_ERROR_FILE_TOO_LARGE (sides or pixel count), XRSC_ERROR_TRUNCATED_LINE (data ends
- * or a run overruns its scanline), XRSC_ERROR_IO, XRSC_ERROR_OUT_OF_MEMORY.
- *
- * Why not stb_image's stbi_loadf (issue 22 asked for it): the stb_image in Debian's libstb-dev
- * (2.27) loops forever on a zero count in an adaptive-RLE scanline or on a file cut inside one
- * (CVE-2021-42715, fixed upstream in 2.28; tests/scene/test_hdr_env.c holds both files), reads
- * missing pixel data as zeros instead of failing, refuses bottom-up (+Y) pictures and files
- * without a FORMAT line, ignores EXPOSURE, does not know old-style runs, decodes without
- * Radiance's +0.5 (mantissa + 0.5) and names no line. A guard that made it safe would walk every
- * scanline as this reader does.
+ * (EXPOSURE), XRSC_ERROR_FILE_TOO_LARGE (sides, pixel count, over 1 GiB),
+ * XRSC_ERROR_TRUNCATED_LINE (the header or pixel data ends early, or stb_image finds the
+ * pixel data corrupt: its reason is in the message), XRSC_ERROR_IO, XRSC_ERROR_OUT_OF_MEMORY.
  */
 #pragma once
 
@@ -49,7 +47,8 @@ typedef struct sc_hdr_image {
     float *rgb; /**< malloc'ed; sc_hdr_image_free */
 } sc_hdr_image;
 
-/** Decodes a .hdr file held in memory; name is used in messages. *out is zeroed on error. */
+/** Decodes a .hdr file held in memory (at most 1 GiB); name is used in messages. *out is
+ *  zeroed on error. */
 xrsc_result sc_hdr_decode(const char *name, const uint8_t *data, size_t size, sc_hdr_image *out,
                           xrsc_diag *diag);
 /** Reads and decodes the file at path (files over 1 GiB are XRSC_ERROR_FILE_TOO_LARGE). */
