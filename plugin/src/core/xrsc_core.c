@@ -426,6 +426,31 @@ xrsc_result xrsc_taa_mode_from_name(const char *name, xrsc_taa_mode *out_mode)
     return XRSC_ERROR_INVALID_ARGUMENT;
 }
 
+const char *xrsc_taa_motion_name(xrsc_taa_motion motion)
+{
+    switch (motion) {
+    case XRSC_TAA_MOTION_DEFAULT:
+        return "default";
+    case XRSC_TAA_MOTION_OFF:
+        return "off";
+    case XRSC_TAA_MOTION_ON:
+        return "on";
+    }
+    return NULL;
+}
+
+xrsc_result xrsc_taa_motion_from_name(const char *name, xrsc_taa_motion *out_motion)
+{
+    for (int i = XRSC_TAA_MOTION_DEFAULT; name && i <= XRSC_TAA_MOTION_ON; i++) {
+        if (!strcmp(name, xrsc_taa_motion_name((xrsc_taa_motion)i))) {
+            if (out_motion)
+                *out_motion = (xrsc_taa_motion)i;
+            return XRSC_OK;
+        }
+    }
+    return XRSC_ERROR_INVALID_ARGUMENT;
+}
+
 /* ---- stereo blends ---- */
 
 const char *xrsc_blend_name(xrsc_blend blend)
@@ -506,8 +531,12 @@ static xrsc_result taa_create(xrsc_renderer *r, xrsc_diag *diag)
     r->opt.taa.mode = xrsc_taa_mode_resolve(r->opt.method, r->opt.taa.mode);
     if (r->opt.taa.mode == XRSC_TAA_OFF)
         return XRSC_OK;
-    tf_settings set = {
-        .mode = r->opt.taa.mode, .alpha = r->opt.taa.alpha, .history = r->opt.taa.history};
+    tf_settings set = {.mode = r->opt.taa.mode,
+                       .alpha = r->opt.taa.alpha,
+                       .history = r->opt.taa.history,
+                       .motion = r->opt.taa.motion,
+                       .motion_px2 = r->opt.taa.motion_px2,
+                       .motion_alpha = r->opt.taa.motion_alpha};
     tf_images imgs = {
         .color = mt_method_output_image(r->method, XRSC_OUTPUT_COLOR),
         .depth = mt_method_output_image(r->method, XRSC_OUTPUT_DEPTH),
@@ -531,6 +560,13 @@ static xrsc_result renderer_options_check(const xrsc_renderer_options *opt, xrsc
                           "TAA mode %d with alpha = %g, history filter %d (alpha must be in "
                           "(0, 1], 0 = default)",
                           (int)opt->taa.mode, (double)opt->taa.alpha, (int)opt->taa.history);
+    if ((unsigned)opt->taa.motion > XRSC_TAA_MOTION_ON || !(opt->taa.motion_px2 >= 0.0f) ||
+        !(opt->taa.motion_alpha >= 0.0f && opt->taa.motion_alpha <= 1.0f))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa.motion",
+                          "TAA motion rule %d with blur %g px^2, alpha %g (blur >= 0, alpha in "
+                          "[0, 1], 0 = default)",
+                          (int)opt->taa.motion, (double)opt->taa.motion_px2,
+                          (double)opt->taa.motion_alpha);
     return XRSC_OK;
 }
 
