@@ -477,10 +477,10 @@ const char *xrsc_taa_motion_name(xrsc_taa_motion motion);
 xrsc_result xrsc_taa_motion_from_name(const char *name, xrsc_taa_motion *out_motion);
 
 /** TAA options. Zero fields mean the defaults: mode per method (above), alpha 0.1, history
- *  filter bilinear, no motion rule (::xrsc_taa_motion). With XRSC_TAA_ON the current frame's weight rises from alpha towards 0.5
- *  for the share of the history that did not show the pixel's surface itself (edges,
- *  disocclusions; XS_TF_UNTRUSTED_ALPHA in shaders/xs_taa.h), where the neighbourhood clip
- *  cannot correct it. */
+ *  filter bilinear, no motion rule (::xrsc_taa_motion). With XRSC_TAA_ON the current frame's
+ *  weight rises from alpha towards 0.5 for the share of the history that did not show the
+ *  pixel's surface itself (edges, disocclusions; XS_TF_UNTRUSTED_ALPHA in shaders/xs_taa.h),
+ *  where the neighbourhood clip cannot correct it. */
 typedef struct xrsc_taa_options {
     xrsc_taa_mode mode;
     float alpha; /**< weight of the current frame with XRSC_TAA_ON, (0, 1] (trusted history) */
