@@ -43,6 +43,8 @@
  *    mean +- gamma sigma in YCoCg (variance clipping, [Sal16], [YLS20]) and blended with
  *    alpha for its trusted share, XS_TF_UNTRUSTED_ALPHA for the rest (history_at: taps not
  *    showing the surface themselves, which a box spanning an edge cannot clip; issue 19).
+ *    With the motion rule (motion_px2 > 0, XS_TF_MOTION_*) alpha rises with the blur the
+ *    bilinear resampling added this frame (fx (1 - fx) + fy (1 - fy) px^2).
  *    The history is resampled bilinearly, or with Catmull-Rom (history_filter). PFJ23 (seed 004 §4.2): no rectification (seed 004 §5.1 leaves history
  *    rectification out); alpha per channel = Eq. 4 with sigma_Y^2 from the current 3 x 3
  *    neighbourhood (Eq. 10) and E[(X - Y)^2] from the history X against each neighbour (Eq. 11),
@@ -244,7 +246,7 @@ vec3 catmull_rom_history(ivec2 base, vec2 f, uint eye, uint inst, float d_exp, f
  *  every tap of non-zero weight showing the surface itself, the Catmull-Rom resampling
  *  (catmull_rom_history) replaces the bilinear mean. */
 vec3 history_at(vec2 pos, ivec2 px, uint eye, uint inst, float depth, float d_exp,
-                out float out_wsum, out float out_own)
+                out float out_wsum, out float out_own, out float out_blur)
 {
     float tol_rel = tfp.depth_tolerance * d_exp, tol = -1.0, wsum = 0.0, own = 0.0;
     /* a still view (the point at the pixel's own centre, any jitter) */
@@ -253,6 +255,7 @@ vec3 history_at(vec2 pos, ivec2 px, uint eye, uint inst, float depth, float d_ex
     ivec2 base = ivec2(floor(b));
     ivec2 home = ivec2(floor(pos)); /* the last frame's pixel holding the point */
     vec2 f = b - vec2(base);
+    out_blur = f.x * (1.0 - f.x) + f.y * (1.0 - f.y); /* the bilinear kernel's variance, px^2 */
     vec3 x = vec3(0.0), inner[4];
     uint have = 0u;      /* bit k: inner[k] read */
     bool own_all = true; /* every tap of non-zero weight accepted at itself */
@@ -331,7 +334,7 @@ void main()
     imageStore(tf_next_geo, coord, uvec4(floatBitsToUint(depth), inst, 0u, 0u));
     float status = XS_TF_STATUS_NO_HISTORY;
     vec3 x = vec3(0.0);
-    float wsum = 0.0, own = 0.0;
+    float wsum = 0.0, own = 0.0, blur = 0.0;
     if (tfp.history_valid != 0u) {
         status = XS_TF_STATUS_REJECTED;
         vec4 q = reproject_eye_space(g.xy, eye, depth, inst);
@@ -341,7 +344,7 @@ void main()
             vec2 pos = vec2((t.x - tf.x) / (tf.y - tf.x), (t.y - tf.z) / (tf.w - tf.z)) *
                        vec2(size);
             /* 2. the history at pos from the taps that show the same surface */
-            x = history_at(pos, ivec2(g.xy), eye, inst, depth, -q.z, wsum, own);
+            x = history_at(pos, ivec2(g.xy), eye, inst, depth, -q.z, wsum, own, blur);
             if (wsum >= tfp.min_weight && finite3(x))
                 status = XS_TF_STATUS_BLENDED;
         }
@@ -384,6 +387,10 @@ void main()
          * extrapolation that a box spanning both sides of an edge cannot clip: it takes
          * the current frame at XS_TF_UNTRUSTED_ALPHA */
         float a = tfp.alpha;
+        /* the motion rule (XS_TF_MOTION_*): the trusted history's weight shrinks with the
+         * blur its resampling added this frame */
+        if (tfp.motion_px2 > 0.0)
+            a += max(tfp.motion_alpha - a, 0.0) * min(blur / tfp.motion_px2, 1.0);
         alpha = vec3(a + (max(XS_TF_UNTRUSTED_ALPHA, a) - a) * (1.0 - own));
     }
 

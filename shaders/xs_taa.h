@@ -79,6 +79,19 @@
  *  finite; it caps the output luma at about 1 / XS_TF_TONEMAP_FLOOR. */
 #define XS_TF_TONEMAP_FLOOR 1e-6f
 
+/** Motion rule of mode ON (xs_tf_params.motion_px2, motion_alpha; issue 19; off unless
+ *  asked for, ::xrsc_taa_motion): resampling the history between pixels (the reprojected
+ *  point at fraction f = (fx, fy) between the 2 x 2 taps) adds the bilinear kernel's variance
+ *  fx (1 - fx) + fy (1 - fy) px^2 of blur to it each frame, and at weight alpha the history
+ *  keeps about (1 - alpha) / alpha frames of it: at alpha 0.1 under a sub-pixel pan ~1.5 px
+ *  (sigma), which on an already converged input (the sample cache) costs more than the noise
+ *  TAA removes (issue 19's `edges`, `disocclusion`). The current frame's weight rises linearly
+ *  from alpha at no blur (a still view) to XS_TF_MOTION_ALPHA at XS_TF_MOTION_PX2 or more.
+ *  It lowers relMSE under motion but raises the temporal and stereo differences of orbits
+ *  (bench/results/issue19-taaedge/), hence not the default. */
+#define XS_TF_MOTION_PX2 0.25f
+#define XS_TF_MOTION_ALPHA 0.5f
+
 /* History resampling (xs_tf_params.history_filter; the public xrsc_taa_history values). */
 #define XS_TF_HISTORY_BILINEAR 1u    /* the 2 x 2 bilinear taps */
 #define XS_TF_HISTORY_CATMULL_ROM 2u /* 4 x 4 Catmull-Rom taps where the surface allows (taa.comp) */
@@ -101,10 +114,14 @@ XS_STRUCT(xs_tf_params)
     xs_uint debug;          /* 1: write XS_TF_BIND_REPROJ */
     xs_uint deform;         /* 1: PREV_POS follows skinned/morphed surfaces (issue 21) */
     xs_uint history_filter; /* XS_TF_HISTORY_*: how the reprojected history is resampled */
+    xs_float motion_px2;    /* mode ON, > 0: the blur (px^2) at which alpha reaches
+                             * motion_alpha (XS_TF_MOTION_*); 0: no motion rule */
+    xs_float motion_alpha;  /* the current frame's weight at that blur or more */
+    xs_uint pad0, pad1;
 } XS_END(xs_tf_params);
 
 #ifndef XRSC_GLSL
-_Static_assert(sizeof(xs_tf_params) == 2 * 208 + 48, "xs_tf_params layout");
+_Static_assert(sizeof(xs_tf_params) == 2 * 208 + 64, "xs_tf_params layout");
 
 /** The radical inverse of index in base b (Halton's sequence, one coordinate). */
 static inline float xs_tf_halton(uint32_t index, uint32_t b)

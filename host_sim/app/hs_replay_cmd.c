@@ -123,6 +123,14 @@ static int parse_taa_history(const hs_opt_arg *a)
     return 0;
 }
 
+/* --taa-motion (xrsc_taa_motion; "default" = off) */
+static int parse_taa_motion(const hs_opt_arg *a)
+{
+    if (xrsc_taa_motion_from_name(a->value, &M(a)->opt.renderer.taa.motion) != XRSC_OK)
+        return bad_arg(a->opt->name, a->value, "expected off, on or default");
+    return 0;
+}
+
 static int parse_blend(const hs_opt_arg *a)
 {
     if (xrsc_blend_from_name(a->value, &M(a)->opt.renderer.blend) != XRSC_OK)
@@ -478,6 +486,11 @@ static const hs_opt k_replay_opts[] = {
      "bilinear | catmull-rom: how the TAA pass resamples its reprojected\n"
      "history (catmull-rom keeps texture sharper under motion) [bilinear]",
      parse_taa_history, 0, NULL},
+    {"--taa-motion", "M",
+     "off | on | default: with --taa on, raise the current frame's weight with\n"
+     "the blur of resampling the history under sub-pixel motion (to 0.5 at\n"
+     "0.25 px^2; lower relMSE, higher temporal and stereo differences) [off]",
+     parse_taa_motion, 0, NULL},
 
     TEXT("\nOpenXR (the default path):\n"
          "  The plugin runs as an OpenXR application (XR_KHR_vulkan_enable2) on the runtime that\n"
@@ -632,6 +645,8 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
     printf(", temporal filter: %s", xrsc_taa_mode_name(taa));
     if (taa == XRSC_TAA_ON && opt->renderer.taa.alpha > 0) /* given; else the plugin's */
         printf(" (alpha %g)", (double)opt->renderer.taa.alpha);
+    if (taa == XRSC_TAA_ON && opt->renderer.taa.motion == XRSC_TAA_MOTION_ON)
+        printf(", motion rule");
     const xrsc_samplecache_options *sc = &opt->renderer.samplecache;
     if (opt->renderer.method == XRSC_METHOD_SAMPLECACHE || opt->renderer.method == XRSC_METHOD_ISRT) {
         const char *shade = hs_opt_enum_name(k_sc_shade, (int)sc->shade);

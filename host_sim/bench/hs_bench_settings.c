@@ -276,6 +276,23 @@ static const char *set_taa_history(xrsc_renderer_options *o, const char *v)
     return NULL;
 }
 
+static const char *set_taa_motion(xrsc_renderer_options *o, const char *v)
+{
+    if (!strcmp(v, "default") || xrsc_taa_motion_from_name(v, &o->taa.motion) != XRSC_OK)
+        return "off, on";
+    return NULL;
+}
+
+static const char *set_taa_motion_px2(xrsc_renderer_options *o, const char *v)
+{
+    return parse_pos(v, 16, &o->taa.motion_px2) ? NULL : "(0, 16]";
+}
+
+static const char *set_taa_motion_alpha(xrsc_renderer_options *o, const char *v)
+{
+    return parse_pos(v, 1, &o->taa.motion_alpha) ? NULL : "(0, 1]";
+}
+
 static const char *set_r(xrsc_renderer_options *o, const char *v)
 {
     char *end;
@@ -310,6 +327,12 @@ static const bench_key keys[] = {
      "weight of the current frame with taa=on, (0, 1] [0.1]"},
     {"taa_history", M_ALL, set_taa_history, "",
      "TAA history resampling bilinear | catmull-rom [bilinear]"},
+    {"taa_motion", M_ALL, set_taa_motion, "tm", "TAA motion rule (taa=on) off | on [off]"},
+    {"taa_motion_px2", M_ALL, set_taa_motion_px2, "tmb",
+     "resampling blur (px^2) at which the TAA motion rule reaches its highest weight, "
+     "(0, 16] [0.25]"},
+    {"taa_motion_alpha", M_ALL, set_taa_motion_alpha, "tma",
+     "the TAA motion rule's highest weight of the current frame, (0, 1] [0.5]"},
     {"spp", M_SPP, set_spp, "", "samples per pixel per frame, 1..4096 [1]"},
     {"bounces", M_SPP | M_SC | M_ISRT | M_HC | M_HY, set_bounces, "b", "bounces after the first hit, 0..16 [3]"},
     {"trace", M_SC | M_ISRT | M_HY, set_trace, "", "single | multi | adaptive [adaptive]"},

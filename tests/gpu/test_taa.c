@@ -97,6 +97,9 @@
 #define T_PAN_PX 0.45        /* turn per frame, pixels at the image centre (fraction ~0.5) */
 #define T_PAN_EDGE_MAX 0.4   /* edges: relMSE bound (measured 0.25; 0.64 before the fix) */
 #define T_PAN_CR_RATIO 0.85  /* texture: relMSE Catmull-Rom <= this x bilinear (0.75) */
+#define T_PAN_MOTION_RATIO 0.4 /* texture: relMSE motion rule on <= this x off (0.18) */
+#define T_PAN_ALPHA_TOL 0.05   /* the pan's mean alpha with the rule: XS_TF_MOTION_ALPHA +- */
+#define T_STILL_ALPHA_TOL 1e-3 /* a still view's alpha with the rule: alpha +- */
 
 /* ---- 1. still view through the public API ---- */
 
@@ -179,6 +182,10 @@ static void still_view_case(const char *scene_path, double on_ratio, uint32_t re
     po.taa.alpha = 0.0f;
     po.taa.mode = (xrsc_taa_mode)7;
     CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &po, &bad, &diag), XRSC_ERROR_INVALID_ARGUMENT);
+    po.taa.mode = XRSC_TAA_ON;
+    po.taa.motion_alpha = 1.5f;
+    CHECK_EQ_INT(xrsc_renderer_create(ctx, scene, &po, &bad, &diag), XRSC_ERROR_INVALID_ARGUMENT);
+    CHECK(!strcmp(diag.field, "taa.motion"));
     CHECK(bad == NULL);
 
     free(ref);
@@ -213,8 +220,8 @@ static void rig_post(void *user, VkCommandBuffer cmd, gpu_timer *timer, const xs
     tf_taa_cmd_record((tf_taa *)user, cmd, timer, xf);
 }
 
-static bool rig_open_with(t_rig *r, const char *scene_path, xrsc_method method, xrsc_taa_mode mode,
-                          xrsc_taa_history history)
+static bool rig_open_set(t_rig *r, const char *scene_path, xrsc_method method,
+                         const tf_settings *set_in)
 {
     memset(r, 0, sizeof(*r));
     gpu_context_options go = {.validation = true};
@@ -234,7 +241,8 @@ static bool rig_open_with(t_rig *r, const char *scene_path, xrsc_method method, 
         res = method == XRSC_METHOD_TAA ? mt_taa_create(&env, NULL, &r->m, &diag)
                                         : mt_primary_create(&env, &r->m, &diag);
     if (res == XRSC_OK) {
-        tf_settings set = {.mode = mode, .history = history, .debug = true};
+        tf_settings set = *set_in;
+        set.debug = true;
         tf_images imgs = {mt_method_output_image(r->m, XRSC_OUTPUT_COLOR),
                           mt_method_output_image(r->m, XRSC_OUTPUT_DEPTH),
                           mt_method_output_image(r->m, XRSC_OUTPUT_HIT_ID)};
@@ -249,6 +257,13 @@ static bool rig_open_with(t_rig *r, const char *scene_path, xrsc_method method, 
     CHECK(r->gpu->validation);
     r->post = (mt_post){.record = rig_post, .user = r->taa};
     return true;
+}
+
+static bool rig_open_with(t_rig *r, const char *scene_path, xrsc_method method, xrsc_taa_mode mode,
+                          xrsc_taa_history history)
+{
+    tf_settings set = {.mode = mode, .history = history};
+    return rig_open_set(r, scene_path, method, &set);
 }
 
 static bool rig_open(t_rig *r, const char *scene_path, xrsc_method method, xrsc_taa_mode mode)
@@ -959,10 +974,26 @@ static void test_emitter_motion(void)
  *  (`primary`: deterministic albedo at pixel centres, the exact image) after T_PAN_FRAMES
  *  frames of a head turn of T_PAN_PX pixels per frame over scene (a path under the source
  *  tree), with the given history filter; -1 on failure. */
-static double pan_error(const char *scene, xrsc_taa_history history)
+/** Mean alpha (aux rgb) of the blended pixels of e. */
+static double mean_blended_alpha(const t_eye *e)
+{
+    double sum = 0.0;
+    uint32_t n = 0;
+    for (uint32_t p = 0; p < T_W * T_H; p++)
+        if (e->aux[4 * p + 3] == XS_TF_STATUS_BLENDED) {
+            sum += e->aux[4 * p];
+            n++;
+        }
+    return n ? sum / n : -1.0;
+}
+
+/** A slow pan of T_PAN_FRAMES frames over scene with the `primary` method (exact, noise-free
+ *  input) and TAA set: the output's relMSE against the exact frame (both eyes' mean), and in
+ *  out_alpha (optional) the mean alpha over the last frame's blended pixels. */
+static double pan_error_set(const char *scene, const tf_settings *set, double *out_alpha)
 {
     t_rig r;
-    if (!rig_open_with(&r, t_source_path(scene), XRSC_METHOD_PRIMARY, XRSC_TAA_ON, history)) {
+    if (!rig_open_set(&r, t_source_path(scene), XRSC_METHOD_PRIMARY, set)) {
         rig_close(&r);
         return -1.0;
     }
@@ -974,17 +1005,26 @@ static double pan_error(const char *scene, xrsc_taa_history history)
         f.frame_index = k;
         ok = rig_render(&r, &f);
     }
-    double err = 0.0;
+    double err = 0.0, alpha = 0.0;
     for (uint32_t eye = 0; eye < 2 && ok; eye++) {
         ok = rig_read(&r, eye, e);
         /* all but the column the turn brings in keep their history */
         CHECK(count_status(e, XS_TF_STATUS_BLENDED, false) > T_W * T_H * 9u / 10u);
         err += 0.5 * relmse(e->out, e->src, T_W * T_H);
+        alpha += 0.5 * mean_blended_alpha(e);
     }
     CHECK(ok);
     free(e);
     rig_close(&r);
+    if (out_alpha)
+        *out_alpha = alpha;
     return ok ? err : -1.0;
+}
+
+static double pan_error(const char *scene, xrsc_taa_history history)
+{
+    tf_settings set = {.mode = XRSC_TAA_ON, .history = history};
+    return pan_error_set(scene, &set, NULL);
 }
 
 /** scenes/edges.gltf (thin black bars in front of a white wall): an edge tap accepted through
@@ -1014,8 +1054,58 @@ static void test_pan_texture_catmull_rom(void)
     CHECK(cr <= T_PAN_CR_RATIO * bil);
 }
 
+/** The motion rule (XRSC_TAA_MOTION_ON, XS_TF_MOTION_*; issue 19): a still view keeps alpha
+ *  (the reprojected point on the pixel's centre: no resampling blur); under the pan of
+ *  T_PAN_PX a frame (bilinear fraction ~0.45, blur ~0.25 px^2) the current frame's weight
+ *  rises to about XS_TF_MOTION_ALPHA, and the textured pan's error against the exact frame
+ *  falls to at most T_PAN_MOTION_RATIO x the rule's off (the default). */
+static void test_pan_motion_rule(void)
+{
+    xrsc_taa_motion m = XRSC_TAA_MOTION_DEFAULT;
+    CHECK(xrsc_taa_motion_from_name("on", &m) == XRSC_OK && m == XRSC_TAA_MOTION_ON);
+    CHECK(xrsc_taa_motion_from_name("fast", &m) == XRSC_ERROR_INVALID_ARGUMENT);
+
+    tf_settings on = {.mode = XRSC_TAA_ON, .motion = XRSC_TAA_MOTION_ON};
+    tf_settings off = {.mode = XRSC_TAA_ON}; /* XRSC_TAA_MOTION_DEFAULT: off */
+    /* still view: two frames at one pose */
+    t_rig r;
+    if (rig_open_set(&r, t_source_path("scenes/disocclusion.gltf"), XRSC_METHOD_PRIMARY, &on)) {
+        t_eye *e = calloc(1, sizeof(t_eye));
+        xrsc_frame f0 = tsc_headset_frame(tsc_viewpoint(r.cpu), 0), f1 = f0;
+        f1.frame_index = 1;
+        if (e && rig_render(&r, &f0) && rig_render(&r, &f1) && rig_read(&r, 0, e)) {
+            uint32_t blended = 0, kept = 0;
+            for (uint32_t p = 0; p < T_W * T_H; p++) {
+                if (e->aux[4 * p + 3] != XS_TF_STATUS_BLENDED)
+                    continue;
+                blended++;
+                kept += fabs(e->aux[4 * p] - XS_TF_DEFAULT_ALPHA) <= T_STILL_ALPHA_TOL;
+            }
+            printf("  still view: %u of %u blended pixels at alpha %.2f\n", kept, blended,
+                   (double)XS_TF_DEFAULT_ALPHA);
+            CHECK(blended > T_W * T_H * 9u / 10u);
+            CHECK_EQ_INT(kept, blended);
+        }
+        free(e);
+    }
+    rig_close(&r);
+
+    double a_on = 0.0, a_off = 0.0;
+    double e_on = pan_error_set("scenes/disocclusion.gltf", &on, &a_on);
+    double e_off = pan_error_set("scenes/disocclusion.gltf", &off, &a_off);
+    printf("  texture, pan: relMSE vs exact frame, motion rule on %.4f (mean alpha %.3f), off "
+           "%.4f (%.3f); %.2f x, bound %.2f\n",
+           e_on, a_on, e_off, a_off, e_on / e_off, T_PAN_MOTION_RATIO);
+    CHECK(e_on >= 0.0 && e_off > 0.0);
+    CHECK(e_on <= T_PAN_MOTION_RATIO * e_off);
+    CHECK(a_on >= XS_TF_MOTION_ALPHA - T_PAN_ALPHA_TOL &&
+          a_on <= XS_TF_MOTION_ALPHA + T_PAN_ALPHA_TOL);
+    CHECK(a_off < a_on);
+}
+
 int main(void)
 {
+    RUN(test_pan_motion_rule);
     RUN(test_pan_edges);
     RUN(test_pan_texture_catmull_rom);
     RUN(test_emitter_motion);

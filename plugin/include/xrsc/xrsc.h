@@ -455,15 +455,39 @@ const char *xrsc_taa_history_name(xrsc_taa_history filter);
 /** Parses a history filter name; XRSC_ERROR_INVALID_ARGUMENT when unknown. */
 xrsc_result xrsc_taa_history_from_name(const char *name, xrsc_taa_history *out_filter);
 
+/**
+ * TAA's motion rule (mode XRSC_TAA_ON; issue 19): under sub-pixel motion the history is
+ * resampled between pixels each frame, which blurs it (the bilinear kernel's variance
+ * fx (1 - fx) + fy (1 - fy) px^2 at the reprojected point); with the rule the current frame's
+ * weight for the trusted history rises linearly with that blur, from alpha with none (a still
+ * view) to motion_alpha (default 0.5) at motion_px2 (default 0.25 px^2) or more (XS_TF_MOTION_*
+ * in shaders/xs_taa.h). On the sample cache (whose colour is already accumulated over frames)
+ * it lowers relMSE under pans and sideways motion, but raises the temporal and stereo
+ * differences of the orbits (bench/results/issue19-taaedge/), so it is off by default.
+ * - XRSC_TAA_MOTION_DEFAULT (0) = XRSC_TAA_MOTION_OFF; XRSC_TAA_MOTION_ON.
+ */
+typedef enum xrsc_taa_motion {
+    XRSC_TAA_MOTION_DEFAULT = 0,
+    XRSC_TAA_MOTION_OFF = 1,
+    XRSC_TAA_MOTION_ON = 2,
+} xrsc_taa_motion;
+/** "default" / "off" / "on"; NULL for unknown values. */
+const char *xrsc_taa_motion_name(xrsc_taa_motion motion);
+/** Parses a motion rule name; XRSC_ERROR_INVALID_ARGUMENT when unknown. */
+xrsc_result xrsc_taa_motion_from_name(const char *name, xrsc_taa_motion *out_motion);
+
 /** TAA options. Zero fields mean the defaults: mode per method (above), alpha 0.1, history
- *  filter bilinear. With XRSC_TAA_ON the current frame's weight rises from alpha towards 0.5
- *  for the share of the history that did not show the pixel's surface itself (edges,
- *  disocclusions; XS_TF_UNTRUSTED_ALPHA in shaders/xs_taa.h), where the neighbourhood clip
- *  cannot correct it. */
+ *  filter bilinear, no motion rule (::xrsc_taa_motion). With XRSC_TAA_ON the current frame's
+ *  weight rises from alpha towards 0.5 for the share of the history that did not show the
+ *  pixel's surface itself (edges, disocclusions; XS_TF_UNTRUSTED_ALPHA in shaders/xs_taa.h),
+ *  where the neighbourhood clip cannot correct it. */
 typedef struct xrsc_taa_options {
     xrsc_taa_mode mode;
     float alpha; /**< weight of the current frame with XRSC_TAA_ON, (0, 1] (trusted history) */
     xrsc_taa_history history; /**< history resampling (::xrsc_taa_history) */
+    xrsc_taa_motion motion;   /**< the motion rule (::xrsc_taa_motion) */
+    float motion_px2;   /**< blur (px^2) at which the motion rule reaches motion_alpha; 0 = 0.25 */
+    float motion_alpha; /**< the motion rule's highest weight, (0, 1]; 0 = 0.5 */
 } xrsc_taa_options;
 
 /** How the hash cache picks a voxel's level of detail (seed 000 §4, Fig. 9). */

@@ -357,6 +357,10 @@ static const char *const taa_history_names[] = {
     [XRSC_TAA_HISTORY_BILINEAR] = "bilinear",
     [XRSC_TAA_HISTORY_CATMULL_ROM] = "catmull-rom",
 };
+static const char *const taa_motion_names[] = {
+    [XRSC_TAA_MOTION_DEFAULT] = "default", [XRSC_TAA_MOTION_OFF] = "off",
+    [XRSC_TAA_MOTION_ON] = "on",
+};
 static const char *const blend_names[] = {
     [XRSC_BLEND_NONE] = "none", [XRSC_BLEND_PFJ23] = "pfj23", [XRSC_BLEND_MOMENTS] = "moments",
 };
@@ -401,6 +405,7 @@ static xrsc_result value_of(const char *const *names, int count, const char *nam
 XRSC_ENUM_NAMES(method, xrsc_method, XRSC_ERROR_UNKNOWN_METHOD)
 XRSC_ENUM_NAMES(taa_mode, xrsc_taa_mode, XRSC_ERROR_INVALID_ARGUMENT)
 XRSC_ENUM_NAMES(taa_history, xrsc_taa_history, XRSC_ERROR_INVALID_ARGUMENT)
+XRSC_ENUM_NAMES(taa_motion, xrsc_taa_motion, XRSC_ERROR_INVALID_ARGUMENT)
 XRSC_ENUM_NAMES(blend, xrsc_blend, XRSC_ERROR_INVALID_ARGUMENT)
 XRSC_ENUM_NAMES(blend_estimate, xrsc_blend_estimate, XRSC_ERROR_INVALID_ARGUMENT)
 
@@ -433,8 +438,12 @@ static xrsc_result taa_create(xrsc_renderer *r, xrsc_diag *diag)
     r->opt.taa.mode = xrsc_taa_mode_resolve(r->opt.method, r->opt.taa.mode);
     if (r->opt.taa.mode == XRSC_TAA_OFF)
         return XRSC_OK;
-    tf_settings set = {
-        .mode = r->opt.taa.mode, .alpha = r->opt.taa.alpha, .history = r->opt.taa.history};
+    tf_settings set = {.mode = r->opt.taa.mode,
+                       .alpha = r->opt.taa.alpha,
+                       .history = r->opt.taa.history,
+                       .motion = r->opt.taa.motion,
+                       .motion_px2 = r->opt.taa.motion_px2,
+                       .motion_alpha = r->opt.taa.motion_alpha};
     tf_images imgs = {
         .color = mt_method_output_image(r->method, XRSC_OUTPUT_COLOR),
         .depth = mt_method_output_image(r->method, XRSC_OUTPUT_DEPTH),
@@ -458,6 +467,13 @@ static xrsc_result renderer_options_check(const xrsc_renderer_options *opt, xrsc
                           "TAA mode %d with alpha = %g, history filter %d (alpha must be in "
                           "(0, 1], 0 = default)",
                           (int)opt->taa.mode, (double)opt->taa.alpha, (int)opt->taa.history);
+    if ((unsigned)opt->taa.motion > XRSC_TAA_MOTION_ON || !(opt->taa.motion_px2 >= 0.0f) ||
+        !(opt->taa.motion_alpha >= 0.0f && opt->taa.motion_alpha <= 1.0f))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa.motion",
+                          "TAA motion rule %d with blur %g px^2, alpha %g (blur >= 0, alpha in "
+                          "[0, 1], 0 = default)",
+                          (int)opt->taa.motion, (double)opt->taa.motion_px2,
+                          (double)opt->taa.motion_alpha);
     return XRSC_OK;
 }
 

@@ -90,6 +90,12 @@ static xrsc_result check_args(const tf_settings *set, const tf_images *imgs, uin
     if ((unsigned)set->history > XRSC_TAA_HISTORY_CATMULL_ROM)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa.history",
                           "history filter %d is not bilinear or catmull-rom", (int)set->history);
+    if ((unsigned)set->motion > XRSC_TAA_MOTION_ON || !(set->motion_px2 > 0.0f) ||
+        !(set->motion_alpha > 0.0f && set->motion_alpha <= 1.0f))
+        return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa.motion",
+                          "motion rule %d with blur %g px^2 and alpha %g (blur > 0, alpha in "
+                          "(0, 1])",
+                          (int)set->motion, (double)set->motion_px2, (double)set->motion_alpha);
     if (!imgs || !size_ok(imgs->color, w, h) || !size_ok(imgs->depth, w, h) ||
         !size_ok(imgs->hitid, w, h))
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "images",
@@ -165,6 +171,10 @@ xrsc_result tf_taa_create(gpu_context *ctx, gpu_scene *scene, uint32_t instance_
         set.alpha = XS_TF_DEFAULT_ALPHA;
     if (set.history == XRSC_TAA_HISTORY_DEFAULT)
         set.history = XRSC_TAA_HISTORY_BILINEAR;
+    if (set.motion_px2 == 0.0f)
+        set.motion_px2 = XS_TF_MOTION_PX2;
+    if (set.motion_alpha == 0.0f)
+        set.motion_alpha = XS_TF_MOTION_ALPHA;
     xrsc_result res = check_args(&set, imgs, width, height, diag);
     if (res != XRSC_OK)
         return res;
@@ -230,6 +240,8 @@ static void upload_constants(tf_taa *t, const xs_frame *xf)
         .deform = t->deform ? 1u : 0u,
         .history_filter = t->set.history == XRSC_TAA_HISTORY_CATMULL_ROM ? XS_TF_HISTORY_CATMULL_ROM
                                                                          : XS_TF_HISTORY_BILINEAR,
+        .motion_px2 = t->set.motion == XRSC_TAA_MOTION_ON ? t->set.motion_px2 : 0.0f,
+        .motion_alpha = t->set.motion_alpha,
     };
     memcpy(p.prev_eyes, t->prev_eyes, sizeof(p.prev_eyes));
     memcpy(t->params.mapped, &p, sizeof(p));

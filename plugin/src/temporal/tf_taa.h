@@ -42,6 +42,11 @@ typedef struct tf_settings {
     float alpha;
     /** History resampling; XRSC_TAA_HISTORY_DEFAULT = bilinear. */
     xrsc_taa_history history;
+    /** Mode ON's motion rule (::xrsc_taa_motion): XRSC_TAA_MOTION_ON or not (DEFAULT = off);
+     *  motion_px2 / motion_alpha 0 = XS_TF_MOTION_PX2 /
+     *  XS_TF_MOTION_ALPHA. */
+    xrsc_taa_motion motion;
+    float motion_px2, motion_alpha;
     bool debug;
     /** Tests: reproject skinned and morphed surfaces as if rigid (the control of issue 21's
      *  deformation motion; zero = follow them through gpu_scene_prev_positions). */
