@@ -639,8 +639,8 @@ typedef struct xrsc_pass_timing {
  * position after the first frame). The first is always "tlas": the update of moved
  * (animated) instances and of the TLAS, about 0 ms when nothing moved (static scenes, or the
  * same display time as the last frame). Then the method's passes: `spp` and `primary` have
- * one, "trace" (both eyes); `samplecache` has "reproject", "trace_mask", "density", "trace",
- * "shade", "reconstruct" (`hybrid` the same); `hashcache` has "trace", "shade". With TAA on
+ * one, "trace" (both eyes); `samplecache` has "reproject" (with the trace mask), "density",
+ * "trace", "shade", "reconstruct" (`hybrid` the same); `hashcache` has "trace", "shade". With TAA on
  * (::xrsc_taa_options), "taa" follows them (its copies and dispatch); with a stereo blend
  * other than none, "blend" comes last (the copy of the colour and the blend dispatch).
  * Read-back copies for xrsc_renderer_read are not timed.

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file mt_samplecache.c
- * @brief Method `samplecache`: the per-eye sample cache of seed 000 §3 (reprojection, trace
- *        mask, density control, tracing, shading, reconstruction) on compute and ray-tracing
- *        programs, both eyes per dispatch (z = eye).
+ * @brief Method `samplecache`: the per-eye sample cache of seed 000 §3 (reprojection with
+ *        the trace mask, density control, tracing, shading, reconstruction) on compute and
+ *        ray-tracing programs, both eyes per dispatch (z = eye).
  */
 #include "mt_samplecache.h"
 
@@ -36,8 +36,7 @@ _Static_assert(XS_SC_ALPHA_CLAMPED == XRSC_SC_ALPHA_CLAMPED - 1 &&
 
 enum {
     PROG_REPROJECT,
-    PROG_COPY,
-    PROG_TRACE_MASK,
+    PROG_COPY, /* + the trace mask (issue 19: fused, it only fed the density pass) */
     PROG_DENSITY,
     PROG_SHADE_SELECT,
     PROG_RECONSTRUCT,
@@ -45,9 +44,8 @@ enum {
     PROG_COUNT
 };
 static const char *const prog_shader[PROG_COUNT] = {
-    "sc_reproject.comp",    "sc_copy.comp",         "sc_trace_mask.comp",
-    "sc_density.comp",      "sc_shade_select.comp", "sc_reconstruct.comp",
-    "sc_shade_importance.comp",
+    "sc_reproject.comp",   "sc_copy.comp",        "sc_density.comp",
+    "sc_shade_select.comp", "sc_reconstruct.comp", "sc_shade_importance.comp",
 };
 
 /* The cache bindings (set 1 of the ray-tracing programs). */
@@ -70,16 +68,15 @@ static const gpu_binding cache_bindings[] = {
 
 /* Frame passes after "tlas", in order (mt_samplecache_debug_stop_after). */
 enum {
-    STAGE_REPROJECT,
-    STAGE_TRACE_MASK,
+    STAGE_REPROJECT, /* + the trace mask (sc_copy.comp) */
     STAGE_DENSITY,
     STAGE_TRACE,
     STAGE_SHADE,
     STAGE_RECONSTRUCT
 };
-static const char *const stage_name[] = {MT_SC_PASS_REPROJECT, MT_SC_PASS_TRACE_MASK,
-                                         MT_SC_PASS_DENSITY,   MT_SC_PASS_TRACE,
-                                         MT_SC_PASS_SHADE,     MT_SC_PASS_RECONSTRUCT};
+static const char *const stage_name[] = {MT_SC_PASS_REPROJECT, MT_SC_PASS_DENSITY,
+                                         MT_SC_PASS_TRACE,     MT_SC_PASS_SHADE,
+                                         MT_SC_PASS_RECONSTRUCT};
 #define STAGE_COUNT (sizeof(stage_name) / sizeof(stage_name[0]))
 
 typedef struct mt_samplecache {
@@ -235,8 +232,10 @@ static void cmd_trace_list(gpu_context *ctx, VkCommandBuffer cmd, const gpu_rt_p
 }
 
 /* Stage "reproject": this copy's masks, statistics and depth words cleared (and on the first
- * frame the previous copy's), then sc_reproject.comp and sc_copy.comp (every variant: the
- * order-independent reservation of sc_reproject.comp leaves keys that sc_copy.comp copies). */
+ * frame the previous copy's), the work list's counts too (the density pass appends to it), then
+ * sc_reproject.comp and sc_copy.comp (every variant: the order-independent reservation of
+ * sc_reproject.comp leaves keys that sc_copy.comp copies; sc_copy.comp also writes the trace
+ * mask, from the depth words sc_reproject.comp wrote before the barrier). */
 static void record_reproject(mt_samplecache *s, VkCommandBuffer cmd)
 {
     VkDeviceSize plane = s->plane, cur = s->p.cur;
@@ -262,7 +261,9 @@ static void record_reproject(mt_samplecache *s, VkCommandBuffer cmd)
     if (s->p.isrt_m)
         cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
     cmd_fill(cmd, &s->used, 0, VK_WHOLE_SIZE, 0); /* every pool entry free until taken */
-    cmd_fill(cmd, &s->shade_list, sizeof(uint32_t), sizeof(uint32_t), 0); /* pool full count */
+    /* the trace list's count and the pool-full count (one fill: the density pass's own fill
+     * and barrier are gone) */
+    cmd_fill(cmd, &s->shade_list, 0, 2 * sizeof(uint32_t), 0);
     mt_trace_cmd_rays_reset(&s->trace, cmd);
     gpu_cmd_barrier_all(cmd);
     dispatch(cmd, s, PROG_REPROJECT);
@@ -294,12 +295,7 @@ static void record_stage(mt_samplecache *s, VkCommandBuffer cmd, uint32_t stage)
     case STAGE_REPROJECT:
         record_reproject(s, cmd);
         break;
-    case STAGE_TRACE_MASK:
-        dispatch(cmd, s, PROG_TRACE_MASK);
-        break;
-    case STAGE_DENSITY:
-        cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0); /* the trace list's count */
-        gpu_cmd_barrier_all(cmd);
+    case STAGE_DENSITY: /* the trace list's count was cleared with the reprojection's */
         dispatch(cmd, s, PROG_DENSITY);
         break;
     case STAGE_TRACE:
