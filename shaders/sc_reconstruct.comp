@@ -133,10 +133,10 @@ void rc_sums_init(out rc_sums r)
     r.sp_obs = r.sp_c = r.own_spec = r.own_all = 0.0;
 }
 
-/** Value x and count c of surface sample fh (slot s of pix) seen from eye e at o: emission +
- *  albedo x L_s; also its albedo, eye-specificity and, when closest so far, depth and hit id. */
-void rc_surface(inout rc_sums r, inout sc_tri tri, inout rc_material mc, uvec4 fh, uint s,
-                uint pix, vec3 o, xs_eye e, out vec3 x, out float c, out bool specific)
+/** Value x and count c of surface sample fh (pool address addr) seen from eye e at o: emission
+ *  + albedo x L_s; also its albedo, eye-specificity and, when closest so far, depth and hit id. */
+void rc_surface(inout rc_sums r, inout sc_tri tri, inout rc_material mc, uvec4 fh, uint addr,
+                vec3 o, xs_eye e, out vec3 x, out float c, out bool specific)
 {
     sc_tri_fetch(tri, fh, false);
     vec3 sp = sc_tri_position(tri, fh);
@@ -151,7 +151,7 @@ void rc_surface(inout rc_sums r, inout sc_tri tri, inout rc_material mc, uvec4 f
         r.hitid = uvec4(fh.w, fh.z, floatBitsToUint(bary.x), floatBitsToUint(bary.y));
         r.depth = -(e.view * vec4(sp, 1.0)).z;
     }
-    vec4 rad = sc_rad_load(sc_rad_at(scp.cur, s, pix));
+    vec4 rad = sc_rad_load(sc_rad_of(addr));
     c = rad.w;
     x = emitted + sc_demod(a) * rad.rgb;
 }
@@ -228,7 +228,8 @@ void main()
     uint foreign = sc_foreign_bits(scp.cur, pix); /* cross-eye reuse: the other eye's copies */
     for (uint bits = sc_vis(m) & sc_occ(m) & sc_all_slots(); bits != 0u; bits &= bits - 1u) {
         uint s = uint(findLSB(bits));
-        uvec4 fh = sc_fh[sc_slot_at(scp.cur, s, pix)];
+        uint a = sc_slot_at(scp.cur, s, pix); /* loaded once: 4 bytes per sample less */
+        uvec4 fh = sc_fh[a];
         vec3 x;
         float c;
         bool specific = false;
@@ -240,7 +241,7 @@ void main()
             c = 1.0;
             r.albedo_sum += vec3(1.0);
         } else {
-            rc_surface(r, tri, mc, fh, s, pix, o, e, x, c, specific);
+            rc_surface(r, tri, mc, fh, a, o, e, x, c, specific);
         }
         if ((foreign & sc_obit(s)) == 0u) {
             r.own_all += 1.0;
