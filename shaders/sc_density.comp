@@ -20,9 +20,9 @@
  * New samples take free slots first, then invisible ones, picked in random order; they get
  * their occupancy bit and a pool entry (pool_entries) now and are traced through a random
  * point of the pixel by sc_trace.rgen (plan.y). Reads the visible counts of the 5 x 5
- * neighbourhood from plan.w (written by sc_copy.comp; loaded once per workgroup tile) and
- * writes only its own pixel (and, through sc_pool_alloc, bits of other pixels' pool words:
- * which entry a sample gets depends on the order of the invocations, what it holds does not).
+ * neighbourhood from plan.w (written by sc_copy.comp; each once) and writes only its own
+ * pixel (and, through sc_pool_alloc, bits of other pixels' pool words: which entry a sample
+ * gets depends on the order of the invocations, what it holds does not).
  *
  * Cross-eye reuse (scp.cross_eye): the other eye's copies count as visible samples but are not
  * pruned (a pruned copy would come back next frame: the pixel's sample set would change every
@@ -46,36 +46,6 @@ layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1)
 
 /* RNG stream of this pass (sample index of xs_rng_seed). */
 #define SC_DENSITY_STREAM 0x5C0DE115u
-
-/* The visible counts (plan.w) of the workgroup's pixels and a border of 2, loaded once per
- * workgroup (issue 19: the 25 loads per pixel of each 5 x 5 window were most of this pass's
- * loads on lavapipe; 144 per 64 pixels now). Nothing in this pass writes plan.w. */
-#define SC_DENSITY_BORDER 2
-#define SC_DENSITY_TILE (int(XS_SC_GROUP) + 2 * SC_DENSITY_BORDER)
-shared uint s_count[SC_DENSITY_TILE][SC_DENSITY_TILE];
-
-/** The pixel of the tile's corner: the workgroup's first pixel after sc_work_item (which
- *  reverses x and y: then the group's last pixel), less the border. */
-ivec2 tile_origin()
-{
-    ivec2 first = ivec2(gl_WorkGroupID.xy * XS_SC_GROUP);
-    if (scp.debug_permute != 0u)
-        first = ivec2(frame.width, frame.height) - first - int(XS_SC_GROUP);
-    return first - SC_DENSITY_BORDER;
-}
-
-/** Every invocation of the workgroup loads its share of the tile of eye (0 outside the image). */
-void load_counts(ivec2 origin, uint eye)
-{
-    ivec2 size = ivec2(frame.width, frame.height);
-    const uint n = uint(SC_DENSITY_TILE * SC_DENSITY_TILE);
-    for (uint i = gl_LocalInvocationIndex; i < n; i += XS_SC_GROUP * XS_SC_GROUP) {
-        ivec2 t = ivec2(i % uint(SC_DENSITY_TILE), i / uint(SC_DENSITY_TILE));
-        ivec2 c = origin + t;
-        bool inside = all(greaterThanEqual(c, ivec2(0))) && all(lessThan(c, size));
-        s_count[t.y][t.x] = inside ? sc_plan[sc_pix(eye, uvec2(c))].w : 0u;
-    }
-}
 
 /** The k-th set bit (k < bitCount(bits)). */
 uint nth_bit(uint bits, uint k)
@@ -151,17 +121,19 @@ void density_isrt(uint pix)
 /**
  * The smallest and largest of the 3 x 3 means of the neighbourhoods containing pixel p (each
  * clipped to the image, as each of those pixels measures its own), from the visible counts
- * of the 5 x 5 window in the workgroup's tile at origin (pixels outside the image count 0;
- * integer sums, so the order of summation does not matter).
+ * of the 5 x 5 window loaded once (pixels outside the image count 0; integer sums, so the
+ * order of summation does not matter).
  */
-void neighbourhood_means(uvec2 p, ivec2 origin, out float mean_min, out float mean_max)
+void neighbourhood_means(uvec2 p, uint eye, out float mean_min, out float mean_max)
 {
     uint cnt[5][5];
     ivec2 size = ivec2(frame.width, frame.height);
-    ivec2 t = ivec2(p) - origin - SC_DENSITY_BORDER; /* the window's corner in the tile */
     for (int dy = 0; dy < 5; dy++)
-        for (int dx = 0; dx < 5; dx++)
-            cnt[dy][dx] = s_count[t.y + dy][t.x + dx];
+        for (int dx = 0; dx < 5; dx++) {
+            ivec2 c = ivec2(p) + ivec2(dx - 2, dy - 2);
+            bool inside = all(greaterThanEqual(c, ivec2(0))) && all(lessThan(c, size));
+            cnt[dy][dx] = inside ? sc_plan[sc_pix(eye, uvec2(c))].w : 0u;
+        }
     mean_min = 1e30;
     mean_max = 0.0;
     for (int oy = -1; oy <= 1; oy++)
@@ -230,23 +202,17 @@ void prune_samples(uint pix, float mean_max, uint nvis, uint foreign, inout uint
 void main()
 {
     uvec3 g = gl_GlobalInvocationID;
-    bool inside = g.x < frame.width && g.y < frame.height;
+    if (g.x >= frame.width || g.y >= frame.height)
+        return;
     g = sc_work_item(g); /* tests: the pool's allocations in another order */
-    uint eye = g.z; /* the same for the whole workgroup */
+    uint eye = g.z;
     uint pix = sc_pix(eye, g.xy);
-    if (sc_isrt()) { /* the same for the whole dispatch */
-        if (inside)
-            density_isrt(pix);
+    if (sc_isrt()) {
+        density_isrt(pix);
         return;
     }
-    /* the tile: every invocation loads, outside the image too, before the barrier */
-    ivec2 origin = tile_origin();
-    load_counts(origin, eye);
-    barrier();
-    if (!inside)
-        return;
     float mean_min, mean_max;
-    neighbourhood_means(g.xy, origin, mean_min, mean_max);
+    neighbourhood_means(g.xy, eye, mean_min, mean_max);
 
     uint mi = sc_mask_at(scp.cur, pix);
     uint m = sc_mask[mi];

@@ -15,8 +15,8 @@
  * (xs_viscache.glsl), every case failed (the commit that added this test: 2757 of 8192 floats
  * differed with default options at 32 x 32, and the visibility cache's counters differed from
  * frame 0 on). The size is not a multiple of the 8 x 8 workgroups, so the reversed order also
- * hands workgroups pixels that straddle two of them (the density pass's shared tile of
- * visible counts has its corner where sc_work_item puts the group, issue 19).
+ * hands workgroups pixels that straddle two of them (a pass that shares data within a
+ * workgroup must place it where sc_work_item puts the group).
  */
 #include "test_samplecache_util.h"
 

@@ -116,8 +116,8 @@ static void test_density_defaults(void)
     run_density("defaults: N = 12, n_target 4 +- 1", &o, T_W, T_H);
 }
 
-/* A size that is no multiple of the 8 x 8 workgroups: the density pass's shared tile of
- * visible counts (issue 19) also serves partly filled workgroups at the right and bottom. */
+/* A size that is no multiple of the 8 x 8 workgroups: partly filled workgroups at the right
+ * and bottom measure their neighbourhoods as the others do. */
 static void test_density_odd_size(void)
 {
     xrsc_samplecache_options o = {0};
