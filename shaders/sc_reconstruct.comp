@@ -2,7 +2,8 @@
 /**
  * @file sc_reconstruct.comp
  * @brief Sample cache pass "reconstruct" (seed 000 §3.3, §3.6): the pixel colour from the
- *        visible samples, plus albedo, depth, hit id and the raw moments mu_1, mu_2 (Eq. 5).
+ *        visible samples, plus albedo, depth, hit id and the raw moments mu_1, mu_2 (Eq. 5);
+ *        the push constant (XS_SC_RC_*) leaves the albedo out, or writes it alone.
  *
  * Per pixel, over the visible samples: surface samples give emission + albedo * L_s (their
  * demodulated radiance remodulated, xs_demod_albedo through sc_demod) with weight c_s, and
@@ -30,6 +31,10 @@ layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1)
 
 layout(set = 0, binding = XS_SC_BIND_OUT_MU1, rgba32f) uniform writeonly image2DArray out_mu1;
 layout(set = 0, binding = XS_SC_BIND_OUT_MU2, rgba32f) uniform writeonly image2DArray out_mu2;
+layout(push_constant) uniform XsScRcPush
+{
+    uint rc_outputs; /* XS_SC_RC_* */
+};
 
 /** The last material one invocation looked up: a material without textures has one albedo
  *  and emission, so it is evaluated once per run of samples with that material (most pixels'
@@ -197,8 +202,11 @@ void rc_store(inout rc_sums r, ivec3 coord)
         mu1 = rc_strata(r.sum_w1, r.c_total, r.sp_w1, r.sp_c, r.own_spec, r.own_all);
         mu2 = rc_strata(r.sum_w2, r.c_total, r.sp_w2, r.sp_c, r.own_spec, r.own_all);
     }
+    if (rc_outputs != XS_SC_RC_NO_ALBEDO)
+        imageStore(out_albedo, coord, vec4(albedo, 1.0));
+    if (rc_outputs == XS_SC_RC_ALBEDO_ONLY)
+        return; /* the frame's other outputs may have changed since (TAA, the blend) */
     imageStore(out_color, coord, vec4(color, 1.0));
-    imageStore(out_albedo, coord, vec4(albedo, 1.0));
     imageStore(out_depth, coord, vec4(r.depth));
     imageStore(out_hitid, coord, r.hitid);
     imageStore(out_mu1, coord, vec4(mu1, r.c_total));

@@ -97,6 +97,7 @@ typedef struct mt_samplecache {
     uint32_t frames;     /**< rendered so far (0: the previous copy must be cleared) */
     uint32_t stop_after; /**< last STAGE_* recorded (debug; STAGE_RECONSTRUCT = all) */
     const struct mt_sc_hybrid *hybrid; /**< `hybrid` (mt_hybrid.c, borrowed), else NULL */
+    bool albedo_stale; /**< the last frame's reconstruct left the albedo out (XS_SC_RC_*) */
     mt_viscache vis; /**< the shading pass's visibility cache (seed 002; not in `hybrid`) */
 } mt_samplecache;
 
@@ -213,11 +214,28 @@ static void cmd_fill(VkCommandBuffer cmd, const gpu_buffer *b, VkDeviceSize offs
     vkCmdFillBuffer(cmd, b->buffer, offset, size, value);
 }
 
-static void dispatch(VkCommandBuffer cmd, const mt_samplecache *s, int prog)
+/* One invocation per pixel of both eyes; push: the program's push constant, or NULL. */
+static void dispatch_push(VkCommandBuffer cmd, const mt_samplecache *s, int prog, const void *push)
 {
     uint32_t gx = (s->trace.env.width + XS_SC_GROUP - 1) / XS_SC_GROUP;
     uint32_t gy = (s->trace.env.height + XS_SC_GROUP - 1) / XS_SC_GROUP;
-    gpu_compute_program_cmd_dispatch(cmd, &s->prog[prog], NULL, gx, gy, 2);
+    gpu_compute_program_cmd_dispatch(cmd, &s->prog[prog], push, gx, gy, 2);
+}
+
+static void dispatch(VkCommandBuffer cmd, const mt_samplecache *s, int prog)
+{
+    dispatch_push(cmd, s, prog, NULL);
+}
+
+/* The frame's reconstruction: the albedo only when it was read after the last frame (then
+ * mt_trace stages it at this frame's end) or `hybrid` (its own shader writes it always);
+ * other reads of it run sc_reconstruct.comp again (sc_read). */
+static void record_reconstruct(mt_samplecache *s, VkCommandBuffer cmd)
+{
+    bool albedo = s->hybrid || (s->trace.read_mask >> XRSC_OUTPUT_ALBEDO & 1u);
+    uint32_t outputs = albedo ? XS_SC_RC_ALL : XS_SC_RC_NO_ALBEDO;
+    dispatch_push(cmd, s, PROG_RECONSTRUCT, &outputs);
+    s->albedo_stale = !albedo;
 }
 
 /** Launches program over a work list of up to `entries` entries (sc_list_entry): rows of
@@ -319,7 +337,7 @@ static void record_stage(mt_samplecache *s, VkCommandBuffer cmd, uint32_t stage)
         record_shade_launches(s, cmd);
         break;
     case STAGE_RECONSTRUCT:
-        dispatch(cmd, s, PROG_RECONSTRUCT);
+        record_reconstruct(s, cmd);
         break;
     }
 }
@@ -372,6 +390,7 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     xf.jitter = 1;
 
     s->p.cur = s->frames & 1u;
+    s->albedo_stale = false; /* record_reconstruct says otherwise */
     s->p.phi_left = pixel_phi(&frame->views[0].fov, w, h);
     s->p.phi_right = pixel_phi(&frame->views[1].fov, w, h);
     for (int e = 0; e < 2 && s->frames == 0; e++) /* no previous frame (w = 0) */
@@ -428,10 +447,35 @@ static size_t sc_output_size(const mt_method *m, xrsc_output output)
     return mt_trace_output_size(&((const mt_samplecache *)m)->trace, output);
 }
 
+/* The albedo of the last frame, when its reconstruction left it out: sc_reconstruct.comp
+ * again over the same cache, writing the albedo alone (the colour may have been changed by
+ * TAA or the blend since). */
+static xrsc_result sc_albedo_now(mt_samplecache *s, xrsc_diag *diag)
+{
+    gpu_context *ctx = s->trace.env.gpu;
+    VkCommandBuffer cmd;
+    xrsc_result res = gpu_cmd_begin(ctx, &cmd, diag);
+    if (res != XRSC_OK)
+        return res;
+    uint32_t outputs = XS_SC_RC_ALBEDO_ONLY;
+    gpu_cmd_barrier_all(cmd);
+    dispatch_push(cmd, s, PROG_RECONSTRUCT, &outputs);
+    gpu_cmd_barrier_all(cmd);
+    if ((res = gpu_cmd_submit_wait(ctx, cmd, diag)) == XRSC_OK)
+        s->albedo_stale = false;
+    return res;
+}
+
 static xrsc_result sc_read(mt_method *m, uint32_t eye, xrsc_output output, void *dst,
                            size_t dst_size, xrsc_diag *diag)
 {
-    return mt_trace_read(&((mt_samplecache *)m)->trace, eye, output, dst, dst_size, diag);
+    mt_samplecache *s = (mt_samplecache *)m;
+    if (output == XRSC_OUTPUT_ALBEDO && s->albedo_stale) {
+        xrsc_result res = sc_albedo_now(s, diag);
+        if (res != XRSC_OK)
+            return res;
+    }
+    return mt_trace_read(&s->trace, eye, output, dst, dst_size, diag);
 }
 
 static const gpu_image *sc_output_image(const mt_method *m, xrsc_output output)
@@ -611,9 +655,10 @@ static xrsc_result create_programs(mt_samplecache *s, xrsc_diag *diag)
     xrsc_result res = gpu_rt_program_create(ctx, &shade_desc, &s->shade, diag);
     for (int i = 0; res == XRSC_OK && i < PROG_COUNT; i++) {
         bool own = hy && i == PROG_RECONSTRUCT;
+        uint32_t push = !hy && i == PROG_RECONSTRUCT ? sizeof(uint32_t) : 0; /* XS_SC_RC_* */
         res = gpu_compute_program_create(ctx, own ? hy->reconstruct_shader : prog_shader[i],
-                                         own ? hb : cb, own ? hb_count : cb_count, 0, &s->prog[i],
-                                         diag);
+                                         own ? hb : cb, own ? hb_count : cb_count, push,
+                                         &s->prog[i], diag);
     }
     return res;
 }

@@ -19,7 +19,8 @@
  *
  * Frame: "tlas" (scene update), "reproject" (sc_reproject.comp + sc_copy.comp, which also
  * writes the trace mask), "density" (sc_density.comp), "trace" (sc_trace.rgen),
- * "shade" (sc_shade_select.comp + sc_shade.rgen), "reconstruct" (sc_reconstruct.comp).
+ * "shade" (sc_shade_select.comp + sc_shade.rgen), "reconstruct" (sc_reconstruct.comp; the
+ * albedo only when it was read after the frame before, else when it is read: XS_SC_RC_*).
  */
 #pragma once
 
