@@ -472,8 +472,8 @@ static void test_furnace_exact(void)
 #define T_ALBEDO_STEP_M 0.01f /* sideways head step per frame */
 
 /** Renders T_ALBEDO_FRAMES frames of the Cornell box with TAA and the moments blend (the
- *  replay's defaults); every_frame: reads the albedo after each frame (so the frames after the first
- *  make it in their reconstruction). Then reads both eyes' albedo and colour (4 floats a px). */
+ *  replay's defaults); every_frame: reads the albedo after each frame (so the frames after
+ *  the first make it in their reconstruction). Then reads both eyes' albedo and colour. */
 static void render_albedo(xrsc_context *ctx, xrsc_scene *scene, bool every_frame, float *albedo,
                           float *color)
 {

@@ -44,7 +44,7 @@ enum {
     PROG_COUNT
 };
 static const char *const prog_shader[PROG_COUNT] = {
-    "sc_reproject.comp",   "sc_copy.comp",        "sc_density.comp",
+    "sc_reproject.comp",    "sc_copy.comp",        "sc_density.comp",
     "sc_shade_select.comp", "sc_reconstruct.comp", "sc_shade_importance.comp",
 };
 
@@ -74,9 +74,8 @@ enum {
     STAGE_SHADE,
     STAGE_RECONSTRUCT
 };
-static const char *const stage_name[] = {MT_SC_PASS_REPROJECT, MT_SC_PASS_DENSITY,
-                                         MT_SC_PASS_TRACE,     MT_SC_PASS_SHADE,
-                                         MT_SC_PASS_RECONSTRUCT};
+static const char *const stage_name[] = {MT_SC_PASS_REPROJECT, MT_SC_PASS_DENSITY, MT_SC_PASS_TRACE,
+                                         MT_SC_PASS_SHADE, MT_SC_PASS_RECONSTRUCT};
 #define STAGE_COUNT (sizeof(stage_name) / sizeof(stage_name[0]))
 
 typedef struct mt_samplecache {
@@ -84,13 +83,13 @@ typedef struct mt_samplecache {
     mt_trace trace; /**< sc_trace.rgen + outputs, frame UBO, ray counter, timer, read-back */
     gpu_rt_program shade;
     gpu_compute_program prog[PROG_COUNT];
-    gpu_buffer params; /**< xs_sc_params, host-visible */
+    gpu_buffer params;         /**< xs_sc_params, host-visible */
     gpu_buffer shade_readback; /**< the shade list's header after the last frame (host) */
     uint32_t shaded;           /**< samples shaded in the last frame, both eyes */
     uint32_t pool_full;        /**< new samples the full pool refused in the last frame */
     uint64_t shade_rays;       /**< rays the shading pass traced in the last frame */
     gpu_buffer mask, fh, rad, depth_min, depth_max, src, plan, stats, shade_list, foreign;
-    gpu_buffer idx, used; /**< the slots' pool addresses, the pool's taken entries */
+    gpu_buffer idx, used;         /**< the slots' pool addresses, the pool's taken entries */
     xrsc_samplecache_options opt; /**< defaults filled in */
     xs_sc_params p;
     uint32_t plane;      /**< 2 * width * height */
@@ -98,7 +97,7 @@ typedef struct mt_samplecache {
     uint32_t stop_after; /**< last STAGE_* recorded (debug; STAGE_RECONSTRUCT = all) */
     const struct mt_sc_hybrid *hybrid; /**< `hybrid` (mt_hybrid.c, borrowed), else NULL */
     bool albedo_stale; /**< the last frame's reconstruct left the albedo out (XS_SC_RC_*) */
-    mt_viscache vis; /**< the shading pass's visibility cache (seed 002; not in `hybrid`) */
+    mt_viscache vis;   /**< the shading pass's visibility cache (seed 002; not in `hybrid`) */
 } mt_samplecache;
 
 _Static_assert(offsetof(mt_samplecache, base) == 0, "base first");
