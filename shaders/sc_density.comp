@@ -20,7 +20,7 @@
  * New samples take free slots first, then invisible ones, picked in random order; they get
  * their occupancy bit and a pool entry (pool_entries) now and are traced through a random
  * point of the pixel by sc_trace.rgen (plan.y). Reads the visible counts of the 5 x 5
- * neighbourhood from plan.w (written by sc_trace_mask.comp; each once) and writes only its own
+ * neighbourhood from plan.w (written by sc_copy.comp; each once) and writes only its own
  * pixel (and, through sc_pool_alloc, bits of other pixels' pool words: which entry a sample
  * gets depends on the order of the invocations, what it holds does not).
  *

@@ -2,7 +2,8 @@
 /**
  * @file sc_reconstruct.comp
  * @brief Sample cache pass "reconstruct" (seed 000 §3.3, §3.6): the pixel colour from the
- *        visible samples, plus albedo, depth, hit id and the raw moments mu_1, mu_2 (Eq. 5).
+ *        visible samples, plus albedo, depth, hit id and the raw moments mu_1, mu_2 (Eq. 5);
+ *        the push constant (XS_SC_RC_*) leaves the albedo out, or writes it alone.
  *
  * Per pixel, over the visible samples: surface samples give emission + albedo * L_s (their
  * demodulated radiance remodulated, xs_demod_albedo through sc_demod) with weight c_s, and
@@ -30,6 +31,10 @@ layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1)
 
 layout(set = 0, binding = XS_SC_BIND_OUT_MU1, rgba32f) uniform writeonly image2DArray out_mu1;
 layout(set = 0, binding = XS_SC_BIND_OUT_MU2, rgba32f) uniform writeonly image2DArray out_mu2;
+layout(push_constant) uniform XsScRcPush
+{
+    uint rc_outputs; /* XS_SC_RC_* */
+};
 
 /** The last material one invocation looked up: a material without textures has one albedo
  *  and emission, so it is evaluated once per run of samples with that material (most pixels'
@@ -133,10 +138,10 @@ void rc_sums_init(out rc_sums r)
     r.sp_obs = r.sp_c = r.own_spec = r.own_all = 0.0;
 }
 
-/** Value x and count c of surface sample fh (slot s of pix) seen from eye e at o: emission +
- *  albedo x L_s; also its albedo, eye-specificity and, when closest so far, depth and hit id. */
-void rc_surface(inout rc_sums r, inout sc_tri tri, inout rc_material mc, uvec4 fh, uint s,
-                uint pix, vec3 o, xs_eye e, out vec3 x, out float c, out bool specific)
+/** Value x and count c of surface sample fh (pool address addr) seen from eye e at o: emission
+ *  + albedo x L_s; also its albedo, eye-specificity and, when closest so far, depth and hit id. */
+void rc_surface(inout rc_sums r, inout sc_tri tri, inout rc_material mc, uvec4 fh, uint addr,
+                vec3 o, xs_eye e, out vec3 x, out float c, out bool specific)
 {
     sc_tri_fetch(tri, fh, false);
     vec3 sp = sc_tri_position(tri, fh);
@@ -151,7 +156,7 @@ void rc_surface(inout rc_sums r, inout sc_tri tri, inout rc_material mc, uvec4 f
         r.hitid = uvec4(fh.w, fh.z, floatBitsToUint(bary.x), floatBitsToUint(bary.y));
         r.depth = -(e.view * vec4(sp, 1.0)).z;
     }
-    vec4 rad = sc_rad_load(sc_rad_at(scp.cur, s, pix));
+    vec4 rad = sc_rad_load(sc_rad_of(addr));
     c = rad.w;
     x = emitted + sc_demod(a) * rad.rgb;
 }
@@ -197,8 +202,11 @@ void rc_store(inout rc_sums r, ivec3 coord)
         mu1 = rc_strata(r.sum_w1, r.c_total, r.sp_w1, r.sp_c, r.own_spec, r.own_all);
         mu2 = rc_strata(r.sum_w2, r.c_total, r.sp_w2, r.sp_c, r.own_spec, r.own_all);
     }
+    if (rc_outputs != XS_SC_RC_NO_ALBEDO)
+        imageStore(out_albedo, coord, vec4(albedo, 1.0));
+    if (rc_outputs == XS_SC_RC_ALBEDO_ONLY)
+        return; /* the frame's other outputs may have changed since (TAA, the blend) */
     imageStore(out_color, coord, vec4(color, 1.0));
-    imageStore(out_albedo, coord, vec4(albedo, 1.0));
     imageStore(out_depth, coord, vec4(r.depth));
     imageStore(out_hitid, coord, r.hitid);
     imageStore(out_mu1, coord, vec4(mu1, r.c_total));
@@ -228,7 +236,8 @@ void main()
     uint foreign = sc_foreign_bits(scp.cur, pix); /* cross-eye reuse: the other eye's copies */
     for (uint bits = sc_vis(m) & sc_occ(m) & sc_all_slots(); bits != 0u; bits &= bits - 1u) {
         uint s = uint(findLSB(bits));
-        uvec4 fh = sc_fh[sc_slot_at(scp.cur, s, pix)];
+        uint a = sc_slot_at(scp.cur, s, pix); /* loaded once: 4 bytes per sample less */
+        uvec4 fh = sc_fh[a];
         vec3 x;
         float c;
         bool specific = false;
@@ -240,7 +249,7 @@ void main()
             c = 1.0;
             r.albedo_sum += vec3(1.0);
         } else {
-            rc_surface(r, tri, mc, fh, s, pix, o, e, x, c, specific);
+            rc_surface(r, tri, mc, fh, a, o, e, x, c, specific);
         }
         if ((foreign & sc_obit(s)) == 0u) {
             r.own_all += 1.0;

@@ -7,7 +7,8 @@
  * Candidates are the visible surface samples (background samples need no shading).
  * - uniform: one candidate per pixel, round robin over the slots (§3.3);
  * - adaptive: one candidate of one pixel per block x block block as base rate (as in
- *   sc_trace_mask.comp), plus a share of all candidates chosen by importance w = 1 / (1 + c_s)
+ *   sc_copy.comp's trace mask), plus a share of all candidates chosen by importance
+ *   w = 1 / (1 + c_s)
  *   (adaptive-variance: w = the relative variance of the sample's mean, v / (1 + c_s), v from
  *   the spread of the pixel's samples, which sc_shade_importance.comp leaves in plan.z, with
  *   the candidates in plan.y's upper half and this frame's histogram):

@@ -189,6 +189,15 @@
 /* Compute workgroup size (x, y) of every sample-cache compute shader. */
 #define XS_SC_GROUP 8u
 
+/* sc_reconstruct.comp's push constant (one uint, issue 19): the outputs it writes. Nothing in
+ * a frame reads the albedo (on lavapipe its store cost about 2 ms of the pass at 2 x 256^2),
+ * so the frame's pass writes it only when it was read after the frame before (mt_trace then
+ * stages it at the frame's end); any other read runs the pass again for the albedo alone,
+ * over the same cache, so the values are the same. */
+#define XS_SC_RC_ALL 0u
+#define XS_SC_RC_NO_ALBEDO 1u
+#define XS_SC_RC_ALBEDO_ONLY 2u
+
 XS_STRUCT(xs_sc_params)
 {
     xs_uint slots;        /* N */

@@ -14,13 +14,15 @@
  * Before the order-independent reservation (sc_reproject.comp) and insertion
  * (xs_viscache.glsl), every case failed (the commit that added this test: 2757 of 8192 floats
  * differed with default options at 32 x 32, and the visibility cache's counters differed from
- * frame 0 on).
+ * frame 0 on). The size is not a multiple of the 8 x 8 workgroups, so the reversed order also
+ * hands workgroups pixels that straddle two of them (a pass that shares data within a
+ * workgroup must place it where sc_work_item puts the group).
  */
 #include "test_samplecache_util.h"
 
 #include <stdlib.h>
 
-#define T_W 24u
+#define T_W 26u /* 3 workgroups and 2 pixels */
 #define T_FRAMES 3u
 /* sideways head step per frame, m: a few pixels of parallax at the Cornell box's depth */
 #define T_STEP_M 0.02f

@@ -3,7 +3,7 @@
  * @file test_samplecache_edge.c
  * @brief The edge test of the sample cache, Eq. 2 with the slope Delta of Eq. 1 (seed 000
  *        §3.4, App. A), on synthetic neighbourhoods (device and C builds of xs_sc_math.h) and
- *        in the "trace_mask" pass.
+ *        in the trace mask (sc_copy.comp, pass "reproject").
  *
  * - test_synthetic_neighbourhoods: 3 x 3 pixels of the default headset's left eye (2064 x 2208,
  *   phi = the pixel diagonal's angle, as mt_samplecache.c computes it), T_SPP samples at

@@ -646,7 +646,9 @@ typedef enum xrsc_output {
 
 /** Bytes one eye's image of that output takes (width * height * texel size). */
 size_t xrsc_renderer_output_size(const xrsc_renderer *renderer, xrsc_output output);
-/** Copies one eye's output of the last rendered frame into dst (rows top to bottom). */
+/** Copies one eye's output of the last rendered frame into dst (rows top to bottom).
+ *  `samplecache`'s albedo is made in the frame only when it was read after the frame before;
+ *  otherwise this read runs its reconstruction again for it (same values, one more submit). */
 xrsc_result xrsc_renderer_read(xrsc_renderer *renderer, uint32_t eye, xrsc_output output,
                                void *dst, size_t dst_size);
 
@@ -663,9 +665,9 @@ typedef struct xrsc_pass_timing {
  * position after the first frame). The first is always "tlas": the update of moved
  * (animated) instances and of the TLAS, about 0 ms when nothing moved (static scenes, or the
  * same display time as the last frame). Then the method's passes: `spp` and `primary` have
- * one, "trace" (both eyes); `samplecache` has "reproject", "trace_mask", "density", "trace",
- * "shade", "reconstruct" (`hybrid` the same); `hashcache` has "trace", "shade". With TAA on
- * (::xrsc_taa_options), "taa" follows them (its copies and dispatch); with a stereo blend
+ * one, "trace" (both eyes); `samplecache` has "reproject" (with the trace mask), "density",
+ * "trace", "shade", "reconstruct" (`hybrid` the same); `hashcache` has "trace", "shade". With
+ * TAA on (::xrsc_taa_options), "taa" follows them (its copies and dispatch); with a stereo blend
  * other than none, "blend" comes last (the copy of the colour and the blend dispatch).
  * Read-back copies for xrsc_renderer_read are not timed.
  */

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file mt_samplecache.c
- * @brief Method `samplecache`: the per-eye sample cache of seed 000 §3 (reprojection, trace
- *        mask, density control, tracing, shading, reconstruction) on compute and ray-tracing
- *        programs, both eyes per dispatch (z = eye).
+ * @brief Method `samplecache`: the per-eye sample cache of seed 000 §3 (reprojection with
+ *        the trace mask, density control, tracing, shading, reconstruction) on compute and
+ *        ray-tracing programs, both eyes per dispatch (z = eye).
  */
 #include "mt_samplecache.h"
 
@@ -36,8 +36,7 @@ _Static_assert(XS_SC_ALPHA_CLAMPED == XRSC_SC_ALPHA_CLAMPED - 1 &&
 
 enum {
     PROG_REPROJECT,
-    PROG_COPY,
-    PROG_TRACE_MASK,
+    PROG_COPY, /* + the trace mask (issue 19: fused, it only fed the density pass) */
     PROG_DENSITY,
     PROG_SHADE_SELECT,
     PROG_RECONSTRUCT,
@@ -45,9 +44,8 @@ enum {
     PROG_COUNT
 };
 static const char *const prog_shader[PROG_COUNT] = {
-    "sc_reproject.comp",    "sc_copy.comp",         "sc_trace_mask.comp",
-    "sc_density.comp",      "sc_shade_select.comp", "sc_reconstruct.comp",
-    "sc_shade_importance.comp",
+    "sc_reproject.comp",    "sc_copy.comp",        "sc_density.comp",
+    "sc_shade_select.comp", "sc_reconstruct.comp", "sc_shade_importance.comp",
 };
 
 /* The cache bindings (set 1 of the ray-tracing programs). */
@@ -70,16 +68,14 @@ static const gpu_binding cache_bindings[] = {
 
 /* Frame passes after "tlas", in order (mt_samplecache_debug_stop_after). */
 enum {
-    STAGE_REPROJECT,
-    STAGE_TRACE_MASK,
+    STAGE_REPROJECT, /* + the trace mask (sc_copy.comp) */
     STAGE_DENSITY,
     STAGE_TRACE,
     STAGE_SHADE,
     STAGE_RECONSTRUCT
 };
-static const char *const stage_name[] = {MT_SC_PASS_REPROJECT, MT_SC_PASS_TRACE_MASK,
-                                         MT_SC_PASS_DENSITY,   MT_SC_PASS_TRACE,
-                                         MT_SC_PASS_SHADE,     MT_SC_PASS_RECONSTRUCT};
+static const char *const stage_name[] = {MT_SC_PASS_REPROJECT, MT_SC_PASS_DENSITY, MT_SC_PASS_TRACE,
+                                         MT_SC_PASS_SHADE, MT_SC_PASS_RECONSTRUCT};
 #define STAGE_COUNT (sizeof(stage_name) / sizeof(stage_name[0]))
 
 typedef struct mt_samplecache {
@@ -87,20 +83,21 @@ typedef struct mt_samplecache {
     mt_trace trace; /**< sc_trace.rgen + outputs, frame UBO, ray counter, timer, read-back */
     gpu_rt_program shade;
     gpu_compute_program prog[PROG_COUNT];
-    gpu_buffer params; /**< xs_sc_params, host-visible */
+    gpu_buffer params;         /**< xs_sc_params, host-visible */
     gpu_buffer shade_readback; /**< the shade list's header after the last frame (host) */
     uint32_t shaded;           /**< samples shaded in the last frame, both eyes */
     uint32_t pool_full;        /**< new samples the full pool refused in the last frame */
     uint64_t shade_rays;       /**< rays the shading pass traced in the last frame */
     gpu_buffer mask, fh, rad, depth_min, depth_max, src, plan, stats, shade_list, foreign;
-    gpu_buffer idx, used; /**< the slots' pool addresses, the pool's taken entries */
+    gpu_buffer idx, used;         /**< the slots' pool addresses, the pool's taken entries */
     xrsc_samplecache_options opt; /**< defaults filled in */
     xs_sc_params p;
     uint32_t plane;      /**< 2 * width * height */
     uint32_t frames;     /**< rendered so far (0: the previous copy must be cleared) */
     uint32_t stop_after; /**< last STAGE_* recorded (debug; STAGE_RECONSTRUCT = all) */
     const struct mt_sc_hybrid *hybrid; /**< `hybrid` (mt_hybrid.c, borrowed), else NULL */
-    mt_viscache vis; /**< the shading pass's visibility cache (seed 002; not in `hybrid`) */
+    bool albedo_stale; /**< the last frame's reconstruct left the albedo out (XS_SC_RC_*) */
+    mt_viscache vis;   /**< the shading pass's visibility cache (seed 002; not in `hybrid`) */
 } mt_samplecache;
 
 _Static_assert(offsetof(mt_samplecache, base) == 0, "base first");
@@ -216,11 +213,28 @@ static void cmd_fill(VkCommandBuffer cmd, const gpu_buffer *b, VkDeviceSize offs
     vkCmdFillBuffer(cmd, b->buffer, offset, size, value);
 }
 
-static void dispatch(VkCommandBuffer cmd, const mt_samplecache *s, int prog)
+/* One invocation per pixel of both eyes; push: the program's push constant, or NULL. */
+static void dispatch_push(VkCommandBuffer cmd, const mt_samplecache *s, int prog, const void *push)
 {
     uint32_t gx = (s->trace.env.width + XS_SC_GROUP - 1) / XS_SC_GROUP;
     uint32_t gy = (s->trace.env.height + XS_SC_GROUP - 1) / XS_SC_GROUP;
-    gpu_compute_program_cmd_dispatch(cmd, &s->prog[prog], NULL, gx, gy, 2);
+    gpu_compute_program_cmd_dispatch(cmd, &s->prog[prog], push, gx, gy, 2);
+}
+
+static void dispatch(VkCommandBuffer cmd, const mt_samplecache *s, int prog)
+{
+    dispatch_push(cmd, s, prog, NULL);
+}
+
+/* The frame's reconstruction: the albedo only when it was read after the last frame (then
+ * mt_trace stages it at this frame's end) or `hybrid` (its own shader writes it always);
+ * other reads of it run sc_reconstruct.comp again (sc_read). */
+static void record_reconstruct(mt_samplecache *s, VkCommandBuffer cmd)
+{
+    bool albedo = s->hybrid || (s->trace.read_mask >> XRSC_OUTPUT_ALBEDO & 1u);
+    uint32_t outputs = albedo ? XS_SC_RC_ALL : XS_SC_RC_NO_ALBEDO;
+    dispatch_push(cmd, s, PROG_RECONSTRUCT, &outputs);
+    s->albedo_stale = !albedo;
 }
 
 /** Launches program over a work list of up to `entries` entries (sc_list_entry): rows of
@@ -235,8 +249,10 @@ static void cmd_trace_list(gpu_context *ctx, VkCommandBuffer cmd, const gpu_rt_p
 }
 
 /* Stage "reproject": this copy's masks, statistics and depth words cleared (and on the first
- * frame the previous copy's), then sc_reproject.comp and sc_copy.comp (every variant: the
- * order-independent reservation of sc_reproject.comp leaves keys that sc_copy.comp copies). */
+ * frame the previous copy's), the work list's counts too (the density pass appends to it), then
+ * sc_reproject.comp and sc_copy.comp (every variant: the order-independent reservation of
+ * sc_reproject.comp leaves keys that sc_copy.comp copies; sc_copy.comp also writes the trace
+ * mask, from the depth words sc_reproject.comp wrote before the barrier). */
 static void record_reproject(mt_samplecache *s, VkCommandBuffer cmd)
 {
     VkDeviceSize plane = s->plane, cur = s->p.cur;
@@ -262,7 +278,9 @@ static void record_reproject(mt_samplecache *s, VkCommandBuffer cmd)
     if (s->p.isrt_m)
         cmd_fill(cmd, &s->src, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
     cmd_fill(cmd, &s->used, 0, VK_WHOLE_SIZE, 0); /* every pool entry free until taken */
-    cmd_fill(cmd, &s->shade_list, sizeof(uint32_t), sizeof(uint32_t), 0); /* pool full count */
+    /* the trace list's count and the pool-full count (one fill: the density pass's own fill
+     * and barrier are gone) */
+    cmd_fill(cmd, &s->shade_list, 0, 2 * sizeof(uint32_t), 0);
     mt_trace_cmd_rays_reset(&s->trace, cmd);
     gpu_cmd_barrier_all(cmd);
     dispatch(cmd, s, PROG_REPROJECT);
@@ -294,12 +312,7 @@ static void record_stage(mt_samplecache *s, VkCommandBuffer cmd, uint32_t stage)
     case STAGE_REPROJECT:
         record_reproject(s, cmd);
         break;
-    case STAGE_TRACE_MASK:
-        dispatch(cmd, s, PROG_TRACE_MASK);
-        break;
-    case STAGE_DENSITY:
-        cmd_fill(cmd, &s->shade_list, 0, sizeof(uint32_t), 0); /* the trace list's count */
-        gpu_cmd_barrier_all(cmd);
+    case STAGE_DENSITY: /* the trace list's count was cleared with the reprojection's */
         dispatch(cmd, s, PROG_DENSITY);
         break;
     case STAGE_TRACE:
@@ -323,7 +336,7 @@ static void record_stage(mt_samplecache *s, VkCommandBuffer cmd, uint32_t stage)
         record_shade_launches(s, cmd);
         break;
     case STAGE_RECONSTRUCT:
-        dispatch(cmd, s, PROG_RECONSTRUCT);
+        record_reconstruct(s, cmd);
         break;
     }
 }
@@ -376,6 +389,7 @@ static xrsc_result sc_render(mt_method *m, const xrsc_frame *frame, xrsc_diag *d
     xf.jitter = 1;
 
     s->p.cur = s->frames & 1u;
+    s->albedo_stale = false; /* record_reconstruct says otherwise */
     s->p.phi_left = pixel_phi(&frame->views[0].fov, w, h);
     s->p.phi_right = pixel_phi(&frame->views[1].fov, w, h);
     for (int e = 0; e < 2 && s->frames == 0; e++) /* no previous frame (w = 0) */
@@ -432,10 +446,35 @@ static size_t sc_output_size(const mt_method *m, xrsc_output output)
     return mt_trace_output_size(&((const mt_samplecache *)m)->trace, output);
 }
 
+/* The albedo of the last frame, when its reconstruction left it out: sc_reconstruct.comp
+ * again over the same cache, writing the albedo alone (the colour may have been changed by
+ * TAA or the blend since). */
+static xrsc_result sc_albedo_now(mt_samplecache *s, xrsc_diag *diag)
+{
+    gpu_context *ctx = s->trace.env.gpu;
+    VkCommandBuffer cmd;
+    xrsc_result res = gpu_cmd_begin(ctx, &cmd, diag);
+    if (res != XRSC_OK)
+        return res;
+    uint32_t outputs = XS_SC_RC_ALBEDO_ONLY;
+    gpu_cmd_barrier_all(cmd);
+    dispatch_push(cmd, s, PROG_RECONSTRUCT, &outputs);
+    gpu_cmd_barrier_all(cmd);
+    if ((res = gpu_cmd_submit_wait(ctx, cmd, diag)) == XRSC_OK)
+        s->albedo_stale = false;
+    return res;
+}
+
 static xrsc_result sc_read(mt_method *m, uint32_t eye, xrsc_output output, void *dst,
                            size_t dst_size, xrsc_diag *diag)
 {
-    return mt_trace_read(&((mt_samplecache *)m)->trace, eye, output, dst, dst_size, diag);
+    mt_samplecache *s = (mt_samplecache *)m;
+    if (output == XRSC_OUTPUT_ALBEDO && s->albedo_stale) {
+        xrsc_result res = sc_albedo_now(s, diag);
+        if (res != XRSC_OK)
+            return res;
+    }
+    return mt_trace_read(&s->trace, eye, output, dst, dst_size, diag);
 }
 
 static const gpu_image *sc_output_image(const mt_method *m, xrsc_output output)
@@ -615,9 +654,10 @@ static xrsc_result create_programs(mt_samplecache *s, xrsc_diag *diag)
     xrsc_result res = gpu_rt_program_create(ctx, &shade_desc, &s->shade, diag);
     for (int i = 0; res == XRSC_OK && i < PROG_COUNT; i++) {
         bool own = hy && i == PROG_RECONSTRUCT;
+        uint32_t push = !hy && i == PROG_RECONSTRUCT ? sizeof(uint32_t) : 0; /* XS_SC_RC_* */
         res = gpu_compute_program_create(ctx, own ? hy->reconstruct_shader : prog_shader[i],
-                                         own ? hb : cb, own ? hb_count : cb_count, 0, &s->prog[i],
-                                         diag);
+                                         own ? hb : cb, own ? hb_count : cb_count, push,
+                                         &s->prog[i], diag);
     }
     return res;
 }

@@ -17,9 +17,10 @@
  * traced), sc_bytes_per_px, sc_pool_full (new samples not created in the last frame because
  * the pool was full).
  *
- * Frame: "tlas" (scene update), "reproject" (sc_reproject.comp [+ sc_copy.comp]),
- * "trace_mask" (sc_trace_mask.comp), "density" (sc_density.comp), "trace" (sc_trace.rgen),
- * "shade" (sc_shade_select.comp + sc_shade.rgen), "reconstruct" (sc_reconstruct.comp).
+ * Frame: "tlas" (scene update), "reproject" (sc_reproject.comp + sc_copy.comp, which also
+ * writes the trace mask), "density" (sc_density.comp), "trace" (sc_trace.rgen),
+ * "shade" (sc_shade_select.comp + sc_shade.rgen), "reconstruct" (sc_reconstruct.comp; the
+ * albedo only when it was read after the frame before, else when it is read: XS_SC_RC_*).
  */
 #pragma once
 
@@ -32,7 +33,6 @@ extern "C" {
 
 /** Pass names (xrsc_renderer_timings), in frame order after MT_PASS_TLAS. */
 #define MT_SC_PASS_REPROJECT "reproject"
-#define MT_SC_PASS_TRACE_MASK "trace_mask"
 #define MT_SC_PASS_DENSITY "density"
 #define MT_SC_PASS_TRACE "trace"
 #define MT_SC_PASS_SHADE "shade"

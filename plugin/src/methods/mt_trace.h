@@ -23,8 +23,8 @@ extern "C" {
  *   instances moved since the last frame; always present, ~0 ms when nothing moved (static
  *   scene or same scene time). Always the first pass.
  * - MT_PASS_TRACE: the one vkCmdTraceRaysKHR of both eyes.
- * Later methods add theirs after MT_PASS_TLAS (e.g. "reproject", "trace_mask", "density",
- * "trace", "shade", "reconstruct"); read-back copies are never timed.
+ * Later methods add theirs after MT_PASS_TLAS (e.g. "reproject", "density", "trace",
+ * "shade", "reconstruct"); read-back copies are never timed.
  */
 #define MT_PASS_TLAS "tlas"
 #define MT_PASS_TRACE "trace"
