@@ -5,6 +5,7 @@
  */
 #include "gpu_context.h"
 
+#include "gpu_pipeline.h"
 #include "u_device.h"
 #include "u_diag.h"
 
@@ -717,6 +718,7 @@ void gpu_context_destroy(gpu_context **pctx)
     gpu_context *ctx = *pctx;
     if (ctx->device) {
         vkDeviceWaitIdle(ctx->device);
+        gpu_rt_pipelines_destroy(ctx);
         if (ctx->fence)
             vkDestroyFence(ctx->device, ctx->fence, NULL);
         if (ctx->command_pool)

@@ -56,6 +56,15 @@ typedef struct gpu_context {
     uint32_t device_index;      /**< physical-device index chosen */
     uint64_t submit_count;      /**< vkQueueSubmit calls so far (the only one is in
                                  *   gpu_cmd_submit_wait); tests count submissions per frame */
+    /** Ray-tracing pipelines made so far, one per raygen, specialization and layout, shared by
+     *  every gpu_rt_program that asks for the same one (gpu_pipeline.c) and destroyed with the
+     *  context. lavapipe numbers each new pipeline's shader groups from a device-wide counter
+     *  and compiles the numbers into the pipeline's code, so a second pipeline of the same
+     *  shaders is another LLVM compile (20-30 s of CPU each for `spp` or the sample cache's
+     *  shading) that no shader cache serves; a renderer made after another of the same
+     *  method now reuses its pipelines (issue 22). */
+    struct gpu_rt_pipeline_entry *rt_pipelines;
+    uint32_t rt_pipeline_count;
 } gpu_context;
 
 /**

@@ -10,8 +10,29 @@
 #include "xrsc_shared.h"
 #include "xs_spirv.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+/* Seconds of one clock (CLOCK_MONOTONIC or CLOCK_PROCESS_CPUTIME_ID). */
+static double clock_s(clockid_t id)
+{
+    struct timespec ts;
+    clock_gettime(id, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* XRSC_LOG=debug: each pipeline made, which variant, and what its creation cost, to see what a
+ * test or a run compiles (issue 22). On lavapipe creation only translates to NIR; LLVM compiles
+ * the pipeline at its first dispatch (tens of seconds for a ray-tracing pipeline on a cold
+ * shader cache), which then shows in that frame's time. */
+static void log_pipeline(const char *kind, const char *shader, const char *variant, double wall0,
+                         double cpu0)
+{
+    U_LOG_D("pipeline %s %s%s: %.2f s wall, %.2f s CPU", kind, shader, variant,
+            clock_s(CLOCK_MONOTONIC) - wall0, clock_s(CLOCK_PROCESS_CPUTIME_ID) - cpu0);
+}
 
 _Static_assert(XS_MISS_INDEX_PRIMARY == 0 && XS_MISS_INDEX_SHADOW == 1,
                "miss records are laid out in this order");
@@ -328,19 +349,180 @@ done:
     return res;
 }
 
+/* The raygen's specialization constants: XS_SPEC_GLASS_ID, XS_SPEC_VISCACHE_ID. */
+typedef struct rt_spec {
+    VkBool32 data[2];
+    VkSpecializationMapEntry entries[2];
+    VkSpecializationInfo info;
+} rt_spec;
+
+static void rt_spec_init(const gpu_rt_program_desc *desc, rt_spec *s)
+{
+    s->data[0] = desc->glass ? VK_TRUE : VK_FALSE;
+    s->data[1] = desc->viscache ? VK_TRUE : VK_FALSE;
+    s->entries[0] = (VkSpecializationMapEntry){XS_SPEC_GLASS_ID, 0, sizeof(VkBool32)};
+    s->entries[1] =
+        (VkSpecializationMapEntry){XS_SPEC_VISCACHE_ID, sizeof(VkBool32), sizeof(VkBool32)};
+    s->info = (VkSpecializationInfo){2, s->entries, sizeof(s->data), s->data};
+}
+
+/* The shader modules of desc's stages (raygen, both misses, closest and any hit). */
+static xrsc_result rt_modules_create(gpu_context *ctx, const gpu_rt_program_desc *desc,
+                                     VkShaderModule modules[STAGE_COUNT], xrsc_diag *diag)
+{
+    xrsc_result res = XRSC_OK;
+    const char *names[STAGE_COUNT] = {desc->raygen, "primary.rmiss", "shadow.rmiss", "hit.rchit",
+                                      "hit.rahit"};
+    for (int i = 0; i < STAGE_COUNT; i++) {
+        if (i == STAGE_RGEN && desc->raygen_spirv) {
+            VkShaderModuleCreateInfo ci = {
+                .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
+                .codeSize = desc->raygen_spirv_size,
+                .pCode = desc->raygen_spirv,
+            };
+            GPU_CHECK(res, diag, done, vkCreateShaderModule(ctx->device, &ci, NULL, &modules[i]));
+        } else if ((res = gpu_shader_module_create(ctx, names[i], &modules[i], diag)) !=
+                   XRSC_OK) {
+            return res;
+        }
+    }
+done:
+    return res;
+}
+
+/* A new ray-tracing pipeline of desc's shaders with the given layout. */
+static xrsc_result rt_pipeline_create(gpu_context *ctx, const gpu_rt_program_desc *desc,
+                                      VkPipelineLayout layout, VkPipeline *out, xrsc_diag *diag)
+{
+    static const VkShaderStageFlagBits stage_bits[STAGE_COUNT] = {
+        VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
+        VK_SHADER_STAGE_MISS_BIT_KHR, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR,
+        VK_SHADER_STAGE_ANY_HIT_BIT_KHR};
+    VkShaderModule modules[STAGE_COUNT] = {0};
+    xrsc_result res = rt_modules_create(ctx, desc, modules, diag);
+    if (res != XRSC_OK)
+        goto done;
+    rt_spec spec;
+    rt_spec_init(desc, &spec);
+    VkPipelineShaderStageCreateInfo stages[STAGE_COUNT];
+    for (int i = 0; i < STAGE_COUNT; i++)
+        stages[i] = (VkPipelineShaderStageCreateInfo){
+            .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+            .stage = stage_bits[i],
+            .module = modules[i],
+            .pName = "main",
+            .pSpecializationInfo = i == STAGE_RGEN ? &spec.info : NULL,
+        };
+    VkRayTracingShaderGroupCreateInfoKHR groups[GROUP_COUNT];
+    for (int g = 0; g < GROUP_COUNT; g++)
+        groups[g] = (VkRayTracingShaderGroupCreateInfoKHR){
+            .sType = VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR,
+            .type = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR,
+            .generalShader = VK_SHADER_UNUSED_KHR,
+            .closestHitShader = VK_SHADER_UNUSED_KHR,
+            .anyHitShader = VK_SHADER_UNUSED_KHR,
+            .intersectionShader = VK_SHADER_UNUSED_KHR,
+        };
+    groups[GROUP_RGEN].generalShader = STAGE_RGEN;
+    groups[GROUP_MISS_PRIMARY].generalShader = STAGE_MISS_PRIMARY;
+    groups[GROUP_MISS_SHADOW].generalShader = STAGE_MISS_SHADOW;
+    groups[GROUP_HIT].type = VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR;
+    groups[GROUP_HIT].closestHitShader = STAGE_CHIT;
+    /* alphaMode MASK / BLEND (hit.rahit): runs only for non-opaque instances (gpu_scene.c) */
+    groups[GROUP_HIT].anyHitShader = STAGE_AHIT;
+    VkRayTracingPipelineCreateInfoKHR pci = {
+        .sType = VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR,
+        .stageCount = STAGE_COUNT,
+        .pStages = stages,
+        .groupCount = GROUP_COUNT,
+        .pGroups = groups,
+        .maxPipelineRayRecursionDepth = 1,
+        .layout = layout,
+    };
+    double wall0 = clock_s(CLOCK_MONOTONIC), cpu0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
+    GPU_CHECK(res, diag, done,
+              ctx->vk.CreateRayTracingPipelinesKHR(ctx->device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1,
+                                                   &pci, NULL, out));
+    static const char *const variants[4] = {"", " glass", " viscache", " glass viscache"};
+    log_pipeline("rt", desc->raygen_spirv ? "(test raygen)" : desc->raygen,
+                 variants[(desc->glass ? 1 : 0) + (desc->viscache ? 2 : 0)], wall0, cpu0);
+done:
+    for (int i = 0; i < STAGE_COUNT; i++)
+        if (modules[i])
+            vkDestroyShaderModule(ctx->device, modules[i], NULL);
+    return res;
+}
+
+/* One ray-tracing pipeline the context keeps (see gpu_context::rt_pipelines): what it was
+ * made of, and the pipeline. */
+typedef struct gpu_rt_pipeline_entry {
+    char raygen[64];
+    bool glass, viscache;
+    uint32_t push_constant_size;
+    uint32_t set1_count;
+    gpu_binding set1[GPU_MAX_BINDINGS];
+    VkPipeline pipeline;
+} gpu_rt_pipeline_entry;
+
+static bool rt_entry_matches(const gpu_rt_pipeline_entry *e, const gpu_rt_program_desc *d)
+{
+    return !strcmp(e->raygen, d->raygen) && e->glass == d->glass && e->viscache == d->viscache &&
+           e->push_constant_size == d->push_constant_size && e->set1_count == d->set1_count &&
+           (d->set1_count == 0 || !memcmp(e->set1, d->set1, d->set1_count * sizeof(gpu_binding)));
+}
+
+/* The context's pipeline for desc (embedded raygens only), made with layout the first time it
+ * is asked for. *out_owned: the caller owns the pipeline (a test's own raygen, not kept). */
+static xrsc_result rt_pipeline_get(gpu_context *ctx, const gpu_rt_program_desc *desc,
+                                   VkPipelineLayout layout, VkPipeline *out, bool *out_owned,
+                                   xrsc_diag *diag)
+{
+    *out_owned = desc->raygen_spirv != NULL || desc->set1_count > GPU_MAX_BINDINGS ||
+                 strlen(desc->raygen) >= sizeof(((gpu_rt_pipeline_entry *)0)->raygen);
+    if (*out_owned)
+        return rt_pipeline_create(ctx, desc, layout, out, diag);
+    for (uint32_t i = 0; i < ctx->rt_pipeline_count; i++)
+        if (rt_entry_matches(&ctx->rt_pipelines[i], desc)) {
+            U_LOG_D("pipeline rt %s: the context's (glass %d, viscache %d)", desc->raygen,
+                    desc->glass, desc->viscache);
+            *out = ctx->rt_pipelines[i].pipeline;
+            return XRSC_OK;
+        }
+    gpu_rt_pipeline_entry *grown = realloc(
+        ctx->rt_pipelines, (ctx->rt_pipeline_count + 1) * sizeof(gpu_rt_pipeline_entry));
+    if (!grown)
+        return u_diag_set(diag, XRSC_ERROR_OUT_OF_MEMORY, "", 0, "", "out of memory");
+    ctx->rt_pipelines = grown;
+    gpu_rt_pipeline_entry *e = &grown[ctx->rt_pipeline_count];
+    memset(e, 0, sizeof(*e));
+    snprintf(e->raygen, sizeof(e->raygen), "%s", desc->raygen);
+    e->glass = desc->glass, e->viscache = desc->viscache;
+    e->push_constant_size = desc->push_constant_size;
+    e->set1_count = desc->set1_count;
+    if (desc->set1_count)
+        memcpy(e->set1, desc->set1, desc->set1_count * sizeof(gpu_binding));
+    xrsc_result res = rt_pipeline_create(ctx, desc, layout, &e->pipeline, diag);
+    if (res != XRSC_OK)
+        return res;
+    ctx->rt_pipeline_count++;
+    *out = e->pipeline;
+    return XRSC_OK;
+}
+
+void gpu_rt_pipelines_destroy(gpu_context *ctx)
+{
+    for (uint32_t i = 0; i < ctx->rt_pipeline_count; i++)
+        vkDestroyPipeline(ctx->device, ctx->rt_pipelines[i].pipeline, NULL);
+    free(ctx->rt_pipelines);
+    ctx->rt_pipelines = NULL;
+    ctx->rt_pipeline_count = 0;
+}
+
 xrsc_result gpu_rt_program_create(gpu_context *ctx, const gpu_rt_program_desc *desc,
                                   gpu_rt_program *out, xrsc_diag *diag)
 {
     xrsc_result res = XRSC_OK;
     memset(out, 0, sizeof(*out));
-    VkShaderModule modules[STAGE_COUNT] = {0};
-    const char *names[STAGE_COUNT] = {desc->raygen, "primary.rmiss", "shadow.rmiss", "hit.rchit",
-                                      "hit.rahit"};
-    static const VkShaderStageFlagBits stage_bits[STAGE_COUNT] = {
-        VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
-        VK_SHADER_STAGE_MISS_BIT_KHR, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR,
-        VK_SHADER_STAGE_ANY_HIT_BIT_KHR};
-
     uint32_t n0;
     const gpu_binding *b0 = gpu_rt_set0_bindings(&n0);
     res = gpu_descriptors_create(ctx, b0, n0, &out->set0, diag);
@@ -359,74 +541,16 @@ xrsc_result gpu_rt_program_create(gpu_context *ctx, const gpu_rt_program_desc *d
                         &out->layout, diag);
     if (res != XRSC_OK)
         goto fail;
-
-    VkPipelineShaderStageCreateInfo stages[STAGE_COUNT];
-    const VkBool32 spec_data[2] = {desc->glass ? VK_TRUE : VK_FALSE,
-                                   desc->viscache ? VK_TRUE : VK_FALSE};
-    const VkSpecializationMapEntry spec_entries[2] = {
-        {XS_SPEC_GLASS_ID, 0, sizeof(VkBool32)},
-        {XS_SPEC_VISCACHE_ID, sizeof(VkBool32), sizeof(VkBool32)}};
-    const VkSpecializationInfo spec = {2, spec_entries, sizeof(spec_data), spec_data};
-    for (int i = 0; i < STAGE_COUNT; i++) {
-        if (i == 0 && desc->raygen_spirv) {
-            VkShaderModuleCreateInfo ci = {
-                .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
-                .codeSize = desc->raygen_spirv_size,
-                .pCode = desc->raygen_spirv,
-            };
-            GPU_CHECK(res, diag, fail, vkCreateShaderModule(ctx->device, &ci, NULL, &modules[i]));
-        } else if ((res = gpu_shader_module_create(ctx, names[i], &modules[i], diag)) !=
-                   XRSC_OK) {
-            goto fail;
-        }
-        stages[i] = (VkPipelineShaderStageCreateInfo){
-            .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
-            .stage = stage_bits[i],
-            .module = modules[i],
-            .pName = "main",
-            .pSpecializationInfo = i == STAGE_RGEN ? &spec : NULL,
-        };
-    }
-    VkRayTracingShaderGroupCreateInfoKHR groups[GROUP_COUNT];
-    for (int g = 0; g < GROUP_COUNT; g++) {
-        groups[g] = (VkRayTracingShaderGroupCreateInfoKHR){
-            .sType = VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR,
-            .type = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR,
-            .generalShader = VK_SHADER_UNUSED_KHR,
-            .closestHitShader = VK_SHADER_UNUSED_KHR,
-            .anyHitShader = VK_SHADER_UNUSED_KHR,
-            .intersectionShader = VK_SHADER_UNUSED_KHR,
-        };
-    }
-    groups[GROUP_RGEN].generalShader = STAGE_RGEN;
-    groups[GROUP_MISS_PRIMARY].generalShader = STAGE_MISS_PRIMARY;
-    groups[GROUP_MISS_SHADOW].generalShader = STAGE_MISS_SHADOW;
-    groups[GROUP_HIT].type = VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR;
-    groups[GROUP_HIT].closestHitShader = STAGE_CHIT;
-    /* alphaMode MASK / BLEND (hit.rahit): runs only for non-opaque instances (gpu_scene.c) */
-    groups[GROUP_HIT].anyHitShader = STAGE_AHIT;
-    VkRayTracingPipelineCreateInfoKHR pci = {
-        .sType = VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR,
-        .stageCount = STAGE_COUNT,
-        .pStages = stages,
-        .groupCount = GROUP_COUNT,
-        .pGroups = groups,
-        .maxPipelineRayRecursionDepth = 1,
-        .layout = out->layout,
-    };
-    GPU_CHECK(res, diag, fail,
-              ctx->vk.CreateRayTracingPipelinesKHR(ctx->device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1,
-                                                   &pci, NULL, &out->pipeline));
+    /* A kept pipeline was made with another program's layout: an identically defined one,
+     * which Vulkan's pipeline layout compatibility lets this program's sets bind with. */
+    res = rt_pipeline_get(ctx, desc, out->layout, &out->pipeline, &out->owns_pipeline, diag);
+    if (res != XRSC_OK)
+        goto fail;
     res = create_sbt(ctx, out, diag);
     if (res != XRSC_OK)
         goto fail;
-    for (int i = 0; i < STAGE_COUNT; i++)
-        vkDestroyShaderModule(ctx->device, modules[i], NULL);
     return XRSC_OK;
 fail:
-    for (int i = 0; i < STAGE_COUNT; i++)
-        if (modules[i])
-            vkDestroyShaderModule(ctx->device, modules[i], NULL);
     gpu_rt_program_destroy(ctx, out);
     return res;
 }
@@ -436,7 +560,7 @@ void gpu_rt_program_destroy(gpu_context *ctx, gpu_rt_program *prog)
     if (!prog)
         return;
     gpu_buffer_destroy(ctx, &prog->sbt);
-    if (prog->pipeline)
+    if (prog->pipeline && prog->owns_pipeline)
         vkDestroyPipeline(ctx->device, prog->pipeline, NULL);
     if (prog->layout)
         vkDestroyPipelineLayout(ctx->device, prog->layout, NULL);
@@ -488,8 +612,10 @@ xrsc_result gpu_compute_program_create(gpu_context *ctx, const char *shader,
             },
         .layout = out->layout,
     };
+    double wall0 = clock_s(CLOCK_MONOTONIC), cpu0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
     GPU_CHECK(res, diag, fail,
               vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &ci, NULL, &out->pipeline));
+    log_pipeline("compute", shader, "", wall0, cpu0);
     vkDestroyShaderModule(ctx->device, module, NULL);
     return XRSC_OK;
 fail:

@@ -100,7 +100,11 @@ typedef struct gpu_rt_program_desc {
 typedef struct gpu_rt_program {
     gpu_descriptors set0, set1;
     VkPipelineLayout layout;
+    /** The context's pipeline for this program's shaders and specialization (shared with
+     *  every program of the same ones, see gpu_context::rt_pipelines), or, for a test's own
+     *  raygen (raygen_spirv), one of its own (owns_pipeline). */
     VkPipeline pipeline;
+    bool owns_pipeline;
     gpu_buffer sbt;
     VkStridedDeviceAddressRegionKHR rgen, miss, hit, call;
     uint32_t push_constant_size;
@@ -109,6 +113,8 @@ typedef struct gpu_rt_program {
 xrsc_result gpu_rt_program_create(gpu_context *ctx, const gpu_rt_program_desc *desc,
                                   gpu_rt_program *out, xrsc_diag *diag);
 void gpu_rt_program_destroy(gpu_context *ctx, gpu_rt_program *prog);
+/** Destroys the ray-tracing pipelines the context keeps (gpu_context_destroy calls it). */
+void gpu_rt_pipelines_destroy(gpu_context *ctx);
 /** Binds the pipeline and sets, pushes constants (may be NULL) and traces w x h x d rays. */
 void gpu_rt_program_cmd_trace(gpu_context *ctx, VkCommandBuffer cmd, const gpu_rt_program *prog,
                               const void *push, uint32_t width, uint32_t height, uint32_t depth);
