@@ -202,8 +202,10 @@ xrsc_blend hs_replay_default_blend(xrsc_method method);
  */
 xrsc_taa_mode hs_replay_default_taa(xrsc_method method);
 
-/** The shading rate of the main job's variance-guided shading: 0.3 shadings per pixel. */
-#define HS_REPLAY_DEFAULT_SHADE_RATE 0.3f
+/** The shading rate of the main job's variance-guided shading: 0.4 shadings per pixel (0.3
+ *  until stop 21; bench/results/issue19-rate/: 40 % lowers relMSE and the temporal difference
+ *  on the head turns 1.7x and 3-4x for 0.25 more rays per pixel, still below 1 spp's). */
+#define HS_REPLAY_DEFAULT_SHADE_RATE 0.4f
 
 /**
  * The sample cache's shading when --sc-shade / --sc-shade-rate (bench keys shade, shade_rate)
