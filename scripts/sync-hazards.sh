@@ -9,7 +9,8 @@
 #   XRSC_EXE  the built program (default build/host_sim/xrsc)
 #   OUT_DIR   scratch folder for the runs and their logs (default out/sync-hazards; wiped)
 # Environment: SYNC_SIZE (per-eye WxH, default 32x32), SYNC_FRAMES (default 3), SYNC_ONLY (a
-# regular expression: run only the configurations whose name matches).
+# regular expression: run only the configurations whose name matches), SYNC_SKIP (a regular
+# expression: skip those whose name matches; applied after SYNC_ONLY).
 # lavapipe runs commands one after another, so a missing barrier never changes an image here;
 # synchronization validation finds it anyway (issue 20). Prints one line per configuration and
 # `N passed, N failed`; exits 1 when any configuration has a hazard or fails.
@@ -20,6 +21,7 @@ out=${2:-$root/out/sync-hazards}
 size=${SYNC_SIZE:-32x32}
 frames=${SYNC_FRAMES:-3}
 only=${SYNC_ONLY:-}
+skip=${SYNC_SKIP:-}
 
 # name | arguments (word-split; a later --write overrides --write none); names ending in _xr
 # run through OpenXR, the rest --direct
@@ -79,7 +81,7 @@ printf '%-28s %8s %8s %5s\n' configuration hazards errors exit
 for entry in "${configs[@]}"; do
   name=${entry%%|*}
   args=${entry#*|}
-  if [[ -n $only && ! $name =~ $only ]]; then
+  if [[ -n $only && ! $name =~ $only ]] || [[ -n $skip && $name =~ $skip ]]; then
     continue
   fi
   path=(--direct)
