@@ -211,8 +211,8 @@ xrsc_taa_mode hs_replay_default_taa(xrsc_method method);
  * The sample cache's shading when --sc-shade / --sc-shade-rate (bench keys shade, shade_rate)
  * are not given: after `samplecache`, variance-guided shading (xrsc_sc_shade
  * XRSC_SC_SHADE_ADAPTIVE_VARIANCE) at HS_REPLAY_DEFAULT_SHADE_RATE, chosen by the issue-19
- * table (bench/results/issue19-defaults/: at headset size it costs 0.70x uniform shading, what
- * 1 spp costs, with lower relMSE on 7 of 10 cases); a mode given without a rate keeps the
+ * tables (bench/results/issue19-defaults/ chose the mode, at 30 %; issue19-rate/ the rate, see
+ * HS_REPLAY_DEFAULT_SHADE_RATE); a mode given without a rate keeps the
  * library's rate (100 %), and after other methods nothing given means the library's own.
  */
 void hs_replay_default_shading(xrsc_renderer_options *o, bool shade_given, bool rate_given);
