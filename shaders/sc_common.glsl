@@ -53,7 +53,9 @@ layout(set = XS_SC_SET, binding = XS_SC_BIND_SRC, std430) buffer XsScSrcKeyBlock
 };
 layout(set = XS_SC_SET, binding = XS_SC_BIND_PLAN, std430) buffer XsScPlanBlock
 {
-    uvec4 sc_plan[]; /* x trace bits, y new-sample bits, z shade bits, w visible count */
+    /* x trace bits, y new-sample bits, z shade bits, w visible count (for the density pass;
+     * variance-guided shading then leaves the candidates' bucket range there) */
+    uvec4 sc_plan[];
 };
 layout(set = XS_SC_SET, binding = XS_SC_BIND_STATS, std430) buffer XsScStatsBlock
 {

@@ -31,6 +31,7 @@
  *   src[slot][pix]               `isrt`: the 64-bit key of each cell (XS_SC_ISRT_KEY_*; a
  *                                16-byte stub otherwise)
  *   plan[pix]                    uvec4: trace bits, new-sample bits, shade bits, visible count
+ *                                (variance-guided shading: then XS_SC_PLAN_RANGE_*)
  *   stats[c][eye]                xs_sc_stats: importance bounds and histogram (§3.5)
  *   shade list                   a work list: a count, the pool's failed allocations this
  *                                frame (sc_pool_alloc), the shading pass's ray count
@@ -181,6 +182,14 @@
  * (lavapipe gives each worker thread one) gets an equal share of the filled prefix of the
  * list, whatever its count (sc_shade.rgen). */
 #define XS_SC_SHADE_STRIPES 16u
+
+/* Variance-guided shading: plan.w after sc_shade_importance.comp, the lowest (bits 0..7) and
+ * highest (bits 8..15) importance bucket of the pixel's candidates, with XS_SC_PLAN_RANGE_SET
+ * (0: no candidates). sc_shade_select.comp decides a pixel whose candidates all lie above or
+ * all below the threshold bucket without loading them again. */
+#define XS_SC_PLAN_RANGE_SET 0x10000u
+#define XS_SC_PLAN_RANGE_HI_SHIFT 8u
+#define XS_SC_PLAN_RANGE_MASK 0xFFu
 
 /* Firefly rule (issue 19 item 3, sc_shade.rgen): observations a sample needs before a new
  * one is capped relative to its running mean. */

@@ -371,6 +371,7 @@ static xrsc_result sc_finish(mt_samplecache *s, VkCommandBuffer cmd, xrsc_diag *
     memcpy(&s->shaded, header, sizeof(uint32_t));
     memcpy(&s->pool_full, header + sizeof(uint32_t), sizeof(uint32_t));
     memcpy(&s->shade_rays, header + 2 * sizeof(uint32_t), sizeof(uint64_t));
+    t->rays += s->shade_rays; /* the shading launch counts its rays there only (one atomic) */
     if (s->shaded > s->p.shade_capacity) /* the rest were dropped, not shaded */
         s->shaded = s->p.shade_capacity;
     return XRSC_OK;
