@@ -177,11 +177,18 @@
 /* uints before the entries of the shade list (count, the pool's failed allocations, the
  * shading pass's 64-bit ray count: 16 bytes) */
 #define XS_SC_SHADE_LIST_HEADER 4u
-/* The shading launch is width x (XS_SC_SHADE_STRIPES * q) invocations; launch row r shades
- * list row (r % q) * XS_SC_SHADE_STRIPES + r / q, so every contiguous band of launch rows
- * (lavapipe gives each worker thread one) gets an equal share of the filled prefix of the
- * list, whatever its count (sc_shade.rgen). */
+/* A work-list launch (the shade list, adaptive tracing's trace list) is XS_SC_LIST_WIDTH x
+ * (XS_SC_SHADE_STRIPES * XS_SC_LIST_BLOCK * q) invocations. Launch rows go in blocks of
+ * XS_SC_LIST_BLOCK; launch block b takes list block (b % q) * XS_SC_SHADE_STRIPES + b / q
+ * (sc_list_entry), so that
+ * - every contiguous band of launch rows (lavapipe gives each worker thread one) gets an equal
+ *   share of the filled prefix of the list, whatever its count;
+ * - the invocations a GPU runs together (a warp of 32: one launch row of 32, or a tile of up to
+ *   XS_SC_LIST_BLOCK rows) take neighbouring entries, i.e. samples of neighbouring pixels,
+ *   as a launch over the screen does. */
 #define XS_SC_SHADE_STRIPES 16u
+#define XS_SC_LIST_WIDTH 32u
+#define XS_SC_LIST_BLOCK 8u
 
 /* Variance-guided shading: plan.w after sc_shade_importance.comp, the lowest (bits 0..7) and
  * highest (bits 8..15) importance bucket of the pixel's candidates, with XS_SC_PLAN_RANGE_SET

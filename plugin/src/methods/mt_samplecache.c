@@ -237,15 +237,17 @@ static void record_reconstruct(mt_samplecache *s, VkCommandBuffer cmd)
     s->albedo_stale = !albedo;
 }
 
-/** Launches program over a work list of up to `entries` entries (sc_list_entry): rows of
- *  width w striped over XS_SC_SHADE_STRIPES bands of the launch; entries past the list's
- *  count exit at once. */
+/** Launches program over a work list of up to `entries` entries (sc_list_entry): blocks of
+ *  XS_SC_LIST_BLOCK rows of XS_SC_LIST_WIDTH entries, striped over XS_SC_SHADE_STRIPES bands
+ *  of the launch; entries past the list's count exit at once. */
 static void cmd_trace_list(gpu_context *ctx, VkCommandBuffer cmd, const gpu_rt_program *program,
-                           uint32_t w, uint32_t entries)
+                           uint32_t entries)
 {
-    uint32_t list_rows = (entries + w - 1) / w;
-    uint32_t stripe_rows = (list_rows + XS_SC_SHADE_STRIPES - 1) / XS_SC_SHADE_STRIPES;
-    gpu_rt_program_cmd_trace(ctx, cmd, program, NULL, w, XS_SC_SHADE_STRIPES * stripe_rows, 1);
+    uint32_t per_block = XS_SC_LIST_WIDTH * XS_SC_LIST_BLOCK;
+    uint32_t blocks = (entries + per_block - 1) / per_block;
+    uint32_t q = (blocks + XS_SC_SHADE_STRIPES - 1) / XS_SC_SHADE_STRIPES;
+    gpu_rt_program_cmd_trace(ctx, cmd, program, NULL, XS_SC_LIST_WIDTH,
+                             XS_SC_SHADE_STRIPES * XS_SC_LIST_BLOCK * q, 1);
 }
 
 /* Stage "reproject": this copy's masks, statistics and depth words cleared (and on the first
@@ -299,7 +301,7 @@ static void record_shade_launches(mt_samplecache *s, VkCommandBuffer cmd)
             gpu_cmd_barrier_all(cmd);
             mt_viscache_cmd_phase(&s->vis, cmd, i);
         }
-        cmd_trace_list(ctx, cmd, &s->shade, s->trace.env.width, s->p.shade_capacity);
+        cmd_trace_list(ctx, cmd, &s->shade, s->p.shade_capacity);
     }
 }
 
@@ -317,7 +319,7 @@ static void record_stage(mt_samplecache *s, VkCommandBuffer cmd, uint32_t stage)
         break;
     case STAGE_TRACE:
         if (s->p.trace_mode == XS_SC_TRACE_ADAPTIVE) /* the trace list: each pixel at most once */
-            cmd_trace_list(ctx, cmd, &s->trace.program, w, s->plane);
+            cmd_trace_list(ctx, cmd, &s->trace.program, s->plane);
         else
             gpu_rt_program_cmd_trace(ctx, cmd, &s->trace.program, NULL, w, h, 2);
         break;
