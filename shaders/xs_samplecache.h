@@ -202,6 +202,14 @@
  * one is capped relative to its running mean. */
 #define XS_SC_FIREFLY_MIN_COUNT 4.0
 
+/* Stratified new samples (xs_sc_params.stratify, issue 19, beyond seed 000): the pixel is cut
+ * into G x G strata, G = round(sqrt(n_target)) clamped to 1..XS_SC_STRATA_MAX_G, and each new
+ * sample goes through a random point of a stratum holding the fewest of the pixel's visible
+ * samples (they are projected to find theirs). A pixel keeps its ~n_target points while the
+ * view is still, and on a pixel cut by an edge the mean of stratified points has a smaller
+ * coverage error than the mean of independent uniform ones (bench/results/issue19-edges/). */
+#define XS_SC_STRATA_MAX_G 4u
+
 /* Compute workgroup size (x, y) of every sample-cache compute shader. */
 #define XS_SC_GROUP 8u
 
@@ -241,7 +249,9 @@ XS_STRUCT(xs_sc_params)
                               reproject, density, trace, shade select and shade launches take
                               their work items in reverse order (sc_work_item, sc_list_entry) */
     xs_uint pool_k;    /* pool entries per pixel (XS_SC_POOL_*) */
-    xs_uint pad_b, pad_c; /* std140: the block is a multiple of 16 bytes */
+    xs_uint stratify; /* 1: new samples fill the pixel's emptiest strata (sc_trace.rgen,
+                         XS_SC_STRATA_MAX_G; issue 19) */
+    xs_uint pad_c;    /* std140: the block is a multiple of 16 bytes */
     xs_vec4 eye_prev[2]; /* per eye: xyz its position in the previous frame, w = 1 when there
                             was one (sc_shade.rgen: App. C's clamp follows the view's motion) */
 }

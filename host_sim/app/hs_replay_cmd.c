@@ -434,6 +434,10 @@ static const hs_opt k_replay_opts[] = {
      "each eye's view-independent samples also serve the other\n"
      "eye, traced and shaded once for both (beyond seed 000) [off]",
      hs_opt_on_off, SC(cross_eye), NULL},
+    {"--sc-stratify", "on|off",
+     "new samples through the emptiest strata of their pixel\n"
+     "(issue 19, beyond seed 000; bench/results/issue19-edges/) [off]",
+     hs_opt_on_off, SC(stratify), NULL},
     {"--sc-visibility-cache", "on|off",
      "shadow visibility cache of the shading pass's light\n"
      "samples at the first hit (seed 002, AQVC) [off]",

@@ -117,6 +117,11 @@ static const char *set_cross_eye(xrsc_renderer_options *o, const char *v)
     return hs_parse_on_off(v, &o->samplecache.cross_eye) ? NULL : "on, off";
 }
 
+static const char *set_stratify(xrsc_renderer_options *o, const char *v)
+{
+    return hs_parse_on_off(v, &o->samplecache.stratify) ? NULL : "on, off";
+}
+
 static const char *set_alpha(xrsc_renderer_options *o, const char *v)
 {
     if (!strcmp(v, "clamped"))
@@ -352,6 +357,8 @@ static const bench_key keys[] = {
     {"alpha_fixed", M_SC | M_ISRT, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},
     {"cross_eye", M_SC, set_cross_eye, "xeye",
      "on | off: view-independent samples serve both eyes, shaded once [off]"},
+    {"stratify", M_SC, set_stratify, "strat",
+     "on | off: new samples fill the pixel's emptiest strata [off]"},
     {"firefly", M_SC | M_ISRT, set_firefly, "ff",
      "firefly rule: cap a shading at k x the sample's running mean, off | k >= 1 [off]"},
     {"vis_cache", M_SC | M_ISRT, set_vis_cache, "vc",

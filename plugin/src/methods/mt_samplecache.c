@@ -734,6 +734,7 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         .alpha_fixed = o.alpha_fixed,
         .cross_eye = o.cross_eye ? 1u : 0u,
         .firefly_k = o.firefly_clamp,
+        .stratify = o.stratify ? 1u : 0u,
         .debug_permute = debug_permute(),
     };
     s->p.shade_capacity = shade_capacity(&o, env->width, env->height);
