@@ -423,7 +423,7 @@ static const hs_opt k_replay_opts[] = {
      "[adaptive-variance after samplecache, else uniform]",
      parse_shade, SC(shade), k_sc_shade},
     {"--sc-shade-rate", "P",
-     "adaptive shading rate, percent of the pixels [30 with the\n"
+     "adaptive shading rate, percent of the pixels [" HS_REPLAY_DEFAULT_SHADE_PERCENT_STR " with the\n"
      "default shading, 100 with --sc-shade]",
      parse_shade_rate, SC(shade_rate), NUM(0, 1600, NULL)},
     {"--sc-alpha", "A", "clamped | fixed (temporal blend, App. C) [clamped]", hs_opt_enum,

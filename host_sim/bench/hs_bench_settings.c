@@ -352,7 +352,7 @@ static const bench_key keys[] = {
     {"shade", M_SC | M_ISRT, set_shade, "shade",
      "uniform | adaptive | adaptive-variance [uniform; default: adaptive-variance]"},
     {"shade_rate", M_SC | M_ISRT, set_shade_rate, "rate",
-     "adaptive shading rate, percent [100; default: 40 unless shade is given]"},
+     "adaptive shading rate, percent [100; default: " HS_REPLAY_DEFAULT_SHADE_PERCENT_STR " unless shade is given]"},
     {"alpha", M_SC | M_ISRT, set_alpha, "alpha", "clamped | fixed [clamped]"},
     {"alpha_fixed", M_SC | M_ISRT, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},
     {"cross_eye", M_SC, set_cross_eye, "xeye",
