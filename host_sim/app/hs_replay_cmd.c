@@ -127,7 +127,7 @@ static int parse_taa_history(const hs_opt_arg *a)
 static int parse_taa_motion(const hs_opt_arg *a)
 {
     if (xrsc_taa_motion_from_name(a->value, &M(a)->opt.renderer.taa.motion) != XRSC_OK)
-        return bad_arg(a->opt->name, a->value, "expected off, on or default");
+        return bad_arg(a->opt->name, a->value, "expected off, on, edges or default");
     return 0;
 }
 
@@ -487,9 +487,10 @@ static const hs_opt k_replay_opts[] = {
      "history (catmull-rom keeps texture sharper under motion) [bilinear]",
      parse_taa_history, 0, NULL},
     {"--taa-motion", "M",
-     "off | on | default: with --taa on, raise the current frame's weight with\n"
+     "off | on | edges | default: with --taa on, raise the current frame's weight with\n"
      "the blur of resampling the history under sub-pixel motion (to 0.5 at\n"
-     "0.25 px^2; lower relMSE, higher temporal and stereo differences) [off]",
+     "0.25 px^2; lower relMSE, higher temporal and stereo differences);\n"
+     "edges: only on the dark side of an edge between surfaces [off]",
      parse_taa_motion, 0, NULL},
 
     TEXT("\nOpenXR (the default path):\n"
@@ -647,6 +648,8 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
         printf(" (alpha %g)", (double)opt->renderer.taa.alpha);
     if (taa == XRSC_TAA_ON && opt->renderer.taa.motion == XRSC_TAA_MOTION_ON)
         printf(", motion rule");
+    if (taa == XRSC_TAA_ON && opt->renderer.taa.motion == XRSC_TAA_MOTION_EDGES)
+        printf(", motion rule at edges");
     const xrsc_samplecache_options *sc = &opt->renderer.samplecache;
     if (opt->renderer.method == XRSC_METHOD_SAMPLECACHE || opt->renderer.method == XRSC_METHOD_ISRT) {
         const char *shade = hs_opt_enum_name(k_sc_shade, (int)sc->shade);

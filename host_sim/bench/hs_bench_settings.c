@@ -279,7 +279,7 @@ static const char *set_taa_history(xrsc_renderer_options *o, const char *v)
 static const char *set_taa_motion(xrsc_renderer_options *o, const char *v)
 {
     if (!strcmp(v, "default") || xrsc_taa_motion_from_name(v, &o->taa.motion) != XRSC_OK)
-        return "off, on";
+        return "off, on, edges";
     return NULL;
 }
 
@@ -327,7 +327,7 @@ static const bench_key keys[] = {
      "weight of the current frame with taa=on, (0, 1] [0.1]"},
     {"taa_history", M_ALL, set_taa_history, "",
      "TAA history resampling bilinear | catmull-rom [bilinear]"},
-    {"taa_motion", M_ALL, set_taa_motion, "tm", "TAA motion rule (taa=on) off | on [off]"},
+    {"taa_motion", M_ALL, set_taa_motion, "tm", "TAA motion rule (taa=on) off | on | edges [off]"},
     {"taa_motion_px2", M_ALL, set_taa_motion_px2, "tmb",
      "resampling blur (px^2) at which the TAA motion rule reaches its highest weight, "
      "(0, 16] [0.25]"},

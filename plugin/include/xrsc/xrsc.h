@@ -465,13 +465,22 @@ xrsc_result xrsc_taa_history_from_name(const char *name, xrsc_taa_history *out_f
  * it lowers relMSE under pans and sideways motion, but raises the temporal and stereo
  * differences of the orbits (bench/results/issue19-taaedge/), so it is off by default.
  * - XRSC_TAA_MOTION_DEFAULT (0) = XRSC_TAA_MOTION_OFF; XRSC_TAA_MOTION_ON.
+ * - XRSC_TAA_MOTION_EDGES: the rule only on the dark side of an edge between surfaces: at
+ *   pixels whose current 3 x 3 neighbourhood shows another instance (or background beside a
+ *   hit) and whose luma (in the resolve space) is below the neighbourhood's mean. There the
+ *   blur carries the bright side's radiance in, a large relative error: the Cornell light
+ *   panel (radiance ~15) smeared into the ceiling beside it (~0.05) was half of the
+ *   default's relMSE on the Cornell orbit (bench/results/issue19-cornell/). Inside a
+ *   surface, and on an edge's bright side, the history keeps alpha, so the temporal and
+ *   stereo differences rise far less than with XRSC_TAA_MOTION_ON.
  */
 typedef enum xrsc_taa_motion {
     XRSC_TAA_MOTION_DEFAULT = 0,
     XRSC_TAA_MOTION_OFF = 1,
     XRSC_TAA_MOTION_ON = 2,
+    XRSC_TAA_MOTION_EDGES = 3,
 } xrsc_taa_motion;
-/** "default" / "off" / "on"; NULL for unknown values. */
+/** "default" / "off" / "on" / "edges"; NULL for unknown values. */
 const char *xrsc_taa_motion_name(xrsc_taa_motion motion);
 /** Parses a motion rule name; XRSC_ERROR_INVALID_ARGUMENT when unknown. */
 xrsc_result xrsc_taa_motion_from_name(const char *name, xrsc_taa_motion *out_motion);
