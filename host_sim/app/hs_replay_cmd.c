@@ -487,10 +487,11 @@ static const hs_opt k_replay_opts[] = {
      "history (catmull-rom keeps texture sharper under motion) [bilinear]",
      parse_taa_history, 0, NULL},
     {"--taa-motion", "M",
-     "off | on | edges | default: with --taa on, raise the current frame's weight with\n"
-     "the blur of resampling the history under sub-pixel motion (to 0.5 at\n"
-     "0.25 px^2; lower relMSE, higher temporal and stereo differences);\n"
-     "edges: only on the dark side of an edge between surfaces [off]",
+     "off | on | edges | default: with --taa on, raise the current frame's\n"
+     "weight with the blur of resampling the history under sub-pixel motion\n"
+     "(to 0.5 at 0.25 px^2; lower relMSE, higher temporal and stereo\n"
+     "differences); edges: only on the dark side of an edge between surfaces\n"
+     "[off]",
      parse_taa_motion, 0, NULL},
 
     TEXT("\nOpenXR (the default path):\n"
