@@ -293,6 +293,11 @@ static const char *set_taa_motion_alpha(xrsc_renderer_options *o, const char *v)
     return parse_pos(v, 1, &o->taa.motion_alpha) ? NULL : "(0, 1]";
 }
 
+static const char *set_blend_inst(xrsc_renderer_options *o, const char *v)
+{
+    return hs_parse_on_off(v, &o->blend_instance_test) ? NULL : "on, off";
+}
+
 static const char *set_r(xrsc_renderer_options *o, const char *v)
 {
     char *end;
@@ -316,6 +321,8 @@ typedef struct bench_key {
 static const bench_key keys[] = {
     {"blend", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HC | M_HY, set_blend, "",
      "stereo blend none | pfj23 | moments (moments: spp, samplecache, isrt, hybrid) [none]"},
+    {"blend_inst", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HC | M_HY, set_blend_inst, "bi",
+     "stereo blend taps must show the pixel's instance (hit id) too, on | off [off]"},
     {"r", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HY, set_r, "r",
      "sharpness R of the moments blend, [0, 1] [0]"},
     {"estimate", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HY, set_blend_estimate, "est",

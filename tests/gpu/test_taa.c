@@ -103,7 +103,8 @@
 #define T_EDGE_ALPHA_TOL 1e-5  /* motion rule "edges": its alpha against on's / off's */
 #define T_EDGE_LUMA_MARGIN 1e-4 /* pixels this close to their neighbourhood's mean: not checked */
 #define T_EDGE_MIN_PX 20u      /* dark-side edge pixels the rule must raise (both eyes) */
-#define T_EDGE_RATIO 0.85      /* samplecache, Cornell in motion: relMSE edges <= this x off */
+#define T_EDGE_RATIO 0.85 /* samplecache, Cornell in motion: relMSE edges <= this x off (0.60) */
+#define T_BLEND_INST_RATIO 0.93 /* ... moments blend: instance test on <= this x off (0.86) */
 
 /* ---- 1. still view through the public API ---- */
 
@@ -1236,9 +1237,59 @@ static void test_motion_edges(void)
     xrsc_context_destroy(&ctx);
 }
 
+/**
+ * The stereo blend's instance test (xrsc_renderer_options.blend_instance_test; issue 19): the
+ * sample cache with the moments blend and TAA, in motion over Cornell, against a reference of
+ * the last frame's views. The depth test alone (5 %) takes the light panel, 1 cm below the
+ * ceiling, for the ceiling, so the other eye's bilinear taps mixed the panel's radiance into
+ * the ceiling beside it; with the test relMSE <= T_BLEND_INST_RATIO x without.
+ */
+static void test_blend_instances(void)
+{
+    xrsc_context *ctx = t_context_open();
+    CHECK(ctx != NULL);
+    xrsc_scene *scene = ctx ? t_scene_load(ctx, t_source_path("scenes/cornell.gltf")) : NULL;
+    if (!scene) {
+        xrsc_context_destroy(&ctx);
+        return;
+    }
+    xrsc_frame f0 = tsc_viewpoint_frame(scene), last = f0;
+    size_t pixels = 2u * T_W * T_H;
+    float *ref = calloc(pixels * 4, sizeof(float)), *img = calloc(pixels * 4, sizeof(float));
+    double err[2] = {0};
+    bool ok = ref && img;
+    for (int k = 0; k < 2 && ok; k++) {
+        xrsc_renderer_options ro = {.width = T_W, .height = T_H,
+                                    .method = XRSC_METHOD_SAMPLECACHE,
+                                    .blend = XRSC_BLEND_MOMENTS,
+                                    .blend_instance_test = k == 1};
+        ro.taa.mode = XRSC_TAA_ON;
+        ok = render_moving(ctx, scene, &ro, f0, T_EMIT_FRAMES, img, &last);
+        if (ok && k == 0) {
+            xrsc_renderer_options rf = {.width = T_W, .height = T_H, .method = XRSC_METHOD_SPP};
+            rf.spp.samples_per_pixel = T_REF_SPP;
+            rf.spp.accumulate = true;
+            ok = t_render(ctx, scene, &rf, &last, &(t_render_job){.frames = T_EMIT_REF_FRAMES},
+                          ref);
+        }
+        err[k] = ok ? relmse(img, ref, pixels) : -1.0;
+    }
+    printf("  samplecache + moments blend + TAA, Cornell in motion: relMSE instance test off "
+           "%.5f, on %.5f (%.2f x, bound %.2f)\n",
+           err[0], err[1], err[0] > 0.0 ? err[1] / err[0] : 0.0, T_BLEND_INST_RATIO);
+    CHECK(ok && err[0] > 0.0 && err[1] >= 0.0);
+    CHECK(err[1] <= T_BLEND_INST_RATIO * err[0]);
+    free(ref);
+    free(img);
+    xrsc_scene_destroy(&scene);
+    CHECK_EQ_INT(xrsc_context_validation_errors(ctx), 0);
+    xrsc_context_destroy(&ctx);
+}
+
 int main(void)
 {
     RUN(test_motion_edges);
+    RUN(test_blend_instances);
     RUN(test_pan_motion_rule);
     RUN(test_pan_edges);
     RUN(test_pan_texture_catmull_rom);

@@ -604,6 +604,11 @@ xrsc_result xrsc_blend_estimate_from_name(const char *name, xrsc_blend_estimate 
  * seed 000 §5.2 (Fig. 15: R = 0 beats R = 1 and PFJ23 on RSE and discrepancy, with CPBD
  * sharpness closest to the reference); R = 1 is the conservative, least blurring one.
  * blend_estimate: the variances the moments blend uses (default: Eq. 5 as printed).
+ * blend_instance_test: the blend's taps must also show the pixel's instance (hit id), not only
+ * its depth within 5 % (default false: the depth test alone). The Cornell light panel lies
+ * 1 cm below the ceiling, so the depth test takes it for the ceiling, and the other eye's
+ * bilinear tap mixed its radiance (~15) into the ceiling beside it (~0.05): a third of the
+ * default's relMSE on the Cornell orbit at 2 x 96^2 (bench/results/issue19-cornell/).
  */
 typedef struct xrsc_renderer_options {
     xrsc_method method;
@@ -615,6 +620,7 @@ typedef struct xrsc_renderer_options {
     float blend_r;
     xrsc_blend_estimate blend_estimate;
     xrsc_taa_options taa;
+    bool blend_instance_test;
     xrsc_hashcache_options hashcache;
     xrsc_isrt_options isrt;
 } xrsc_renderer_options;

@@ -517,12 +517,14 @@ static xrsc_result blend_create(xrsc_renderer *r, xrsc_diag *diag)
         return XRSC_OK;
     st_settings set = {.blend = r->opt.blend,
                        .r = r->opt.blend_r,
-                       .pixel_mean = r->opt.blend_estimate == XRSC_BLEND_ESTIMATE_MEAN};
+                       .pixel_mean = r->opt.blend_estimate == XRSC_BLEND_ESTIMATE_MEAN,
+                       .instance_test = r->opt.blend_instance_test};
     st_images imgs = {
         .color = mt_method_output_image(r->method, XRSC_OUTPUT_COLOR),
         .depth = mt_method_output_image(r->method, XRSC_OUTPUT_DEPTH),
         .mu1 = mt_method_output_image(r->method, XRSC_OUTPUT_MU1),
         .mu2 = mt_method_output_image(r->method, XRSC_OUTPUT_MU2),
+        .hitid = mt_method_output_image(r->method, XRSC_OUTPUT_HIT_ID),
     };
     return st_blend_create(r->ctx->gpu, r->opt.width, r->opt.height, &set, &imgs, &r->blend, diag);
 }
