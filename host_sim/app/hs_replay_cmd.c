@@ -474,6 +474,10 @@ static const hs_opt k_replay_opts[] = {
      "samples | mean: the variances moments uses, the spread of the\n"
      "samples (Eq. 5 as printed) or of the pixel's mean [samples]",
      parse_blend_estimate, 0, NULL},
+    {"--blend-instances", "on|off",
+     "the blend's taps must also show the pixel's instance (hit id), not\n"
+     "only its depth within 5 % [off]",
+     hs_opt_on_off, RO(blend_instance_test), NULL},
 
     TEXT("\nTemporal antialiasing (after reconstruction, before the stereo blend; seed 000 "
          "section 5.1):\n"),
@@ -643,6 +647,8 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
         printf(", R = %g", (double)opt->renderer.blend_r);
     if (opt->renderer.blend == XRSC_BLEND_MOMENTS && opt->renderer.blend_estimate)
         printf(", estimate %s", xrsc_blend_estimate_name(opt->renderer.blend_estimate));
+    if (opt->renderer.blend != XRSC_BLEND_NONE && opt->renderer.blend_instance_test)
+        printf(", instance test");
     xrsc_taa_mode taa = xrsc_taa_mode_resolve(opt->renderer.method, opt->renderer.taa.mode);
     printf(", temporal filter: %s", xrsc_taa_mode_name(taa));
     if (taa == XRSC_TAA_ON && opt->renderer.taa.alpha > 0) /* given; else the plugin's */
