@@ -15,7 +15,8 @@
  *    smooths the estimates, not the colour that enters Eq. 3 (seed 000 §5.2: R "controls how
  *    much the 1st and 2nd raw moments are blurred"; Dodgson's R = 0 kernel is a [1 2 1] / 4
  *    blur, which on X itself biased edges and highlights and lowered sharpness).
- *    Taps outside the image or failing xs_st_depth_ok(d_tap, d_exp) are dropped and the rest
+ *    Taps outside the image or failing xs_st_depth_ok(d_tap, d_exp) (with instance_test, also
+ *    taps showing another instance than the pixel's hit id) are dropped and the rest
  *    renormalised; below min_weight of the colour's kernel left the pixel is disoccluded and
  *    kept (status XS_ST_STATUS_REJECTED, beta = 1), the same test for every blend and R (the
  *    moments kernel's accepted taps only need to carry samples, c_X > 0: where its wider
@@ -47,10 +48,20 @@ layout(set = 0, binding = XS_ST_BIND_MU1, rgba32f) uniform readonly image2DArray
 layout(set = 0, binding = XS_ST_BIND_MU2, rgba32f) uniform readonly image2DArray st_mu2;
 layout(set = 0, binding = XS_ST_BIND_OUT, rgba32f) uniform writeonly image2DArray st_out;
 layout(set = 0, binding = XS_ST_BIND_AUX, rgba32f) uniform writeonly image2DArray st_aux;
+layout(set = 0, binding = XS_ST_BIND_HITID, rgba32ui) uniform readonly uimage2DArray st_hitid;
 
 bool inside(ivec2 p) { return p.x >= 0 && p.y >= 0 && p.x < int(stp.width) && p.y < int(stp.height); }
 
 float depth_at(ivec2 p, uint eye) { return imageLoad(st_depth, ivec3(p, eye)).r; }
+
+/** A tap at t of eye `eye` may stand for the point expected at depth d_exp on instance inst:
+ *  the depth test, and with instance_test the same instance (a surface 1 cm from another,
+ *  the Cornell light panel under the ceiling, passes the depth test alone). */
+bool tap_ok(ivec2 t, uint eye, float d_exp, uint inst)
+{
+    return xs_st_depth_ok(depth_at(t, eye), d_exp, stp.depth_tolerance) &&
+           (stp.instance_test == 0u || imageLoad(st_hitid, ivec3(t, eye)).x == inst);
+}
 
 void main()
 {
@@ -69,6 +80,8 @@ void main()
                                                           : XS_ST_STATUS_BACKGROUND));
         return;
     }
+
+    uint inst = stp.instance_test != 0u ? imageLoad(st_hitid, coord).x : 0u;
 
     /* 1. this eye's point at the pixel centre -> the other eye */
     xs_eye e = stp.eyes[eye], o = stp.eyes[other];
@@ -97,8 +110,7 @@ void main()
                 ivec2 t = base + ivec2(i, j);
                 vec2 s = q - vec2(t);
                 float w = max(1.0 - abs(s.x), 0.0) * max(1.0 - abs(s.y), 0.0);
-                if (w == 0.0 || !inside(t) ||
-                    !xs_st_depth_ok(depth_at(t, other), d_exp, stp.depth_tolerance))
+                if (w == 0.0 || !inside(t) || !tap_ok(t, other, d_exp, inst))
                     continue;
                 x += w * imageLoad(st_src, ivec3(t, other)).rgb;
                 wsum += w;
@@ -115,8 +127,7 @@ void main()
                     ivec2 t = base + ivec2(i, j);
                     vec2 s = q - vec2(t);
                     float w = xs_st_dodgson(s.x, stp.r) * xs_st_dodgson(s.y, stp.r);
-                    if (w == 0.0 || !inside(t) ||
-                        !xs_st_depth_ok(depth_at(t, other), d_exp, stp.depth_tolerance))
+                    if (w == 0.0 || !inside(t) || !tap_ok(t, other, d_exp, inst))
                         continue;
                     vec4 a = imageLoad(st_mu1, ivec3(t, other));
                     vec4 b = imageLoad(st_mu2, ivec3(t, other));
@@ -148,8 +159,7 @@ void main()
                 float w = xs_st_blur_weight(dx, dy, stp.r);
                 if (w == 0.0 || !inside(t))
                     continue;
-                if ((dx != 0 || dy != 0) &&
-                    !xs_st_depth_ok(depth_at(t, eye), d, stp.depth_tolerance))
+                if ((dx != 0 || dy != 0) && !tap_ok(t, eye, d, inst))
                     continue;
                 vec4 a = imageLoad(st_mu1, ivec3(t, eye));
                 vec4 b = imageLoad(st_mu2, ivec3(t, eye));

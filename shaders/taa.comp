@@ -44,7 +44,12 @@
  *    alpha for its trusted share, XS_TF_UNTRUSTED_ALPHA for the rest (history_at: taps not
  *    showing the surface themselves, which a box spanning an edge cannot clip; issue 19).
  *    With the motion rule (motion_px2 > 0, XS_TF_MOTION_*) alpha rises with the blur the
- *    bilinear resampling added this frame (fx (1 - fx) + fy (1 - fy) px^2).
+ *    bilinear resampling added this frame (fx (1 - fx) + fy (1 - fy) px^2); with
+ *    motion_edges only on the dark side of an edge between surfaces: where the 3 x 3
+ *    neighbourhood shows another instance (or background beside a hit) and the pixel's luma
+ *    is below the neighbourhood's mean. There the blur carries the bright side's radiance
+ *    in: the Cornell light panel's (~15) into the ceiling beside it (~0.05), half of the
+ *    default's relMSE on the Cornell orbit (issue 19; bench/results/issue19-cornell/).
  *    The history is resampled bilinearly, or with Catmull-Rom (history_filter). PFJ23 (seed 004 §4.2): no rectification (seed 004 §5.1 leaves history
  *    rectification out); alpha per channel = Eq. 4 with sigma_Y^2 from the current 3 x 3
  *    neighbourhood (Eq. 10) and E[(X - Y)^2] from the history X against each neighbour (Eq. 11),
@@ -141,6 +146,14 @@ bool inside(ivec2 p)
 }
 
 bool finite3(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
+
+/** The instance this frame shows at texel c (XS_MISS_INSTANCE: background), as main reads
+ *  the pixel's own. */
+uint neighbour_instance(ivec3 c)
+{
+    uint i = imageLoad(tf_hitid, c).x;
+    return imageLoad(tf_depth, c).r <= 0.0 || i >= tfp.instance_count ? XS_MISS_INSTANCE : i;
+}
 
 
 /** Whether a last-frame texel of tf_prev_geo shows instance inst (XS_MISS_INSTANCE:
@@ -362,9 +375,12 @@ void main()
      * as the history is */
     vec3 m1 = vec3(0.0), m2 = vec3(0.0);    /* YCoCg moments (ON) */
     vec3 sy = vec3(0.0), sy2 = vec3(0.0), sd2 = vec3(0.0); /* RGB sums (PFJ23, Eq. 10-11) */
+    bool edge = false; /* motion_edges: a neighbour shows another surface */
     for (int dy = -1; dy <= 1; dy++) {
         for (int dx = -1; dx <= 1; dx++) {
             ivec2 p = clamp(ivec2(g.xy) + ivec2(dx, dy), ivec2(0), size - 1);
+            if (tfp.motion_edges != 0u && !edge)
+                edge = neighbour_instance(ivec3(p, eye)) != inst;
             vec3 yi = to_resolve(imageLoad(tf_src, ivec3(p, eye)).rgb);
             vec3 c = rgb_to_ycocg(yi);
             m1 += c;
@@ -389,7 +405,12 @@ void main()
         float a = tfp.alpha;
         /* the motion rule (XS_TF_MOTION_*): the trusted history's weight shrinks with the
          * blur its resampling added this frame */
-        if (tfp.motion_px2 > 0.0)
+        /* motion_edges: only on the dark side of an edge between two surfaces (the pixel's
+         * luma below its neighbourhood's mean), where the blur carries the bright side's
+         * radiance in: a relative error many times the bright side's (issue 19, Cornell) */
+        if (tfp.motion_edges != 0u)
+            edge = edge && rgb_to_ycocg(to_resolve(y)).x < mean.x;
+        if (tfp.motion_px2 > 0.0 && (tfp.motion_edges == 0u || edge))
             a += max(tfp.motion_alpha - a, 0.0) * min(blur / tfp.motion_px2, 1.0);
         alpha = vec3(a + (max(XS_TF_UNTRUSTED_ALPHA, a) - a) * (1.0 - own));
     }

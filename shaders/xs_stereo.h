@@ -40,6 +40,7 @@
 #define XS_ST_BIND_MU2 4    /* rgba32f image2DArray: mu_2 (rgb), c_X (a) */
 #define XS_ST_BIND_OUT 5    /* rgba32f image2DArray: blended colour (output) */
 #define XS_ST_BIND_AUX 6    /* rgba32f image2DArray: beta (rgb), XS_ST_STATUS_* (a) (output) */
+#define XS_ST_BIND_HITID 7  /* rgba32ui image2DArray: hit ids, instance in .x (instance_test) */
 
 #define XS_ST_GROUP 8u /* local size x and y of stereo_blend.comp */
 
@@ -71,7 +72,7 @@ XS_STRUCT(xs_st_params)
     xs_float r;               /* sharpness R in [0, 1] (moments) */
     xs_float depth_tolerance; /* XS_ST_DEPTH_TOLERANCE */
     xs_float min_weight;      /* XS_ST_MIN_WEIGHT */
-    xs_float pad1;
+    xs_uint instance_test;    /* 1: a tap must also show the pixel's instance (hit id) */
 } XS_END(xs_st_params);
 
 #ifndef XRSC_GLSL

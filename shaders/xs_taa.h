@@ -117,7 +117,9 @@ XS_STRUCT(xs_tf_params)
     xs_float motion_px2;    /* mode ON, > 0: the blur (px^2) at which alpha reaches
                              * motion_alpha (XS_TF_MOTION_*); 0: no motion rule */
     xs_float motion_alpha;  /* the current frame's weight at that blur or more */
-    xs_uint pad0, pad1;
+    xs_uint motion_edges;   /* 1: the motion rule only where the current 3 x 3 neighbourhood
+                             * shows another surface (XRSC_TAA_MOTION_EDGES) */
+    xs_uint pad1;
 } XS_END(xs_tf_params);
 
 #ifndef XRSC_GLSL

@@ -274,6 +274,10 @@ static const hs_opt k_bench_opts[] = {
      "times, rays and counters only: no references, read-backs or image\n"
      "metrics (their columns stay empty; for large sizes on a GPU)",
      NULL, F(timing_only), NULL},
+    {"--keep-frames", NULL,
+     "also write each scored frame as DIR/frames/NAME/frame_K_EYE.pfm\n"
+     "(beside DIR/ref/'s references, for error maps)",
+     NULL, F(keep_frames), NULL},
     {"--quiet", NULL, "no progress", parse_quiet, 0, NULL},
     TEXT("  -h, --help          this help\n"
          "\n"

@@ -127,7 +127,7 @@ static int parse_taa_history(const hs_opt_arg *a)
 static int parse_taa_motion(const hs_opt_arg *a)
 {
     if (xrsc_taa_motion_from_name(a->value, &M(a)->opt.renderer.taa.motion) != XRSC_OK)
-        return bad_arg(a->opt->name, a->value, "expected off, on or default");
+        return bad_arg(a->opt->name, a->value, "expected off, on, edges or default");
     return 0;
 }
 
@@ -478,6 +478,10 @@ static const hs_opt k_replay_opts[] = {
      "samples | mean: the variances moments uses, the spread of the\n"
      "samples (Eq. 5 as printed) or of the pixel's mean [samples]",
      parse_blend_estimate, 0, NULL},
+    {"--blend-instances", "on|off",
+     "the blend's taps must also show the pixel's instance (hit id), not\n"
+     "only its depth within 5 % [off]",
+     hs_opt_on_off, RO(blend_instance_test), NULL},
 
     TEXT("\nTemporal antialiasing (after reconstruction, before the stereo blend; seed 000 "
          "section 5.1):\n"),
@@ -491,9 +495,11 @@ static const hs_opt k_replay_opts[] = {
      "history (catmull-rom keeps texture sharper under motion) [bilinear]",
      parse_taa_history, 0, NULL},
     {"--taa-motion", "M",
-     "off | on | default: with --taa on, raise the current frame's weight with\n"
-     "the blur of resampling the history under sub-pixel motion (to 0.5 at\n"
-     "0.25 px^2; lower relMSE, higher temporal and stereo differences) [off]",
+     "off | on | edges | default: with --taa on, raise the current frame's\n"
+     "weight with the blur of resampling the history under sub-pixel motion\n"
+     "(to 0.5 at 0.25 px^2; lower relMSE, higher temporal and stereo\n"
+     "differences); edges: only on the dark side of an edge between surfaces\n"
+     "[off]",
      parse_taa_motion, 0, NULL},
 
     TEXT("\nOpenXR (the default path):\n"
@@ -645,12 +651,16 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
         printf(", R = %g", (double)opt->renderer.blend_r);
     if (opt->renderer.blend == XRSC_BLEND_MOMENTS && opt->renderer.blend_estimate)
         printf(", estimate %s", xrsc_blend_estimate_name(opt->renderer.blend_estimate));
+    if (opt->renderer.blend != XRSC_BLEND_NONE && opt->renderer.blend_instance_test)
+        printf(", instance test");
     xrsc_taa_mode taa = xrsc_taa_mode_resolve(opt->renderer.method, opt->renderer.taa.mode);
     printf(", temporal filter: %s", xrsc_taa_mode_name(taa));
     if (taa == XRSC_TAA_ON && opt->renderer.taa.alpha > 0) /* given; else the plugin's */
         printf(" (alpha %g)", (double)opt->renderer.taa.alpha);
     if (taa == XRSC_TAA_ON && opt->renderer.taa.motion == XRSC_TAA_MOTION_ON)
         printf(", motion rule");
+    if (taa == XRSC_TAA_ON && opt->renderer.taa.motion == XRSC_TAA_MOTION_EDGES)
+        printf(", motion rule at edges");
     const xrsc_samplecache_options *sc = &opt->renderer.samplecache;
     if (opt->renderer.method == XRSC_METHOD_SAMPLECACHE || opt->renderer.method == XRSC_METHOD_ISRT) {
         const char *shade = hs_opt_enum_name(k_sc_shade, (int)sc->shade);

@@ -610,6 +610,20 @@ static void put_base_column(bench_run *b, const hs_bench_setting *s, FILE *csv,
     put_num(csv, total > 0.0 ? diff / total : NAN, have);
 }
 
+/* --keep-frames: scored frame k's two eyes as OUT/frames/NAME/frame_K_EYE.pfm. */
+static xrsc_result keep_frame(bench_run *b, const hs_bench_setting *s, const eye_images *cur,
+                              uint32_t k, xrsc_diag *diag)
+{
+    char dir[HS_BENCH_PATH_MAX], path[HS_BENCH_PATH_MAX + 64];
+    snprintf(dir, sizeof(dir), "%s/frames/%s", b->opt->out_dir, s->name);
+    xrsc_result res = hs_make_dirs(dir, "--keep-frames", diag);
+    for (int e = 0; e < 2 && res == XRSC_OK; e++) {
+        snprintf(path, sizeof(path), "%s/" REF_FILE_NAME, dir, k, e ? "right" : "left", "");
+        res = hs_write_pfm(path, cur->color[e], b->w, b->h, diag);
+    }
+    return res;
+}
+
 /* One frame of setting s: rendered, measured, its CSV row written. */
 static xrsc_result bench_frame(bench_run *b, const hs_bench_setting *s, xrsc_renderer *r,
                                uint32_t k, eye_images im[2], float *ref[2], FILE *csv,
@@ -644,6 +658,8 @@ static xrsc_result bench_frame(bench_run *b, const hs_bench_setting *s, xrsc_ren
         put_temporal_columns(b, csv, cur, prev, k);
         put_stereo_columns(b, csv, cur, k, scored, ref);
         put_base_column(b, s, csv, cur, k, scored);
+        if (scored && b->opt->keep_frames && (res = keep_frame(b, s, cur, k, diag)) != XRSC_OK)
+            return res;
     }
     for (uint32_t p = 0; p < np; p++)
         fprintf(csv, ",%.4f", pass[p].gpu_ms);

@@ -127,6 +127,10 @@ typedef struct hs_bench_options {
      *  metrics (their columns stay empty), so that large sizes measure the GPU, not the CPU's
      *  metrics (scripts/gpu-check.sh at headset sizes). */
     bool timing_only;
+    /** Also write every scored frame's two eyes as PFM files,
+     *  out_dir/frames/NAME/frame_%05u_{left,right}.pfm beside ref/'s references of the same
+     *  frame, for per-pixel error maps (bench/results/issue19-cornell/). */
+    bool keep_frames;
     bool progress;        /**< progress lines on stderr */
     /** A part of the run (sweeps). Any part but ALL shares out_dir with other processes: the
      *  reference cache is never emptied (references of another configuration there are an

@@ -284,7 +284,7 @@ static const char *set_taa_history(xrsc_renderer_options *o, const char *v)
 static const char *set_taa_motion(xrsc_renderer_options *o, const char *v)
 {
     if (!strcmp(v, "default") || xrsc_taa_motion_from_name(v, &o->taa.motion) != XRSC_OK)
-        return "off, on";
+        return "off, on, edges";
     return NULL;
 }
 
@@ -296,6 +296,11 @@ static const char *set_taa_motion_px2(xrsc_renderer_options *o, const char *v)
 static const char *set_taa_motion_alpha(xrsc_renderer_options *o, const char *v)
 {
     return parse_pos(v, 1, &o->taa.motion_alpha) ? NULL : "(0, 1]";
+}
+
+static const char *set_blend_inst(xrsc_renderer_options *o, const char *v)
+{
+    return hs_parse_on_off(v, &o->blend_instance_test) ? NULL : "on, off";
 }
 
 static const char *set_r(xrsc_renderer_options *o, const char *v)
@@ -321,6 +326,8 @@ typedef struct bench_key {
 static const bench_key keys[] = {
     {"blend", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HC | M_HY, set_blend, "",
      "stereo blend none | pfj23 | moments (moments: spp, samplecache, isrt, hybrid) [none]"},
+    {"blend_inst", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HC | M_HY, set_blend_inst, "bi",
+     "stereo blend taps must show the pixel's instance (hit id) too, on | off [off]"},
     {"r", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HY, set_r, "r",
      "sharpness R of the moments blend, [0, 1] [0]"},
     {"estimate", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HY, set_blend_estimate, "est",
@@ -332,7 +339,7 @@ static const bench_key keys[] = {
      "weight of the current frame with taa=on, (0, 1] [0.1]"},
     {"taa_history", M_ALL, set_taa_history, "",
      "TAA history resampling bilinear | catmull-rom [bilinear]"},
-    {"taa_motion", M_ALL, set_taa_motion, "tm", "TAA motion rule (taa=on) off | on [off]"},
+    {"taa_motion", M_ALL, set_taa_motion, "tm", "TAA motion rule (taa=on) off | on | edges [off]"},
     {"taa_motion_px2", M_ALL, set_taa_motion_px2, "tmb",
      "resampling blur (px^2) at which the TAA motion rule reaches its highest weight, "
      "(0, 16] [0.25]"},

@@ -477,13 +477,22 @@ xrsc_result xrsc_taa_history_from_name(const char *name, xrsc_taa_history *out_f
  * it lowers relMSE under pans and sideways motion, but raises the temporal and stereo
  * differences of the orbits (bench/results/issue19-taaedge/), so it is off by default.
  * - XRSC_TAA_MOTION_DEFAULT (0) = XRSC_TAA_MOTION_OFF; XRSC_TAA_MOTION_ON.
+ * - XRSC_TAA_MOTION_EDGES: the rule only on the dark side of an edge between surfaces: at
+ *   pixels whose current 3 x 3 neighbourhood shows another instance (or background beside a
+ *   hit) and whose luma (in the resolve space) is below the neighbourhood's mean. There the
+ *   blur carries the bright side's radiance in, a large relative error: the Cornell light
+ *   panel (radiance ~15) smeared into the ceiling beside it (~0.05) was half of the
+ *   default's relMSE on the Cornell orbit (bench/results/issue19-cornell/). Inside a
+ *   surface, and on an edge's bright side, the history keeps alpha, so the temporal and
+ *   stereo differences rise far less than with XRSC_TAA_MOTION_ON.
  */
 typedef enum xrsc_taa_motion {
     XRSC_TAA_MOTION_DEFAULT = 0,
     XRSC_TAA_MOTION_OFF = 1,
     XRSC_TAA_MOTION_ON = 2,
+    XRSC_TAA_MOTION_EDGES = 3,
 } xrsc_taa_motion;
-/** "default" / "off" / "on"; NULL for unknown values. */
+/** "default" / "off" / "on" / "edges"; NULL for unknown values. */
 const char *xrsc_taa_motion_name(xrsc_taa_motion motion);
 /** Parses a motion rule name; XRSC_ERROR_INVALID_ARGUMENT when unknown. */
 xrsc_result xrsc_taa_motion_from_name(const char *name, xrsc_taa_motion *out_motion);
@@ -607,6 +616,11 @@ xrsc_result xrsc_blend_estimate_from_name(const char *name, xrsc_blend_estimate 
  * seed 000 §5.2 (Fig. 15: R = 0 beats R = 1 and PFJ23 on RSE and discrepancy, with CPBD
  * sharpness closest to the reference); R = 1 is the conservative, least blurring one.
  * blend_estimate: the variances the moments blend uses (default: Eq. 5 as printed).
+ * blend_instance_test: the blend's taps must also show the pixel's instance (hit id), not only
+ * its depth within 5 % (default false: the depth test alone). The Cornell light panel lies
+ * 1 cm below the ceiling, so the depth test takes it for the ceiling, and the other eye's
+ * bilinear tap mixed its radiance (~15) into the ceiling beside it (~0.05): a third of the
+ * default's relMSE on the Cornell orbit at 2 x 96^2 (bench/results/issue19-cornell/).
  */
 typedef struct xrsc_renderer_options {
     xrsc_method method;
@@ -618,6 +632,7 @@ typedef struct xrsc_renderer_options {
     float blend_r;
     xrsc_blend_estimate blend_estimate;
     xrsc_taa_options taa;
+    bool blend_instance_test;
     xrsc_hashcache_options hashcache;
     xrsc_isrt_options isrt;
 } xrsc_renderer_options;

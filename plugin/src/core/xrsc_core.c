@@ -359,7 +359,7 @@ static const char *const taa_history_names[] = {
 };
 static const char *const taa_motion_names[] = {
     [XRSC_TAA_MOTION_DEFAULT] = "default", [XRSC_TAA_MOTION_OFF] = "off",
-    [XRSC_TAA_MOTION_ON] = "on",
+    [XRSC_TAA_MOTION_ON] = "on", [XRSC_TAA_MOTION_EDGES] = "edges",
 };
 static const char *const blend_names[] = {
     [XRSC_BLEND_NONE] = "none", [XRSC_BLEND_PFJ23] = "pfj23", [XRSC_BLEND_MOMENTS] = "moments",
@@ -467,7 +467,7 @@ static xrsc_result renderer_options_check(const xrsc_renderer_options *opt, xrsc
                           "TAA mode %d with alpha = %g, history filter %d (alpha must be in "
                           "(0, 1], 0 = default)",
                           (int)opt->taa.mode, (double)opt->taa.alpha, (int)opt->taa.history);
-    if ((unsigned)opt->taa.motion > XRSC_TAA_MOTION_ON || !(opt->taa.motion_px2 >= 0.0f) ||
+    if ((unsigned)opt->taa.motion > XRSC_TAA_MOTION_EDGES || !(opt->taa.motion_px2 >= 0.0f) ||
         !(opt->taa.motion_alpha >= 0.0f && opt->taa.motion_alpha <= 1.0f))
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa.motion",
                           "TAA motion rule %d with blur %g px^2, alpha %g (blur >= 0, alpha in "
@@ -517,12 +517,14 @@ static xrsc_result blend_create(xrsc_renderer *r, xrsc_diag *diag)
         return XRSC_OK;
     st_settings set = {.blend = r->opt.blend,
                        .r = r->opt.blend_r,
-                       .pixel_mean = r->opt.blend_estimate == XRSC_BLEND_ESTIMATE_MEAN};
+                       .pixel_mean = r->opt.blend_estimate == XRSC_BLEND_ESTIMATE_MEAN,
+                       .instance_test = r->opt.blend_instance_test};
     st_images imgs = {
         .color = mt_method_output_image(r->method, XRSC_OUTPUT_COLOR),
         .depth = mt_method_output_image(r->method, XRSC_OUTPUT_DEPTH),
         .mu1 = mt_method_output_image(r->method, XRSC_OUTPUT_MU1),
         .mu2 = mt_method_output_image(r->method, XRSC_OUTPUT_MU2),
+        .hitid = mt_method_output_image(r->method, XRSC_OUTPUT_HIT_ID),
     };
     return st_blend_create(r->ctx->gpu, r->opt.width, r->opt.height, &set, &imgs, &r->blend, diag);
 }

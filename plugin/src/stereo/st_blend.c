@@ -28,6 +28,7 @@ static const gpu_binding st_bindings[] = {
     {XS_ST_BIND_MU2, GPU_BINDING_STORAGE_IMAGE, 1},
     {XS_ST_BIND_OUT, GPU_BINDING_STORAGE_IMAGE, 1},
     {XS_ST_BIND_AUX, GPU_BINDING_STORAGE_IMAGE, 1},
+    {XS_ST_BIND_HITID, GPU_BINDING_STORAGE_IMAGE, 1},
 };
 
 static bool size_ok(const gpu_image *img, uint32_t w, uint32_t h)
@@ -47,6 +48,7 @@ void st_blend_destroy(st_blend **stp)
         gpu_image_destroy(st->ctx, &st->src);
         gpu_image_destroy(st->ctx, &st->aux);
         gpu_image_destroy(st->ctx, &st->stub);
+        gpu_image_destroy(st->ctx, &st->stub_hitid);
     }
     free(st);
     *stp = NULL;
@@ -94,7 +96,9 @@ xrsc_result st_blend_create(gpu_context *ctx, uint32_t width, uint32_t height,
         (res = gpu_image_create_storage(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, width, height, 2,
                                         &st->aux, diag)) != XRSC_OK ||
         (!have_mu && (res = gpu_image_create_storage(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, 1, 1, 2,
-                                                     &st->stub, diag)) != XRSC_OK))
+                                                     &st->stub, diag)) != XRSC_OK) ||
+        (!imgs->hitid && (res = gpu_image_create_storage(ctx, VK_FORMAT_R32G32B32A32_UINT, 1, 1,
+                                                         2, &st->stub_hitid, diag)) != XRSC_OK))
         goto fail;
     memset(st->params.mapped, 0, sizeof(xs_st_params));
     gpu_buffer_flush(ctx, &st->params);
@@ -106,8 +110,11 @@ xrsc_result st_blend_create(gpu_context *ctx, uint32_t width, uint32_t height,
     gpu_descriptors_write_storage_image(ctx, d, XS_ST_BIND_MU2, have_mu ? imgs->mu2 : &st->stub);
     gpu_descriptors_write_storage_image(ctx, d, XS_ST_BIND_OUT, imgs->color);
     gpu_descriptors_write_storage_image(ctx, d, XS_ST_BIND_AUX, &st->aux);
+    gpu_descriptors_write_storage_image(ctx, d, XS_ST_BIND_HITID,
+                                        imgs->hitid ? imgs->hitid : &st->stub_hitid);
     /* remembered for the copy colour -> src */
     st->color = imgs->color;
+    st->hitid_given = imgs->hitid != NULL;
     *out = st;
     return XRSC_OK;
 fail:
@@ -148,6 +155,7 @@ void st_blend_cmd_record(st_blend *st, VkCommandBuffer cmd, gpu_timer *timer,
         .r = st->set.r,
         .depth_tolerance = st->set.depth_tolerance,
         .min_weight = XS_ST_MIN_WEIGHT,
+        .instance_test = st->set.instance_test && st->hitid_given ? 1u : 0u,
     };
     memcpy(p.eyes, eyes, sizeof(p.eyes));
     memcpy(st->params.mapped, &p, sizeof(p));
@@ -222,7 +230,7 @@ xrsc_result st_blend_run_host(gpu_context *ctx, uint32_t width, uint32_t height,
     if (res != XRSC_OK)
         goto done;
     st_images imgs = {&img[IMG_COLOR], &img[IMG_DEPTH], have_mu ? &img[IMG_MU1] : NULL,
-                      have_mu ? &img[IMG_MU2] : NULL};
+                      have_mu ? &img[IMG_MU2] : NULL, NULL};
     if ((res = st_blend_create(ctx, width, height, settings, &imgs, &st, diag)) != XRSC_OK)
         goto done;
     VkCommandBuffer cmd;

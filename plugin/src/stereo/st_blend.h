@@ -33,12 +33,18 @@ typedef struct st_settings {
     float depth_tolerance; /**< 0: XS_ST_DEPTH_TOLERANCE */
     bool pixel_mean; /**< Eq. 8 of the pixel values' moments (xs_st_beta_eq8_mean) instead of
                           the per-sample moments as printed (the default) */
+    /** Taps (of the other eye, and this eye's moment neighbours) must also show the pixel's
+     *  instance (st_images.hitid): the depth test alone (5 %) takes the Cornell light panel,
+     *  1 cm below the ceiling, for the ceiling, and the bilinear tap mixed the panel's
+     *  radiance into the ceiling beside it (issue 19, bench/results/issue19-cornell/). */
+    bool instance_test;
 } st_settings;
 
 /** The images a blend works on, each 2 layers (eyes), GENERAL, width x height. mu1/mu2 may be
  *  NULL except for XRSC_BLEND_MOMENTS. color is read (copied to src) and overwritten. */
 typedef struct st_images {
     const gpu_image *color, *depth, *mu1, *mu2;
+    const gpu_image *hitid; /**< hit ids (instance in .x); NULL: no instance test */
 } st_images;
 
 typedef struct st_blend {
@@ -49,6 +55,8 @@ typedef struct st_blend {
     gpu_buffer params; /**< xs_st_params, host-visible */
     gpu_image src, aux; /**< src: none (freed) once st_blend_use_source gave one */
     gpu_image stub; /**< 1 x 1 x 2 rgba32f bound for absent moments */
+    gpu_image stub_hitid; /**< 1 x 1 x 2 rgba32ui bound for absent hit ids */
+    bool hitid_given;     /**< st_images.hitid was given: instance_test can apply */
     const gpu_image *color; /**< borrowed: read (copied to src) and overwritten */
 } st_blend;
 

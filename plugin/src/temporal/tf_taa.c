@@ -90,7 +90,7 @@ static xrsc_result check_args(const tf_settings *set, const tf_images *imgs, uin
     if ((unsigned)set->history > XRSC_TAA_HISTORY_CATMULL_ROM)
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa.history",
                           "history filter %d is not bilinear or catmull-rom", (int)set->history);
-    if ((unsigned)set->motion > XRSC_TAA_MOTION_ON || !(set->motion_px2 > 0.0f) ||
+    if ((unsigned)set->motion > XRSC_TAA_MOTION_EDGES || !(set->motion_px2 > 0.0f) ||
         !(set->motion_alpha > 0.0f && set->motion_alpha <= 1.0f))
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "taa.motion",
                           "motion rule %d with blur %g px^2 and alpha %g (blur > 0, alpha in "
@@ -240,7 +240,8 @@ static void upload_constants(tf_taa *t, const xs_frame *xf)
         .deform = t->deform ? 1u : 0u,
         .history_filter = t->set.history == XRSC_TAA_HISTORY_CATMULL_ROM ? XS_TF_HISTORY_CATMULL_ROM
                                                                          : XS_TF_HISTORY_BILINEAR,
-        .motion_px2 = t->set.motion == XRSC_TAA_MOTION_ON ? t->set.motion_px2 : 0.0f,
+        .motion_px2 = t->set.motion >= XRSC_TAA_MOTION_ON ? t->set.motion_px2 : 0.0f,
+        .motion_edges = t->set.motion == XRSC_TAA_MOTION_EDGES,
         .motion_alpha = t->set.motion_alpha,
     };
     memcpy(p.prev_eyes, t->prev_eyes, sizeof(p.prev_eyes));

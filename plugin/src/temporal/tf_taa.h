@@ -42,7 +42,8 @@ typedef struct tf_settings {
     float alpha;
     /** History resampling; XRSC_TAA_HISTORY_DEFAULT = bilinear. */
     xrsc_taa_history history;
-    /** Mode ON's motion rule (::xrsc_taa_motion): XRSC_TAA_MOTION_ON or not (DEFAULT = off);
+    /** Mode ON's motion rule (::xrsc_taa_motion): XRSC_TAA_MOTION_ON, XRSC_TAA_MOTION_EDGES
+     *  (on the dark side of edges between surfaces only) or not (DEFAULT = off);
      *  motion_px2 / motion_alpha 0 = XS_TF_MOTION_PX2 /
      *  XS_TF_MOTION_ALPHA. */
     xrsc_taa_motion motion;
