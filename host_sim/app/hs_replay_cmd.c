@@ -49,6 +49,7 @@ typedef struct main_args {
     bool blend_given;                             /* --blend: else hs_replay_default_blend(method) */
     bool taa_given;                               /* --taa: else hs_replay_default_taa(method) */
     bool shade_given, shade_rate_given;           /* else hs_replay_default_shading */
+    bool taa_motion_given, blend_inst_given;      /* else hs_replay_default_edges */
     bool size_given, ipd_given, refresh_given;    /* these win over --headset */
     const char *pose_columns, *pose_time_unit, *pose_handedness;
     const char *headset_name, *headsets_path; /* --headset, --headsets */
@@ -128,7 +129,15 @@ static int parse_taa_motion(const hs_opt_arg *a)
 {
     if (xrsc_taa_motion_from_name(a->value, &M(a)->opt.renderer.taa.motion) != XRSC_OK)
         return bad_arg(a->opt->name, a->value, "expected off, on, edges or default");
+    M(a)->taa_motion_given = true;
     return 0;
+}
+
+/* --blend-instances on|off */
+static int parse_blend_instances(const hs_opt_arg *a)
+{
+    M(a)->blend_inst_given = true;
+    return hs_opt_on_off(a);
 }
 
 static int parse_blend(const hs_opt_arg *a)
@@ -480,8 +489,8 @@ static const hs_opt k_replay_opts[] = {
      parse_blend_estimate, 0, NULL},
     {"--blend-instances", "on|off",
      "the blend's taps must also show the pixel's instance (hit id), not\n"
-     "only its depth within 5 % [off]",
-     hs_opt_on_off, RO(blend_instance_test), NULL},
+     "only its depth within 5 % [on after samplecache, else off]",
+     parse_blend_instances, RO(blend_instance_test), NULL},
 
     TEXT("\nTemporal antialiasing (after reconstruction, before the stereo blend; seed 000 "
          "section 5.1):\n"),
@@ -499,7 +508,7 @@ static const hs_opt k_replay_opts[] = {
      "weight with the blur of resampling the history under sub-pixel motion\n"
      "(to 0.5 at 0.25 px^2; lower relMSE, higher temporal and stereo\n"
      "differences); edges: only on the dark side of an edge between surfaces\n"
-     "[off]",
+     "[edges after samplecache, else off]",
      parse_taa_motion, 0, NULL},
 
     TEXT("\nOpenXR (the default path):\n"
@@ -777,6 +786,7 @@ static int finish_args(main_args *m)
     if (!m->taa_given)
         opt->renderer.taa.mode = hs_replay_default_taa(opt->renderer.method);
     hs_replay_default_shading(&opt->renderer, m->shade_given, m->shade_rate_given);
+    hs_replay_default_edges(&opt->renderer, m->taa_motion_given, m->blend_inst_given);
     if (opt->frame_bounds && opt->viewpoint.kind != HS_VIEWPOINT_DEFAULT)
         return bad_arg("--viewpoint", NULL, "--frame and --viewpoint both place the view: give one");
     opt->frame_keep_ipd = m->ipd_given;
@@ -815,6 +825,8 @@ static int run_with_record(main_args *m, const hs_args *args, const char *const 
         {"--taa", xrsc_taa_mode_name(xrsc_taa_mode_resolve(opt->renderer.method,
                                                            opt->renderer.taa.mode))},
         {"--sc-shade", shade_s},        {"--sc-shade-rate", rate_s},
+        {"--taa-motion", xrsc_taa_motion_name(opt->renderer.taa.motion)},
+        {"--blend-instances", opt->renderer.blend_instance_test ? "on" : "off"},
         {"--spp", spp_s},
         {"--resolution", res_s},        {"--seed", "0"},
         {"--ipd", ipd_s},               {"--refresh", refresh_s},
@@ -859,7 +871,8 @@ int hs_replay_main(int argc, char **argv)
                                             HS_OPT_MAX);
     /* what a run.conf without these lines ran (older builds did not name them): the
      * library's own temporal filter and uniform shading (the defaults before issue 19) */
-    static const char *const record_defaults[] = {"--taa", "default", "--sc-shade", "uniform"};
+    static const char *const record_defaults[] = {"--taa", "default", "--sc-shade", "uniform",
+                                                  "--taa-motion", "off", "--blend-instances", "off"};
     const hs_args_spec spec = {.cmd = "xrsc", .value_options = value_options,
                                .value_count = value_count, .config = true,
                                .record_defaults = record_defaults,

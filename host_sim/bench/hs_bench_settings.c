@@ -327,7 +327,7 @@ static const bench_key keys[] = {
     {"blend", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HC | M_HY, set_blend, "",
      "stereo blend none | pfj23 | moments (moments: spp, samplecache, isrt, hybrid) [none]"},
     {"blend_inst", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HC | M_HY, set_blend_inst, "bi",
-     "stereo blend taps must show the pixel's instance (hit id) too, on | off [off]"},
+     "stereo blend taps must show the pixel's instance (hit id) too, on | off [off; default: on]"},
     {"r", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HY, set_r, "r",
      "sharpness R of the moments blend, [0, 1] [0]"},
     {"estimate", M_SPP | M_PRIMARY | M_SC | M_ISRT | M_HY, set_blend_estimate, "est",
@@ -339,7 +339,7 @@ static const bench_key keys[] = {
      "weight of the current frame with taa=on, (0, 1] [0.1]"},
     {"taa_history", M_ALL, set_taa_history, "",
      "TAA history resampling bilinear | catmull-rom [bilinear]"},
-    {"taa_motion", M_ALL, set_taa_motion, "tm", "TAA motion rule (taa=on) off | on | edges [off]"},
+    {"taa_motion", M_ALL, set_taa_motion, "tm", "TAA motion rule (taa=on) off | on | edges [off; default: edges]"},
     {"taa_motion_px2", M_ALL, set_taa_motion_px2, "tmb",
      "resampling blur (px^2) at which the TAA motion rule reaches its highest weight, "
      "(0, 16] [0.25]"},
@@ -457,7 +457,8 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
              !product && s->renderer.method == XRSC_METHOD_SAMPLECACHE ? "sc" : method);
     char name[HS_BENCH_SPEC_MAX] = "";
     char *save = NULL;
-    bool first = true, shade_given = false, rate_given = false;
+    bool first = true, shade_given = false, rate_given = false, motion_given = false,
+         inst_given = false;
     for (char *kv = args ? strtok_r(args, ",", &save) : NULL; kv;
          kv = strtok_r(NULL, ",", &save)) {
         trim(&kv);
@@ -487,6 +488,8 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
                               "key '%s' does not apply to method %s", key, method);
         shade_given |= !strcmp(key, "shade");
         rate_given |= !strcmp(key, "shade_rate");
+        motion_given |= !strcmp(key, "taa_motion");
+        inst_given |= !strcmp(key, "blend_inst");
         const char *why = bk->set(&s->renderer, val);
         if (why)
             return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
@@ -508,8 +511,10 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
             append(label, sizeof(label), "-", item);
         }
     }
-    if (product) /* a shading mode given without a rate: the library's rate, as in the replay */
+    if (product) { /* a shading mode given without a rate: the library's rate, as in the replay */
         hs_replay_default_shading(&s->renderer, shade_given, rate_given);
+        hs_replay_default_edges(&s->renderer, motion_given, inst_given);
+    }
     const char *final = name[0] ? name : label;
     if (!valid_name(final))
         return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",

@@ -608,6 +608,15 @@ void hs_replay_default_shading(xrsc_renderer_options *o, bool shade_given, bool 
         o->samplecache.shade_rate = product ? HS_REPLAY_DEFAULT_SHADE_RATE : 0.0f;
 }
 
+void hs_replay_default_edges(xrsc_renderer_options *o, bool motion_given, bool instance_given)
+{
+    bool product = o->method == XRSC_METHOD_SAMPLECACHE;
+    if (!motion_given)
+        o->taa.motion = product ? XRSC_TAA_MOTION_EDGES : XRSC_TAA_MOTION_DEFAULT;
+    if (!instance_given)
+        o->blend_instance_test = product;
+}
+
 void hs_replay_default_renderer(xrsc_renderer_options *out)
 {
     *out = (xrsc_renderer_options){.method = XRSC_METHOD_SAMPLECACHE,
@@ -617,4 +626,5 @@ void hs_replay_default_renderer(xrsc_renderer_options *out)
     out->blend = hs_replay_default_blend(out->method);
     out->taa.mode = hs_replay_default_taa(out->method);
     hs_replay_default_shading(out, false, false);
+    hs_replay_default_edges(out, false, false);
 }
