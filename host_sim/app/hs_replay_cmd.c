@@ -434,6 +434,10 @@ static const hs_opt k_replay_opts[] = {
      "each eye's view-independent samples also serve the other\n"
      "eye, traced and shaded once for both (beyond seed 000) [off]",
      hs_opt_on_off, SC(cross_eye), NULL},
+    {"--sc-moving", "on|off",
+     "moving-sample rule: samples on a moving instance are shaded\n"
+     "more often, with a short history on turning faces (issue 19) [off]",
+     hs_opt_on_off, SC(moving), NULL},
     {"--sc-visibility-cache", "on|off",
      "shadow visibility cache of the shading pass's light\n"
      "samples at the first hit (seed 002, AQVC) [off]",

@@ -395,6 +395,16 @@ typedef struct xrsc_samplecache_options {
      * bench/results/issue19-defaults/ for why). Other values: XRSC_ERROR_INVALID_ARGUMENT.
      */
     float firefly_clamp;
+    /**
+     * Moving-sample rule (issue 19, case `moving`, beyond seed 000; XS_SC_MOVING_ALPHA_MIN in
+     * shaders/xs_samplecache.h): while a sample's instance moves, its pixel shades one of its
+     * moving samples more each frame, and on a face that turned since the previous frame its
+     * blend factor is at least min(1, turn / 0.01 rad), so it does not keep the radiance of
+     * the object's old pose (a turn of 0.01 rad or more: this frame's shading alone). In force only in scenes with animated instances (a still
+     * scene's images are those without it); the shade list holds one entry more per pixel.
+     * false: off (default; bench/results/issue19-moving2/).
+     */
+    bool moving;
 } xrsc_samplecache_options;
 
 /**
