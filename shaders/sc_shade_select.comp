@@ -19,7 +19,7 @@
  *   bucket's samples by a coin toss with probability (B - above) / count, so B samples are
  *   shaded in expectation (§3.5, Fig. 5).
  * With the moving-sample rule (scp.moving, xrsc_samplecache_options.moving; off by default)
- * a pixel with samples whose instance moved since the previous frame shades one of them more,
+ * a pixel with samples whose instance turned since the previous frame shades one of them more,
  * in every mode: the next moving one in a round robin over them that is not chosen yet
  * (XS_SC_MOVING_ALPHA_MIN: their cached radiance belongs to the old pose); at most one more
  * shading per pixel, so a view full of moving objects costs at most one shading more per
@@ -56,7 +56,7 @@ int moving_rank(uint bits, uint k)
     return findLSB(bits);
 }
 
-/** The candidates among cand whose instance moved since the previous frame (a pixel's samples
+/** The candidates among cand whose instance turned since the previous frame (a pixel's samples
  *  mostly share one instance: its transforms are compared once per run of them). */
 uint moving_candidates(uint cur, uint pix, uint cand)
 {
@@ -66,7 +66,7 @@ uint moving_candidates(uint cur, uint pix, uint cand)
         uint s = uint(findLSB(cb));
         uint instance = sc_fh[sc_slot_at(cur, s, pix)].w;
         if (instance != last)
-            moved = sc_instance_moved(instance);
+            moved = sc_instance_turned(instance);
         last = instance;
         if (moved)
             moving |= sc_obit(s);

@@ -435,7 +435,7 @@ static const hs_opt k_replay_opts[] = {
      "eye, traced and shaded once for both (beyond seed 000) [off]",
      hs_opt_on_off, SC(cross_eye), NULL},
     {"--sc-moving", "on|off",
-     "moving-sample rule: samples on a moving instance are shaded\n"
+     "moving-sample rule: samples on a turning instance are shaded\n"
      "more often, with a short history on turning faces (issue 19) [off]",
      hs_opt_on_off, SC(moving), NULL},
     {"--sc-visibility-cache", "on|off",

@@ -360,7 +360,7 @@ static const bench_key keys[] = {
     {"firefly", M_SC | M_ISRT, set_firefly, "ff",
      "firefly rule: cap a shading at k x the sample's running mean, off | k >= 1 [off]"},
     {"moving", M_SC, set_moving, "mov",
-     "moving-sample rule: a pixel with samples on a moving instance shades one more, "
+     "moving-sample rule: a pixel with samples on a turning instance shades one more, "
      "turning faces keep a short history, on | off [off]"},
     {"vis_cache", M_SC | M_ISRT, set_vis_cache, "vc",
      "shading pass's shadow visibility cache (seed 002) on | off [off]"},

@@ -397,11 +397,13 @@ typedef struct xrsc_samplecache_options {
     float firefly_clamp;
     /**
      * Moving-sample rule (issue 19, case `moving`, beyond seed 000; XS_SC_MOVING_ALPHA_MIN in
-     * shaders/xs_samplecache.h): while a sample's instance moves, its pixel shades one of its
-     * moving samples more each frame, and on a face that turned since the previous frame its
-     * blend factor is at least min(1, turn / 0.01 rad), so it does not keep the radiance of
-     * the object's old pose (a turn of 0.01 rad or more: this frame's shading alone). In force only in scenes with animated instances (a still
-     * scene's images are those without it); the shade list holds one entry more per pixel.
+     * shaders/xs_samplecache.h): while a sample's instance turns (the linear part of its
+     * transform changed since the previous frame), its pixel shades one of its turning samples
+     * more each frame, and on a face that turned its blend factor is at least
+     * min(1, turn / 0.01 rad), so it does not keep the radiance of the object's old pose (a
+     * turn of 0.01 rad or more: this frame's shading alone; TAA averages it). Instances that
+     * only slide, and scenes without animation, render as without the rule; with it the shade
+     * list holds one entry more per pixel in scenes with animated instances.
      * false: off (default; bench/results/issue19-moving2/).
      */
     bool moving;
