@@ -36,9 +36,9 @@
 #define T_SIZE 32u
 #define T_FRAMES 24u
 #define T_REF_SPP 16u
-#define T_HALF_FOV 0.3f          /* rad: the cone fills the view */
-#define T_STEP_NS 11111111u      /* 90 Hz */
-#define T_MIN_PIXELS 100u        /* inner cone pixels, both eyes */
+#define T_HALF_FOV 0.3f     /* rad: the cone fills the view */
+#define T_STEP_NS 11111111u /* 90 Hz */
+#define T_MIN_PIXELS 100u   /* inner cone pixels, both eyes */
 #define T_MAX_RELMSE 0.025
 #define T_MAX_BIAS 0.1
 #define T_STILL_SIZE 24u
@@ -155,11 +155,12 @@ static void test_turning_cone(void)
                "reference %.4f\n",
                n, T_FRAMES, rel_on, T_MAX_RELMSE, ratio_on, T_MAX_BIAS, rel_off, ratio_off);
         CHECK(n >= T_MIN_PIXELS);
-        CHECK_MSG(rel_on < T_MAX_RELMSE, "stale radiance on the moving cone: relMSE %.5f",
-                  rel_on);
+        CHECK_MSG(rel_on < T_MAX_RELMSE, "stale radiance on the moving cone: relMSE %.5f", rel_on);
         CHECK_MSG(fabs(ratio_on - 1.0) < T_MAX_BIAS, "cone mean / reference %.4f", ratio_on);
-        CHECK_MSG(rel_off > T_MAX_RELMSE, "without the rule relMSE %.5f: the case does not "
-                  "tell the rule apart", rel_off);
+        CHECK_MSG(rel_off > T_MAX_RELMSE,
+                  "without the rule relMSE %.5f: the case does not "
+                  "tell the rule apart",
+                  rel_off);
     }
     free(ids);
     free(on);
@@ -193,8 +194,8 @@ static bool still_frames(xrsc_scene *scene, bool moving, float *out)
         frame.views[1].pose.position.x += 0.01f;
         res = xrsc_renderer_render(r, &frame);
         for (uint32_t e = 0; e < 2 && res == XRSC_OK; e++)
-            res = xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR,
-                                     out + (i * 2 + e) * eye_floats, eye_floats * sizeof(float));
+            res = xrsc_renderer_read(r, e, XRSC_OUTPUT_COLOR, out + (i * 2 + e) * eye_floats,
+                                     eye_floats * sizeof(float));
     }
     CHECK_EQ_INT(res, XRSC_OK);
     xrsc_renderer_destroy(&r);
@@ -217,8 +218,8 @@ static void same_bytes(const char *rel)
         size_t differ = 0;
         for (size_t i = 0; i < n; i++)
             differ += memcmp(&a[i], &b[i], sizeof(float)) != 0;
-        printf("  %s, %u frames: %zu of %zu values differ with the rule on\n", rel,
-               T_STILL_FRAMES, differ, n);
+        printf("  %s, %u frames: %zu of %zu values differ with the rule on\n", rel, T_STILL_FRAMES,
+               differ, n);
         CHECK_EQ_INT((int)differ, 0);
     }
     free(a);
