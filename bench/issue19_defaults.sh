@@ -1,14 +1,16 @@
 #!/bin/bash
 # SPDX-License-Identifier: MIT
 # Issue 19 item 1: bench/issue19_defaults.settings over the bundled cases, one `xrsc bench`
-# run per case at 2 x SIZE^2, FRAMES frames (warm-up 8, scored every 4, REF_SPP-spp
-# references), JOBS cases at a time (ONLY="a b": those cases alone). Usage: bench/issue19_defaults.sh XRSC OUT [SETTINGS]; the table:
+# run per case at 2 x SIZE^2 (or 2 x WxH where SIZE=WxH), FRAMES frames (warm-up 8, scored every 4, REF_SPP-spp
+# references), JOBS cases at a time (ONLY="a b": those cases alone; EXTRA: more bench options,
+# e.g. EXTRA=--timing-only JOBS=1 for the GPU times of each case alone). Usage: bench/issue19_defaults.sh XRSC OUT [SETTINGS]; the table:
 # python3 bench/issue19_table.py OUT > table.csv (bench/results/issue19-defaults/).
 set -e
 XRSC=$1
 OUT=$2
 SETTINGS=${3:-bench/issue19_defaults.settings}
 SIZE=${SIZE:-48}
+RES=$SIZE; [[ $RES == *x* ]] || RES=${SIZE}x${SIZE}
 FRAMES=${FRAMES:-24}
 REF_SPP=${REF_SPP:-64}
 JOBS=${JOBS:-2}
@@ -20,8 +22,8 @@ HOLO=../shared/poses/pred6dof-hololens/1.csv
 # warm-up (headturn-hololens is the fastest second's case)
 one() { # name scene poses start
     "$XRSC" bench --scene "$2" --poses "$3" --start "$4" \
-        --resolution "${SIZE}x${SIZE}" --frames "$FRAMES" --warmup 8 --score-every 4 \
-        --ref-spp "$REF_SPP" --settings "@$SETTINGS" --baseline default --no-plots --quiet \
+        --resolution "$RES" --frames "$FRAMES" --warmup 8 --score-every 4 \
+        --ref-spp "$REF_SPP" --settings "@$SETTINGS" --baseline default --no-plots --quiet $EXTRA \
         --out "$OUT/$1" > "$OUT/$1.txt" 2>&1 || echo "$1: failed" >&2
 }
 cases() {

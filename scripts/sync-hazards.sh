@@ -38,6 +38,7 @@ configs=(
   "sc_shade_adaptive_variance|--method samplecache --sc-shade adaptive-variance"
   "sc_alpha_fixed|--method samplecache --sc-alpha fixed --sc-alpha-fixed 0.2"
   "sc_cross_eye|--method samplecache --sc-cross-eye on"
+  "sc_stratify|--method samplecache --sc-stratify on"
   "sc_visibility_cache|--method samplecache --sc-visibility-cache on"
   "sc_visibility_strict|--method samplecache --sc-visibility-cache on --sc-visibility-refine strict"
   "sc_visibility_none|--method samplecache --sc-visibility-cache on --sc-visibility-refine none"

@@ -53,7 +53,9 @@ layout(set = XS_SC_SET, binding = XS_SC_BIND_SRC, std430) buffer XsScSrcKeyBlock
 };
 layout(set = XS_SC_SET, binding = XS_SC_BIND_PLAN, std430) buffer XsScPlanBlock
 {
-    uvec4 sc_plan[]; /* x trace bits, y new-sample bits, z shade bits, w visible count */
+    /* x trace bits, y new-sample bits, z shade bits, w visible count (for the density pass;
+     * variance-guided shading then leaves the candidates' bucket range there) */
+    uvec4 sc_plan[];
 };
 layout(set = XS_SC_SET, binding = XS_SC_BIND_STATS, std430) buffer XsScStatsBlock
 {
@@ -462,15 +464,15 @@ void sc_list_append(uint entry)
 }
 
 #if XS_SC_SET == XS_SC_RT_SET
-/** The work-list entry of this launch invocation, false past the list's end. The launch is
- *  width x (XS_SC_SHADE_STRIPES * q): launch row r takes list row (r % q) *
- *  XS_SC_SHADE_STRIPES + r / q, so every contiguous band of launch rows (lavapipe gives each
- *  worker thread one) gets an equal share of the filled prefix of the list. */
+/** The work-list entry of this launch invocation, false past the list's end (the launch's
+ *  layout: XS_SC_LIST_WIDTH, XS_SC_LIST_BLOCK, XS_SC_SHADE_STRIPES in xs_samplecache.h). */
 bool sc_list_entry(out uint entry)
 {
-    uint q = gl_LaunchSizeEXT.y / XS_SC_SHADE_STRIPES;
-    uint row = (gl_LaunchIDEXT.y % q) * XS_SC_SHADE_STRIPES + gl_LaunchIDEXT.y / q;
-    uint idx = row * gl_LaunchSizeEXT.x + gl_LaunchIDEXT.x;
+    uint q = gl_LaunchSizeEXT.y / (XS_SC_SHADE_STRIPES * XS_SC_LIST_BLOCK);
+    uint b = gl_LaunchIDEXT.y / XS_SC_LIST_BLOCK;
+    uint row = ((b % q) * XS_SC_SHADE_STRIPES + b / q) * XS_SC_LIST_BLOCK +
+               gl_LaunchIDEXT.y % XS_SC_LIST_BLOCK;
+    uint idx = row * XS_SC_LIST_WIDTH + gl_LaunchIDEXT.x;
     entry = 0u;
     uint n = min(sc_shade_count, scp.shade_capacity);
     if (idx >= n)

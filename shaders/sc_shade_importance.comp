@@ -15,8 +15,9 @@
  * same bucket and one each for the count and the bounds, instead of four per sample (all
  * invocations of an eye add to the same words; on lavapipe each atomic is a per-lane loop and
  * they were most of this pass). Integer sums, minimum and maximum: the same words in any
- * order. The pixel's candidates (above the new-sample bits of plan.y) and variance v (plan.z)
- * are left for sc_shade_select.comp, which restores plan.y and writes the shade bits to plan.z.
+ * order. The pixel's candidates (above the new-sample bits of plan.y), variance v (plan.z) and
+ * its candidates' lowest and highest bucket (plan.w, XS_SC_PLAN_RANGE_*) are left for
+ * sc_shade_select.comp, which restores plan.y and writes the shade bits to plan.z.
  */
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -33,22 +34,15 @@ layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1)
 shared uint s_hist[2][XS_SC_BUCKETS_STORED];
 shared uint s_count[2], s_min_inv[2], s_max[2];
 
-/** Pixel g's candidates and variance into sc_plan, its samples' importance buckets into the
- *  workgroup's histogram. */
-void count_pixel(uvec3 g)
+/** The importance buckets of pixel pix's candidates (variance v) into the workgroup's
+ *  histogram; returns their range for sc_shade_select.comp (XS_SC_PLAN_RANGE_*). */
+uint count_candidates(uint eye, uint pix, uint cand, float v)
 {
-    uint eye = g.z;
-    uint pix = sc_pix(eye, g.xy);
     uint cur = scp.cur;
-    float v;
-    uint cand = sc_shade_candidates_variance(cur, pix, v);
-    /* for sc_shade_select.comp: the candidates above the new-sample bits, the variance */
-    sc_plan[pix].yz = uvec2(sc_plan[pix].y | (cand << XS_SC_MAX_SLOTS), floatBitsToUint(v));
-    if (cand == 0u)
-        return;
     float w_min, w_max;
     bool bounded = sc_prev_bounds(eye, w_min, w_max);
     uint n = 0u, run = 0u, run_bucket = 0u, bits_min = 0xFFFFFFFFu, bits_max = 0u;
+    uint lo = XS_SC_BUCKETS, hi = 0u;
     for (uint b = cand; b != 0u; b &= b - 1u) {
         float c_s = sc_rad_load(sc_rad_at(cur, uint(findLSB(b)), pix)).w;
         float w = xs_sc_variance_importance(v, c_s);
@@ -61,6 +55,8 @@ void count_pixel(uvec3 g)
         run_bucket = bucket;
         run++;
         n++;
+        lo = min(lo, bucket);
+        hi = max(hi, bucket);
         bits_min = min(bits_min, floatBitsToUint(w));
         bits_max = max(bits_max, floatBitsToUint(w));
     }
@@ -68,6 +64,24 @@ void count_pixel(uvec3 g)
     atomicAdd(s_count[eye], n);
     atomicMax(s_min_inv[eye], ~bits_min);
     atomicMax(s_max[eye], bits_max);
+    return XS_SC_PLAN_RANGE_SET | lo | (hi << XS_SC_PLAN_RANGE_HI_SHIFT);
+}
+
+/** Pixel g's candidates and variance into sc_plan, its samples' importance buckets into the
+ *  workgroup's histogram. */
+void count_pixel(uvec3 g)
+{
+    uint eye = g.z;
+    uint pix = sc_pix(eye, g.xy);
+    uint cur = scp.cur;
+    float v;
+    uint cand = sc_shade_candidates_variance(cur, pix, v);
+    uint range = 0u; /* the candidates' buckets, lowest and highest (XS_SC_PLAN_RANGE_*) */
+    if (cand != 0u)
+        range = count_candidates(eye, pix, cand, v);
+    /* for sc_shade_select.comp: the candidates above the new-sample bits, the variance, the
+     * bucket range (plan.w's visible count was the density pass's, which has run) */
+    sc_plan[pix].yzw = uvec3(sc_plan[pix].y | (cand << XS_SC_MAX_SLOTS), floatBitsToUint(v), range);
 }
 
 void main()

@@ -17,7 +17,9 @@
  *   logarithmic buckets between the previous frame's w_min and w_max) from the most important
  *   bucket down: buckets above the one where the prefix sum crosses B are all shaded, that
  *   bucket's samples by a coin toss with probability (B - above) / count, so B samples are
- *   shaded in expectation (§3.5, Fig. 5).
+ *   shaded in expectation (§3.5, Fig. 5). With adaptive-variance, a pixel whose candidates'
+ *   buckets (plan.w's range) all lie above or all below that bucket is decided without
+ *   loading them again (decided()).
  * With the moving-sample rule (scp.moving, xrsc_samplecache_options.moving; off by default)
  * a pixel with samples whose instance turned since the previous frame shades one of them more,
  * in every mode: the next moving one in a round robin over them that is not chosen yet
@@ -95,6 +97,27 @@ uint uniform_share(uvec3 g, uint cand, uint foreign, uint start)
     return xs_rng_next(rng) < p ? sc_obit(uint(rr)) : 0u;
 }
 
+/**
+ * Variance-guided shading: whether the bucket range that sc_shade_importance.comp left in
+ * plan.w (XS_SC_PLAN_RANGE_*) decides all of the pixel's candidates against threshold bucket k
+ * at once: all above it (all chosen, added to bits) or all below (none). The loop below would
+ * choose the same: a candidate is chosen when its bucket is above k, by a coin when it is k.
+ * Its coins come from the pixel's own stream, which nothing draws from afterwards. On lavapipe
+ * this skips two per-lane loads per candidate (pool address, radiance record) for most pixels.
+ */
+bool decided(uint range, int k, uint cand, inout uint bits)
+{
+    if ((range & XS_SC_PLAN_RANGE_SET) == 0u)
+        return false;
+    int lo = int(range & XS_SC_PLAN_RANGE_MASK);
+    int hi = int((range >> XS_SC_PLAN_RANGE_HI_SHIFT) & XS_SC_PLAN_RANGE_MASK);
+    if (lo > k) {
+        bits |= cand;
+        return true;
+    }
+    return hi < k;
+}
+
 void main()
 {
     uvec3 g = gl_GlobalInvocationID;
@@ -145,13 +168,15 @@ void main()
             }
             above += h;
         }
+        bool by_variance = scp.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE;
+        /* the candidates left to the coins: none when the bucket range decides them all */
+        uint open = by_variance && decided(sc_plan[pix].w, k, cand, bits) ? 0u : cand;
         float w_min, w_max;
         bool bounded = sc_prev_bounds(eye, w_min, w_max);
         xs_rng rng = xs_rng_seed(g.xy, eye, frame.frame_index, SC_SHADE_STREAM, frame.seed);
-        bool by_variance = scp.shade_mode == XS_SC_SHADE_ADAPTIVE_VARIANCE;
         /* the pixel's variance, as sc_shade_importance.comp computed it */
-        float v = by_variance ? uintBitsToFloat(sc_plan[pix].z) : 0.0;
-        for (uint cb = cand; cb != 0u; cb &= cb - 1u) {
+        float v = by_variance && open != 0u ? uintBitsToFloat(sc_plan[pix].z) : 0.0;
+        for (uint cb = open; cb != 0u; cb &= cb - 1u) {
             uint s = uint(findLSB(cb));
             float c_s = sc_rad_load(sc_rad_at(cur, s, pix)).w;
             float w = by_variance ? xs_sc_variance_importance(v, c_s) : xs_sc_importance(c_s);

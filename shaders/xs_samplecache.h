@@ -31,6 +31,7 @@
  *   src[slot][pix]               `isrt`: the 64-bit key of each cell (XS_SC_ISRT_KEY_*; a
  *                                16-byte stub otherwise)
  *   plan[pix]                    uvec4: trace bits, new-sample bits, shade bits, visible count
+ *                                (variance-guided shading: then XS_SC_PLAN_RANGE_*)
  *   stats[c][eye]                xs_sc_stats: importance bounds and histogram (§3.5)
  *   shade list                   a work list: a count, the pool's failed allocations this
  *                                frame (sc_pool_alloc), the shading pass's ray count
@@ -176,11 +177,26 @@
 /* uints before the entries of the shade list (count, the pool's failed allocations, the
  * shading pass's 64-bit ray count: 16 bytes) */
 #define XS_SC_SHADE_LIST_HEADER 4u
-/* The shading launch is width x (XS_SC_SHADE_STRIPES * q) invocations; launch row r shades
- * list row (r % q) * XS_SC_SHADE_STRIPES + r / q, so every contiguous band of launch rows
- * (lavapipe gives each worker thread one) gets an equal share of the filled prefix of the
- * list, whatever its count (sc_shade.rgen). */
+/* A work-list launch (the shade list, adaptive tracing's trace list) is XS_SC_LIST_WIDTH x
+ * (XS_SC_SHADE_STRIPES * XS_SC_LIST_BLOCK * q) invocations. Launch rows go in blocks of
+ * XS_SC_LIST_BLOCK; launch block b takes list block (b % q) * XS_SC_SHADE_STRIPES + b / q
+ * (sc_list_entry), so that
+ * - every contiguous band of launch rows (lavapipe gives each worker thread one) gets an equal
+ *   share of the filled prefix of the list, whatever its count;
+ * - the invocations a GPU runs together (a warp of 32: one launch row of 32, or a tile of up to
+ *   XS_SC_LIST_BLOCK rows) take neighbouring entries, i.e. samples of neighbouring pixels,
+ *   as a launch over the screen does. */
 #define XS_SC_SHADE_STRIPES 16u
+#define XS_SC_LIST_WIDTH 32u
+#define XS_SC_LIST_BLOCK 8u
+
+/* Variance-guided shading: plan.w after sc_shade_importance.comp, the lowest (bits 0..7) and
+ * highest (bits 8..15) importance bucket of the pixel's candidates, with XS_SC_PLAN_RANGE_SET
+ * (0: no candidates). sc_shade_select.comp decides a pixel whose candidates all lie above or
+ * all below the threshold bucket without loading them again. */
+#define XS_SC_PLAN_RANGE_SET 0x10000u
+#define XS_SC_PLAN_RANGE_HI_SHIFT 8u
+#define XS_SC_PLAN_RANGE_MASK 0xFFu
 
 /* Firefly rule (issue 19 item 3, sc_shade.rgen): observations a sample needs before a new
  * one is capped relative to its running mean. */
@@ -212,6 +228,14 @@
  * Skinned and morphed meshes deform without a change of transform: not covered. */
 #define XS_SC_MOVING_ALPHA_MIN 1.0
 #define XS_SC_MOVING_TURN_RAD 0.01
+
+/* Stratified new samples (xs_sc_params.stratify, issue 19, beyond seed 000): the pixel is cut
+ * into G x G strata, G = round(sqrt(n_target)) clamped to 1..XS_SC_STRATA_MAX_G, and each new
+ * sample goes through a random point of a stratum holding the fewest of the pixel's visible
+ * samples (they are projected to find theirs). A pixel keeps its ~n_target points while the
+ * view is still, and on a pixel cut by an edge the mean of stratified points has a smaller
+ * coverage error than the mean of independent uniform ones (bench/results/issue19-edges/). */
+#define XS_SC_STRATA_MAX_G 4u
 
 /* Compute workgroup size (x, y) of every sample-cache compute shader. */
 #define XS_SC_GROUP 8u
@@ -252,9 +276,10 @@ XS_STRUCT(xs_sc_params)
                               reproject, density, trace, shade select and shade launches take
                               their work items in reverse order (sc_work_item, sc_list_entry) */
     xs_uint pool_k;    /* pool entries per pixel (XS_SC_POOL_*) */
-    xs_uint moving; /* 1: the moving-sample rule (XS_SC_MOVING_ALPHA_MIN) on this run: the
-                       option xrsc_samplecache_options.moving and a scene with animation */
-    xs_uint pad_c;  /* std140: the block is a multiple of 16 bytes */
+    xs_uint stratify; /* 1: new samples fill the pixel's emptiest strata (sc_trace.rgen,
+                         XS_SC_STRATA_MAX_G; issue 19) */
+    xs_uint moving;   /* 1: the moving-sample rule (XS_SC_MOVING_ALPHA_MIN) on this run: the
+                         option xrsc_samplecache_options.moving and a scene with animation */
     xs_vec4 eye_prev[2]; /* per eye: xyz its position in the previous frame, w = 1 when there
                             was one (sc_shade.rgen: App. C's clamp follows the view's motion) */
 }

@@ -423,7 +423,7 @@ static const hs_opt k_replay_opts[] = {
      "[adaptive-variance after samplecache, else uniform]",
      parse_shade, SC(shade), k_sc_shade},
     {"--sc-shade-rate", "P",
-     "adaptive shading rate, percent of the pixels [30 with the\n"
+     "adaptive shading rate, percent of the pixels [" HS_REPLAY_DEFAULT_SHADE_PERCENT_STR " with the\n"
      "default shading, 100 with --sc-shade]",
      parse_shade_rate, SC(shade_rate), NUM(0, 1600, NULL)},
     {"--sc-alpha", "A", "clamped | fixed (temporal blend, App. C) [clamped]", hs_opt_enum,
@@ -438,6 +438,10 @@ static const hs_opt k_replay_opts[] = {
      "moving-sample rule: samples on a turning instance are shaded\n"
      "more often, with a short history on turning faces (issue 19) [off]",
      hs_opt_on_off, SC(moving), NULL},
+    {"--sc-stratify", "on|off",
+     "new samples through the emptiest strata of their pixel\n"
+     "(issue 19, beyond seed 000; bench/results/issue19-edges/) [off]",
+     hs_opt_on_off, SC(stratify), NULL},
     {"--sc-visibility-cache", "on|off",
      "shadow visibility cache of the shading pass's light\n"
      "samples at the first hit (seed 002, AQVC) [off]",

@@ -117,6 +117,11 @@ static const char *set_cross_eye(xrsc_renderer_options *o, const char *v)
     return hs_parse_on_off(v, &o->samplecache.cross_eye) ? NULL : "on, off";
 }
 
+static const char *set_stratify(xrsc_renderer_options *o, const char *v)
+{
+    return hs_parse_on_off(v, &o->samplecache.stratify) ? NULL : "on, off";
+}
+
 static const char *set_alpha(xrsc_renderer_options *o, const char *v)
 {
     if (!strcmp(v, "clamped"))
@@ -352,11 +357,13 @@ static const bench_key keys[] = {
     {"shade", M_SC | M_ISRT, set_shade, "shade",
      "uniform | adaptive | adaptive-variance [uniform; default: adaptive-variance]"},
     {"shade_rate", M_SC | M_ISRT, set_shade_rate, "rate",
-     "adaptive shading rate, percent [100; default: 40 unless shade is given]"},
+     "adaptive shading rate, percent [100; default: " HS_REPLAY_DEFAULT_SHADE_PERCENT_STR " unless shade is given]"},
     {"alpha", M_SC | M_ISRT, set_alpha, "alpha", "clamped | fixed [clamped]"},
     {"alpha_fixed", M_SC | M_ISRT, set_alpha_fixed, "af", "alpha of alpha=fixed [0.1]"},
     {"cross_eye", M_SC, set_cross_eye, "xeye",
      "on | off: view-independent samples serve both eyes, shaded once [off]"},
+    {"stratify", M_SC, set_stratify, "strat",
+     "on | off: new samples fill the pixel's emptiest strata [off]"},
     {"firefly", M_SC | M_ISRT, set_firefly, "ff",
      "firefly rule: cap a shading at k x the sample's running mean, off | k >= 1 [off]"},
     {"moving", M_SC, set_moving, "mov",

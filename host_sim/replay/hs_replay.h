@@ -202,10 +202,15 @@ xrsc_blend hs_replay_default_blend(xrsc_method method);
  */
 xrsc_taa_mode hs_replay_default_taa(xrsc_method method);
 
-/** The shading rate of the main job's variance-guided shading: 0.4 shadings per pixel (0.3
+/** The shading rate of the main job's variance-guided shading: 40 % = 0.4 shadings per pixel (0.3
  *  until stop 21; bench/results/issue19-rate/: 40 % lowers relMSE and the temporal difference
  *  on the head turns 1.7x and 3-4x for 0.25 more rays per pixel, still below 1 spp's). */
-#define HS_REPLAY_DEFAULT_SHADE_RATE 0.4f
+#define HS_REPLAY_DEFAULT_SHADE_PERCENT 40
+#define HS_REPLAY_DEFAULT_SHADE_RATE (HS_REPLAY_DEFAULT_SHADE_PERCENT / 100.0f)
+/** HS_REPLAY_DEFAULT_SHADE_PERCENT as a string, for help texts. */
+#define HS_REPLAY_DEFAULT_SHADE_PERCENT_STR HS_REPLAY_STR(HS_REPLAY_DEFAULT_SHADE_PERCENT)
+#define HS_REPLAY_STR(x) HS_REPLAY_STR_(x)
+#define HS_REPLAY_STR_(x) #x
 
 /**
  * The sample cache's shading when --sc-shade / --sc-shade-rate (bench keys shade, shade_rate)

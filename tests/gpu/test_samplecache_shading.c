@@ -22,7 +22,9 @@
  * - test_variance_rate: the same with variance-guided importance (adaptive-variance, rates 25 %
  *   and 50 %): w = xs_sc_variance_importance(v, c_s), v the pixel's relative variance from its
  *   candidates' pre-shading records (xs_sc_pixel_variance); exact rule, count, and the shaded
- *   samples' mean importance above all candidates'.
+ *   samples' mean importance above all candidates'. Also: plan.w holds each pixel's candidates'
+ *   bucket range (XS_SC_PLAN_RANGE_*, exact), and some pixels are decided by it alone (the
+ *   selection's shortcut is used; the exact rule above checks its choices).
  * - test_convergence: scenes/cornell.gltf, 2 x 48 x 48, defaults, a still view, public API:
  *   relMSE (xrsc_metrics_error) of the colour against an `spp` reference of T_REF_SPP samples
  *   per pixel falls: relMSE(frame 32) < 0.5 relMSE(frame 4), and relMSE(frame 32) <
@@ -80,6 +82,9 @@ typedef struct t_shade_stats {
     uint32_t n_shaded, n_all;
     uint32_t c0_all, c0_shaded, chi_all, chi_shaded; /* c = 0 and c >= the highest seen */
     double v_sum_all, v_shaded; /* sums of the importance of all candidates, of shaded ones */
+    /* variance-guided: pixels whose plan.w bucket range differs from the candidates', and
+     * pixels that range decides without coins (all buckets above or below k) */
+    uint32_t range_bad, range_decided;
 } t_shade_stats;
 
 /** Pre-shading L_s, c_s of a sample: the previous frame's record of the same first hit, else
@@ -120,6 +125,17 @@ static float pixel_variance(const float rec[][4], uint32_t cand, uint32_t n)
         scl2 += rec[s][3] * l * l;
     }
     return xs_sc_pixel_variance(k, sc, scl, scl2);
+}
+
+/** Variance-guided shading: plan.w holds the candidates' bucket range (XS_SC_PLAN_RANGE_*,
+ *  from sc_shade_importance.comp), which sc_shade_select.comp uses to decide a pixel without
+ *  its coins when the whole range lies above or below threshold bucket k. */
+static void check_range(uint32_t range, uint32_t cand, int lo, int hi, int k, t_shade_stats *st)
+{
+    uint32_t want =
+        cand ? XS_SC_PLAN_RANGE_SET | (uint32_t)lo | (uint32_t)hi << XS_SC_PLAN_RANGE_HI_SHIFT : 0u;
+    st->range_bad += range != want;
+    st->range_decided += cand != 0u && (lo > k || hi < k);
 }
 
 static void check_selection(const mt_sc_snapshot *prev, const mt_sc_snapshot *cur, uint32_t eye,
@@ -169,6 +185,7 @@ static void check_selection(const mt_sc_snapshot *prev, const mt_sc_snapshot *cu
                     prev_record(prev, tsc_fh(cur, s, pix), pix, rec[s]);
             bool by_variance = o->shade == XRSC_SC_SHADE_ADAPTIVE_VARIANCE;
             float v = by_variance ? pixel_variance(rec, cand, n) : 0.0f;
+            int lo = (int)XS_SC_BUCKETS, hi = -1; /* the candidates' bucket range */
             for (uint32_t s = 0; s < n; s++) {
                 if (!(cand >> s & 1u))
                     continue;
@@ -177,6 +194,8 @@ static void check_selection(const mt_sc_snapshot *prev, const mt_sc_snapshot *cu
                 st->v_sum_all += wi;
                 st->v_shaded += (shaded >> s & 1u) ? wi : 0.0;
                 int bucket = bounded ? (int)xs_sc_bucket(wi, w_min, w_max) : (int)XS_SC_BUCKETS - 1;
+                lo = bucket < lo ? bucket : lo;
+                hi = bucket > hi ? bucket : hi;
                 double prob = (base_bit >> s & 1u) ? 1.0 : bucket > k ? 1.0 : bucket == k ? p : 0.0;
                 bool sh = shaded >> s & 1u;
                 st->expected += prob;
@@ -201,6 +220,8 @@ static void check_selection(const mt_sc_snapshot *prev, const mt_sc_snapshot *cu
                     st->chi_shaded += sh;
                 }
             }
+            if (by_variance)
+                check_range(cur->plan[pix * 4 + 3], cand, lo, hi, k, st);
         }
 }
 
@@ -269,6 +290,8 @@ static void run_rate(float rate, xrsc_sc_shade mode)
             total.chi_shaded += st.chi_shaded;
             total.v_sum_all += st.v_sum_all;
             total.v_shaded += st.v_shaded;
+            total.range_bad += st.range_bad;
+            total.range_decided += st.range_decided;
         }
         for (uint32_t e = 0; e < 2; e++) {
             mt_sc_snapshot_free(&prev[e]);
@@ -292,6 +315,13 @@ static void run_rate(float rate, xrsc_sc_shade mode)
            phi, w_shaded, w_all);
     CHECK_EQ_INT(total.impossible, 0);
     CHECK_EQ_INT(total.missed_certain, 0);
+    if (mode == XRSC_SC_SHADE_ADAPTIVE_VARIANCE) { /* the range shortcut is exact and used */
+        printf("  adaptive-variance rate %3.0f %%: %.1f of %.0f pixels decided by their bucket "
+               "range per frame\n",
+               rate * 100.0, (double)total.range_decided / frames, px);
+        CHECK_EQ_INT(total.range_bad, 0);
+        CHECK(total.range_decided > 0);
+    }
     CHECK_EQ_INT(bad_frames, 0);
     CHECK_EQ_INT(rate_bad, 0);
     CHECK(total.n_shaded > 0);

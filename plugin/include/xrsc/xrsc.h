@@ -407,6 +407,18 @@ typedef struct xrsc_samplecache_options {
      * false: off (default; bench/results/issue19-moving2/).
      */
     bool moving;
+    /**
+     * Stratified new samples (issue 19, beyond seed 000, which traces each new sample through
+     * a uniform random point of its pixel): the pixel is cut into G x G strata (G =
+     * round(sqrt(n_target)), 1..4) and a new sample goes through a random point of a stratum
+     * holding the fewest of the pixel's visible samples (projected from their first hits).
+     * A pixel keeps its ~n_target points as long as they stay visible, so on a pixel cut by an
+     * edge the coverage error of their mean never averages out; stratified points make it
+     * smaller (still `edges`, no TAA or blend: relMSE 0.69x). Off (false) by default and in
+     * `xrsc replay`'s default: under TAA its gain shrinks and the glossy orbit's relMSE rose
+     * 3 % (bench/results/issue19-edges/). No effect with `isrt` (fixed cells).
+     */
+    bool stratify;
 } xrsc_samplecache_options;
 
 /**

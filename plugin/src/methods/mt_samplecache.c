@@ -241,15 +241,17 @@ static void record_reconstruct(mt_samplecache *s, VkCommandBuffer cmd)
     s->albedo_stale = !albedo;
 }
 
-/** Launches program over a work list of up to `entries` entries (sc_list_entry): rows of
- *  width w striped over XS_SC_SHADE_STRIPES bands of the launch; entries past the list's
- *  count exit at once. */
+/** Launches program over a work list of up to `entries` entries (sc_list_entry): blocks of
+ *  XS_SC_LIST_BLOCK rows of XS_SC_LIST_WIDTH entries, striped over XS_SC_SHADE_STRIPES bands
+ *  of the launch; entries past the list's count exit at once. */
 static void cmd_trace_list(gpu_context *ctx, VkCommandBuffer cmd, const gpu_rt_program *program,
-                           uint32_t w, uint32_t entries)
+                           uint32_t entries)
 {
-    uint32_t list_rows = (entries + w - 1) / w;
-    uint32_t stripe_rows = (list_rows + XS_SC_SHADE_STRIPES - 1) / XS_SC_SHADE_STRIPES;
-    gpu_rt_program_cmd_trace(ctx, cmd, program, NULL, w, XS_SC_SHADE_STRIPES * stripe_rows, 1);
+    uint32_t per_block = XS_SC_LIST_WIDTH * XS_SC_LIST_BLOCK;
+    uint32_t blocks = (entries + per_block - 1) / per_block;
+    uint32_t q = (blocks + XS_SC_SHADE_STRIPES - 1) / XS_SC_SHADE_STRIPES;
+    gpu_rt_program_cmd_trace(ctx, cmd, program, NULL, XS_SC_LIST_WIDTH,
+                             XS_SC_SHADE_STRIPES * XS_SC_LIST_BLOCK * q, 1);
 }
 
 /* Stage "reproject": this copy's masks, statistics and depth words cleared (and on the first
@@ -303,7 +305,7 @@ static void record_shade_launches(mt_samplecache *s, VkCommandBuffer cmd)
             gpu_cmd_barrier_all(cmd);
             mt_viscache_cmd_phase(&s->vis, cmd, i);
         }
-        cmd_trace_list(ctx, cmd, &s->shade, s->trace.env.width, s->p.shade_capacity);
+        cmd_trace_list(ctx, cmd, &s->shade, s->p.shade_capacity);
     }
 }
 
@@ -321,7 +323,7 @@ static void record_stage(mt_samplecache *s, VkCommandBuffer cmd, uint32_t stage)
         break;
     case STAGE_TRACE:
         if (s->p.trace_mode == XS_SC_TRACE_ADAPTIVE) /* the trace list: each pixel at most once */
-            cmd_trace_list(ctx, cmd, &s->trace.program, w, s->plane);
+            cmd_trace_list(ctx, cmd, &s->trace.program, s->plane);
         else
             gpu_rt_program_cmd_trace(ctx, cmd, &s->trace.program, NULL, w, h, 2);
         break;
@@ -375,6 +377,7 @@ static xrsc_result sc_finish(mt_samplecache *s, VkCommandBuffer cmd, xrsc_diag *
     memcpy(&s->shaded, header, sizeof(uint32_t));
     memcpy(&s->pool_full, header + sizeof(uint32_t), sizeof(uint32_t));
     memcpy(&s->shade_rays, header + 2 * sizeof(uint32_t), sizeof(uint64_t));
+    t->rays += s->shade_rays; /* the shading launch counts its rays there only (one atomic) */
     if (s->shaded > s->p.shade_capacity) /* the rest were dropped, not shaded */
         s->shaded = s->p.shade_capacity;
     return XRSC_OK;
@@ -735,6 +738,7 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         .alpha_fixed = o.alpha_fixed,
         .cross_eye = o.cross_eye ? 1u : 0u,
         .firefly_k = o.firefly_clamp,
+        .stratify = o.stratify ? 1u : 0u,
         .debug_permute = debug_permute(),
     };
     /* the moving-sample rule only where instances move: a still scene's work is unchanged */
