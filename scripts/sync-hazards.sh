@@ -43,6 +43,7 @@ configs=(
   "sc_visibility_strict|--method samplecache --sc-visibility-cache on --sc-visibility-refine strict"
   "sc_visibility_none|--method samplecache --sc-visibility-cache on --sc-visibility-refine none"
   "sc_numbers|--method samplecache --sc-slots 4 --sc-target 2 --sc-delta 0.5 --sc-eps0 0.01 --sc-eps1 0.01 --sc-block 2"
+  "sc_moving|--method samplecache --sc-moving on --scene $root/scenes/moving.gltf --poses $root/poses/still.xrpose"
   "taa|--method taa"
   "hashcache|--method hashcache --hc-table 4096"
   "hashcache_normal_lod|--method hashcache --hc-table 4096 --hc-lod distance-normal --hc-voxel-jitter off"

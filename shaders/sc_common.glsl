@@ -176,6 +176,16 @@ uint sc_all_slots() { return (1u << scp.slots) - 1u; }
 float sc_phi(uint eye) { return eye == 0u ? scp.phi_left : scp.phi_right; }
 vec3 sc_eye_pos(uint eye) { return frame.eyes[eye].view_inv[3].xyz; }
 
+/** Whether a surface sample's instance turned since the previous frame: the linear part of its
+ *  transform changed, so its faces see the light under another angle and the radiance it
+ *  cached belongs to another pose (XS_SC_MOVING_ALPHA_MIN). An instance that only slides keeps
+ *  its orientation: false. */
+bool sc_instance_turned(uint instance)
+{
+    return mat3(instances[instance].object_to_world) !=
+           mat3(instances[instance].prev_object_to_world);
+}
+
 /** The share of App. C's clamp for world point p seen from eye (xs_sc_view_motion): the angle
  *  between its view from the eye's previous position and from this one (1 on a first frame). */
 float sc_view_motion(uint eye, vec3 p)

@@ -20,6 +20,12 @@
  *   shaded in expectation (§3.5, Fig. 5). With adaptive-variance, a pixel whose candidates'
  *   buckets (plan.w's range) all lie above or all below that bucket is decided without
  *   loading them again (decided()).
+ * With the moving-sample rule (scp.moving, xrsc_samplecache_options.moving; off by default)
+ * a pixel with samples whose instance turned since the previous frame shades one of them more,
+ * in every mode: the next moving one in a round robin over them that is not chosen yet
+ * (XS_SC_MOVING_ALPHA_MIN: their cached radiance belongs to the old pose); at most one more
+ * shading per pixel, so a view full of moving objects costs at most one shading more per
+ * pixel. Without the rule (and in a scene without animation) the choice is the one above.
  * The chosen samples are recorded per pixel in plan.z and compacted into the shade list (one
  * atomicAdd per pixel), which sc_shade.rgen walks, so pixels with many chosen samples do not
  * serialise the shading launch; entries beyond scp.shade_capacity are dropped (the count
@@ -39,6 +45,36 @@ layout(local_size_x = XS_SC_GROUP, local_size_y = XS_SC_GROUP, local_size_z = 1)
 #define SC_SHADE_STREAM 0x5EADE000u
 /* Offset of the shading round robin against the tracing one (different slots when possible). */
 #define SC_SHADE_RR_OFFSET 1u
+
+/** The ((k mod n) + 1)-th lowest set bit of bits (n of them), or -1 when bits is 0: a round
+ *  robin over a pixel's moving candidates, each chosen once in n frames while the set stays. */
+int moving_rank(uint bits, uint k)
+{
+    uint n = uint(bitCount(bits));
+    if (n == 0u)
+        return -1;
+    for (uint i = k % n; i > 0u; i--)
+        bits &= bits - 1u;
+    return findLSB(bits);
+}
+
+/** The candidates among cand whose instance turned since the previous frame (a pixel's samples
+ *  mostly share one instance: its transforms are compared once per run of them). */
+uint moving_candidates(uint cur, uint pix, uint cand)
+{
+    uint moving = 0u, last = XS_SC_BACKGROUND;
+    bool moved = false;
+    for (uint cb = cand; cb != 0u; cb &= cb - 1u) {
+        uint s = uint(findLSB(cb));
+        uint instance = sc_fh[sc_slot_at(cur, s, pix)].w;
+        if (instance != last)
+            moved = sc_instance_turned(instance);
+        last = instance;
+        if (moved)
+            moving |= sc_obit(s);
+    }
+    return moving;
+}
 
 /* RNG stream of cross-eye reuse's uniform shading coin (sample index of xs_rng_seed). */
 #define SC_SHADE_SHARE_STREAM 0x5EADE5E1u
@@ -149,6 +185,12 @@ void main()
             if (bucket > k || (bucket == k && u < p))
                 bits |= sc_obit(s);
         }
+    }
+    if (scp.moving != 0u) { /* one more shading for a pixel with moving samples */
+        int rm = moving_rank(moving_candidates(cur, pix, cand) & ~bits & ~foreign,
+                             frame.frame_index);
+        if (rm >= 0)
+            bits |= sc_obit(uint(rm));
     }
     /* cross-eye reuse: the other eye's copies are shaded by their owner (its round robin and
      * its budget); choosing among all of a pixel's samples and skipping the copies keeps each

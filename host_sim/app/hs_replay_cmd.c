@@ -443,6 +443,10 @@ static const hs_opt k_replay_opts[] = {
      "each eye's view-independent samples also serve the other\n"
      "eye, traced and shaded once for both (beyond seed 000) [off]",
      hs_opt_on_off, SC(cross_eye), NULL},
+    {"--sc-moving", "on|off",
+     "moving-sample rule: samples on a turning instance are shaded\n"
+     "more often, with a short history on turning faces (issue 19) [off]",
+     hs_opt_on_off, SC(moving), NULL},
     {"--sc-stratify", "on|off",
      "new samples through the emptiest strata of their pixel\n"
      "(issue 19, beyond seed 000; bench/results/issue19-edges/) [off]",

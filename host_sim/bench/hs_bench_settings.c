@@ -163,6 +163,11 @@ static const char *set_eps1(xrsc_renderer_options *o, const char *v)
     return parse_pos(v, 1, &o->samplecache.eps1) ? NULL : "(0, 1]";
 }
 
+static const char *set_moving(xrsc_renderer_options *o, const char *v)
+{
+    return hs_parse_on_off(v, &o->samplecache.moving) ? NULL : "on, off";
+}
+
 static const char *set_firefly(xrsc_renderer_options *o, const char *v)
 {
     if (!strcmp(v, "off")) {
@@ -368,6 +373,9 @@ static const bench_key keys[] = {
      "on | off: new samples fill the pixel's emptiest strata [off]"},
     {"firefly", M_SC | M_ISRT, set_firefly, "ff",
      "firefly rule: cap a shading at k x the sample's running mean, off | k >= 1 [off]"},
+    {"moving", M_SC, set_moving, "mov",
+     "moving-sample rule: a pixel with samples on a turning instance shades one more, "
+     "turning faces keep a short history, on | off [off]"},
     {"vis_cache", M_SC | M_ISRT, set_vis_cache, "vc",
      "shading pass's shadow visibility cache (seed 002) on | off [off]"},
     {"vis_tolerance", M_SC | M_ISRT, set_vis_tolerance, "ce",

@@ -396,6 +396,18 @@ typedef struct xrsc_samplecache_options {
      */
     float firefly_clamp;
     /**
+     * Moving-sample rule (issue 19, case `moving`, beyond seed 000; XS_SC_MOVING_ALPHA_MIN in
+     * shaders/xs_samplecache.h): while a sample's instance turns (the linear part of its
+     * transform changed since the previous frame), its pixel shades one of its turning samples
+     * more each frame, and on a face that turned its blend factor is at least
+     * min(1, turn / 0.01 rad), so it does not keep the radiance of the object's old pose (a
+     * turn of 0.01 rad or more: this frame's shading alone; TAA averages it). Instances that
+     * only slide, and scenes without animation, render as without the rule; with it the shade
+     * list holds one entry more per pixel in scenes with animated instances.
+     * false: off (default; bench/results/issue19-moving2/).
+     */
+    bool moving;
+    /**
      * Stratified new samples (issue 19, beyond seed 000, which traces each new sample through
      * a uniform random point of its pixel): the pixel is cut into G x G strata (G =
      * round(sqrt(n_target)), 1..4) and a new sample goes through a random point of a stratum

@@ -70,6 +70,7 @@ struct gpu_scene {
     xs_instance *host_instances; /**< CPU copy of instances[] */
     uint32_t emitter_count;
     uint32_t glass_instance_count; /**< instances in XS_CULL_GLASS (xs_frame.glass_instances) */
+    bool animated; /**< an instance has animated transforms (gpu_scene_animated) */
     double blas_ms, tlas_ms;
 
     /* skins and morph targets (gpu_deform.h): posed into vertices[], then their BLAS updated */
@@ -1074,6 +1075,9 @@ xrsc_result gpu_scene_create(gpu_context *ctx, const sc_scene *scene, gpu_scene 
         goto fail;
     }
     fill_host_instances(gs, scene, false);
+    for (uint32_t i = 0; i < ni; i++)
+        gs->animated = gs->animated || scene->instances[i].animated;
+    gs->animated = gs->animated && scene->animation_duration_s > 0.0f;
     if ((res = upload_geometry(ctx, gs, scene, diag)) != XRSC_OK ||
         (res = upload_materials(ctx, gs, scene, diag)) != XRSC_OK ||
         (res = upload_emitters(ctx, gs, scene, diag)) != XRSC_OK ||
@@ -1271,6 +1275,7 @@ void gpu_scene_write_descriptors(gpu_context *ctx, const gpu_scene *gs, gpu_desc
 }
 
 uint32_t gpu_scene_emitter_count(const gpu_scene *gs) { return gs->emitter_count; }
+bool gpu_scene_animated(const gpu_scene *gs) { return gs->animated; }
 uint32_t gpu_scene_light_count(const gpu_scene *gs) { return gs->light_count; }
 
 uint32_t gpu_scene_glass_count(const gpu_scene *gs) { return gs->glass_instance_count; }

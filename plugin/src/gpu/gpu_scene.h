@@ -101,6 +101,10 @@ xrsc_result gpu_scene_download_vertices(gpu_context *ctx, const gpu_scene *gs, u
  *  emitters, environment map, lights, textures) into d. */
 void gpu_scene_write_descriptors(gpu_context *ctx, const gpu_scene *gs, gpu_descriptors *d);
 
+/** Whether an instance has animated transforms (instances[]'s prev_object_to_world can differ
+ *  from object_to_world); without, the sample cache's moving-sample rule is off
+ *  (XS_SC_MOVING_ALPHA_MIN). */
+bool gpu_scene_animated(const gpu_scene *gs);
 /** Number of entries in the GPU emitter array (see the conventions above). */
 uint32_t gpu_scene_emitter_count(const gpu_scene *gs);
 /** Number of punctual lights in lights[] (xs_frame.light_count). */

@@ -107,8 +107,10 @@ _Static_assert(offsetof(mt_samplecache, base) == 0, "base first");
 #define MT_SC_SHADE_HEADROOM 1.25
 
 /** Entries of the shade list for both eyes: uniform shading needs one per pixel, and so does
- *  the trace list that uses the same buffer before it (at least one entry per pixel). */
-static uint32_t shade_capacity(const xrsc_samplecache_options *o, uint32_t w, uint32_t h)
+ *  the trace list that uses the same buffer before it (at least one entry per pixel); the
+ *  moving-sample rule (moving) one more per pixel (sc_shade_select.comp), at most slots. */
+static uint32_t shade_capacity(const xrsc_samplecache_options *o, bool moving, uint32_t w,
+                               uint32_t h)
 {
     double px = 2.0 * w * h;
     double per_pixel = 1.0;
@@ -118,6 +120,8 @@ static uint32_t shade_capacity(const xrsc_samplecache_options *o, uint32_t w, ui
         per_pixel = o->slots;
     if (per_pixel < 1.0)
         per_pixel = 1.0;
+    if (moving && per_pixel + 1.0 <= o->slots)
+        per_pixel += 1.0;
     return (uint32_t)ceil(px * per_pixel);
 }
 
@@ -737,7 +741,9 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
         .stratify = o.stratify ? 1u : 0u,
         .debug_permute = debug_permute(),
     };
-    s->p.shade_capacity = shade_capacity(&o, env->width, env->height);
+    /* the moving-sample rule only where instances move: a still scene's work is unchanged */
+    s->p.moving = o.moving && gpu_scene_animated(env->scene) ? 1u : 0u;
+    s->p.shade_capacity = shade_capacity(&o, s->p.moving != 0u, env->width, env->height);
     s->p.isrt_m = var.isrt_m;
     s->p.pool_k = pool_entries_per_pixel(&o, var.isrt_m);
     s->hybrid = var.hybrid; /* hybrid: no per-sample radiance; its own shade and reconstruct */
