@@ -49,7 +49,7 @@ typedef struct main_args {
     bool blend_given;                             /* --blend: else hs_replay_default_blend(method) */
     bool taa_given;                               /* --taa: else hs_replay_default_taa(method) */
     bool shade_given, shade_rate_given;           /* else hs_replay_default_shading */
-    bool taa_motion_given, blend_inst_given;      /* else hs_replay_default_edges */
+    hs_replay_given rules_given;                  /* else hs_replay_default_rules */
     bool size_given, ipd_given, refresh_given;    /* these win over --headset */
     const char *pose_columns, *pose_time_unit, *pose_handedness;
     const char *headset_name, *headsets_path; /* --headset, --headsets */
@@ -129,14 +129,21 @@ static int parse_taa_motion(const hs_opt_arg *a)
 {
     if (xrsc_taa_motion_from_name(a->value, &M(a)->opt.renderer.taa.motion) != XRSC_OK)
         return bad_arg(a->opt->name, a->value, "expected off, on, edges or default");
-    M(a)->taa_motion_given = true;
+    M(a)->rules_given.taa_motion = true;
     return 0;
+}
+
+/* --sc-moving on|off */
+static int parse_sc_moving(const hs_opt_arg *a)
+{
+    M(a)->rules_given.moving = true;
+    return hs_opt_on_off(a);
 }
 
 /* --blend-instances on|off */
 static int parse_blend_instances(const hs_opt_arg *a)
 {
-    M(a)->blend_inst_given = true;
+    M(a)->rules_given.blend_instances = true;
     return hs_opt_on_off(a);
 }
 
@@ -445,8 +452,9 @@ static const hs_opt k_replay_opts[] = {
      hs_opt_on_off, SC(cross_eye), NULL},
     {"--sc-moving", "on|off",
      "moving-sample rule: samples on a turning instance are shaded\n"
-     "more often, with a short history on turning faces (issue 19) [off]",
-     hs_opt_on_off, SC(moving), NULL},
+     "more often, with a short history on turning faces (issue 19)\n"
+     "[on after samplecache, else off]",
+     parse_sc_moving, SC(moving), NULL},
     {"--sc-stratify", "on|off",
      "new samples through the emptiest strata of their pixel\n"
      "(issue 19, beyond seed 000; bench/results/issue19-edges/) [off]",
@@ -680,6 +688,8 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
         printf(", shading: %s", shade ? shade : "uniform");
         if (sc->shade != XRSC_SC_SHADE_DEFAULT && sc->shade != XRSC_SC_SHADE_UNIFORM)
             printf(" %g %%", (double)(sc->shade_rate > 0.0f ? sc->shade_rate : 1.0f) * 100.0);
+        if (sc->moving)
+            printf(", moving-sample rule");
     }
     printf("\n");
     printf("frames: %u  load %.2f s  total %.2f s\n", st->frames, st->load_s, st->total_s);
@@ -790,7 +800,7 @@ static int finish_args(main_args *m)
     if (!m->taa_given)
         opt->renderer.taa.mode = hs_replay_default_taa(opt->renderer.method);
     hs_replay_default_shading(&opt->renderer, m->shade_given, m->shade_rate_given);
-    hs_replay_default_edges(&opt->renderer, m->taa_motion_given, m->blend_inst_given);
+    hs_replay_default_rules(&opt->renderer, m->rules_given);
     if (opt->frame_bounds && opt->viewpoint.kind != HS_VIEWPOINT_DEFAULT)
         return bad_arg("--viewpoint", NULL, "--frame and --viewpoint both place the view: give one");
     opt->frame_keep_ipd = m->ipd_given;
@@ -831,6 +841,7 @@ static int run_with_record(main_args *m, const hs_args *args, const char *const 
         {"--sc-shade", shade_s},        {"--sc-shade-rate", rate_s},
         {"--taa-motion", xrsc_taa_motion_name(opt->renderer.taa.motion)},
         {"--blend-instances", opt->renderer.blend_instance_test ? "on" : "off"},
+        {"--sc-moving", opt->renderer.samplecache.moving ? "on" : "off"},
         {"--spp", spp_s},
         {"--resolution", res_s},        {"--seed", "0"},
         {"--ipd", ipd_s},               {"--refresh", refresh_s},
@@ -876,7 +887,8 @@ int hs_replay_main(int argc, char **argv)
     /* what a run.conf without these lines ran (older builds did not name them): the
      * library's own temporal filter and uniform shading (the defaults before issue 19) */
     static const char *const record_defaults[] = {"--taa", "default", "--sc-shade", "uniform",
-                                                  "--taa-motion", "off", "--blend-instances", "off"};
+                                                  "--taa-motion", "off", "--blend-instances", "off",
+                                                  "--sc-moving", "off"};
     const hs_args_spec spec = {.cmd = "xrsc", .value_options = value_options,
                                .value_count = value_count, .config = true,
                                .record_defaults = record_defaults,

@@ -375,7 +375,7 @@ static const bench_key keys[] = {
      "firefly rule: cap a shading at k x the sample's running mean, off | k >= 1 [off]"},
     {"moving", M_SC, set_moving, "mov",
      "moving-sample rule: a pixel with samples on a turning instance shades one more, "
-     "turning faces keep a short history, on | off [off]"},
+     "turning faces keep a short history, on | off [off; default: on]"},
     {"vis_cache", M_SC | M_ISRT, set_vis_cache, "vc",
      "shading pass's shadow visibility cache (seed 002) on | off [off]"},
     {"vis_tolerance", M_SC | M_ISRT, set_vis_tolerance, "ce",
@@ -465,8 +465,8 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
              !product && s->renderer.method == XRSC_METHOD_SAMPLECACHE ? "sc" : method);
     char name[HS_BENCH_SPEC_MAX] = "";
     char *save = NULL;
-    bool first = true, shade_given = false, rate_given = false, motion_given = false,
-         inst_given = false;
+    bool first = true, shade_given = false, rate_given = false;
+    hs_replay_given rules = {0};
     for (char *kv = args ? strtok_r(args, ",", &save) : NULL; kv;
          kv = strtok_r(NULL, ",", &save)) {
         trim(&kv);
@@ -496,8 +496,9 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
                               "key '%s' does not apply to method %s", key, method);
         shade_given |= !strcmp(key, "shade");
         rate_given |= !strcmp(key, "shade_rate");
-        motion_given |= !strcmp(key, "taa_motion");
-        inst_given |= !strcmp(key, "blend_inst");
+        rules.taa_motion |= !strcmp(key, "taa_motion");
+        rules.blend_instances |= !strcmp(key, "blend_inst");
+        rules.moving |= !strcmp(key, "moving");
         const char *why = bk->set(&s->renderer, val);
         if (why)
             return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",
@@ -521,7 +522,7 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
     }
     if (product) { /* a shading mode given without a rate: the library's rate, as in the replay */
         hs_replay_default_shading(&s->renderer, shade_given, rate_given);
-        hs_replay_default_edges(&s->renderer, motion_given, inst_given);
+        hs_replay_default_rules(&s->renderer, rules);
     }
     const char *final = name[0] ? name : label;
     if (!valid_name(final))

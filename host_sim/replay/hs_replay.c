@@ -608,13 +608,15 @@ void hs_replay_default_shading(xrsc_renderer_options *o, bool shade_given, bool 
         o->samplecache.shade_rate = product ? HS_REPLAY_DEFAULT_SHADE_RATE : 0.0f;
 }
 
-void hs_replay_default_edges(xrsc_renderer_options *o, bool motion_given, bool instance_given)
+void hs_replay_default_rules(xrsc_renderer_options *o, hs_replay_given given)
 {
     bool product = o->method == XRSC_METHOD_SAMPLECACHE;
-    if (!motion_given)
+    if (!given.taa_motion)
         o->taa.motion = product ? XRSC_TAA_MOTION_EDGES : XRSC_TAA_MOTION_DEFAULT;
-    if (!instance_given)
+    if (!given.blend_instances)
         o->blend_instance_test = product;
+    if (!given.moving)
+        o->samplecache.moving = product;
 }
 
 void hs_replay_default_renderer(xrsc_renderer_options *out)
@@ -626,5 +628,5 @@ void hs_replay_default_renderer(xrsc_renderer_options *out)
     out->blend = hs_replay_default_blend(out->method);
     out->taa.mode = hs_replay_default_taa(out->method);
     hs_replay_default_shading(out, false, false);
-    hs_replay_default_edges(out, false, false);
+    hs_replay_default_rules(out, (hs_replay_given){0});
 }

@@ -222,22 +222,32 @@ xrsc_taa_mode hs_replay_default_taa(xrsc_method method);
  */
 void hs_replay_default_shading(xrsc_renderer_options *o, bool shade_given, bool rate_given);
 
+/** Which of the rules of ::hs_replay_default_rules the command line or setting gave. */
+typedef struct hs_replay_given {
+    bool taa_motion;      /**< --taa-motion (bench key taa_motion) */
+    bool blend_instances; /**< --blend-instances (blend_inst) */
+    bool moving;          /**< --sc-moving (moving) */
+} hs_replay_given;
+
 /**
- * The main job's two edge rules when --taa-motion / --blend-instances (bench keys taa_motion,
- * blend_inst) are not given: after `samplecache`, TAA's motion rule at edges
- * (XRSC_TAA_MOTION_EDGES) and the stereo blend's instance test (blend_instance_test), since
- * stop 22 (bench/results/issue19-cornell/: together they take the Cornell light panel's ring
- * out of the ceiling, relMSE 0.33x there and 0.77-0.99x on the other cases at 2 x 96^2, the
- * temporal and stereo figures up to 1.8x and 5.3x but still below `taa`'s on all 10). Other
- * methods keep the library's (both off).
+ * The main job's rules since stop 22, each where `given` does not name it: after
+ * `samplecache`,
+ * - TAA's motion rule at edges (XRSC_TAA_MOTION_EDGES) and the stereo blend's instance test
+ *   (blend_instance_test): together they take the Cornell light panel's ring out of the ceiling
+ *   (bench/results/issue19-cornell/: relMSE 0.33x there and 0.77-0.99x on the other cases at
+ *   2 x 96^2, the temporal and stereo figures up to 1.8x and 5.3x but still below `taa`'s on
+ *   all 10);
+ * - the moving-sample rule (xrsc_samplecache_options.moving; bench/results/issue19-moving2/:
+ *   `moving` 0.68x relMSE at 96^2, the other 9 cases byte-identical).
+ * Other methods keep the library's (all off).
  */
-void hs_replay_default_edges(xrsc_renderer_options *o, bool motion_given, bool instance_given);
+void hs_replay_default_rules(xrsc_renderer_options *o, hs_replay_given given);
 
 /**
  * The renderer options `xrsc replay` runs when no option is given: the main job (seed 000),
  * the per-eye sample cache with the blend of ::hs_replay_default_blend, the temporal filter of
- * ::hs_replay_default_taa, the shading of ::hs_replay_default_shading and the edge rules of
- * ::hs_replay_default_edges, at
+ * ::hs_replay_default_taa, the shading of ::hs_replay_default_shading and the rules of
+ * ::hs_replay_default_rules, at
  * HS_REPLAY_DEFAULT_SIZE_PX with HS_REPLAY_DEFAULT_SPP. The one source of the replay's
  * defaults and of `xrsc bench`'s setting `default` (the product as shipped).
  */
