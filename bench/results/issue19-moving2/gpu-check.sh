@@ -3,7 +3,8 @@
 # @file gpu-check.sh
 # @brief Device check of the moving-sample rule (bench/results/issue19-moving2/README.md):
 #        the glossy orbit and the `moving` case at 2 x 128^2, 40 frames, 128-spp references,
-#        the default against the default with the rule (bench key moving=on), side by side.
+#        the default (with the rule since stop 22) against the default without it (bench key
+#        moving=off), side by side.
 #
 # Usage: bench/results/issue19-moving2/gpu-check.sh XRSC OUT
 #   XRSC  the built program (e.g. build/host_sim/xrsc or .dev/bin/xrsc)
@@ -12,9 +13,9 @@
 # validation layer with synchronization validation (--validation) and counts its errors.
 # Prints the table lines (case, setting, relMSE, temporal, stereo, GPU ms, rays/px, ...) and
 # one verdict line per case; exits 1 when a verdict fails:
-# - glossy: nothing moves there, so def+mov must give the default's figures exactly (stop 20's
+# - glossy: nothing moves there, so the default must give def-nomov's figures exactly (stop 20's
 #   version of the rule took glossy from 0.0036 to 0.19 on an H200);
-# - moving: def+mov's relMSE must be below the default's.
+# - moving: the default's relMSE must be below def-nomov's.
 # Both cases run at once (JOBS=2); on an H100/H200 the whole check takes well under 60 s.
 set -u
 XRSC=$(realpath "$1")
@@ -22,7 +23,7 @@ mkdir -p "$2"
 OUT=$(realpath "$2")
 cd "$(dirname "$0")/../../.." || exit 2
 SETTINGS=$OUT/gpu-check.settings
-printf 'default:name=default\ndefault:moving=on,name=def+mov\n' > "$SETTINGS"
+printf 'default:moving=off,name=def-nomov\ndefault:name=default\n' > "$SETTINGS"
 start=$(date +%s)
 SIZE=128 FRAMES=40 REF_SPP=128 JOBS=2 ONLY="glossy moving" \
     bench/issue19_defaults.sh "$XRSC" "$OUT" "$SETTINGS"
@@ -30,16 +31,16 @@ python3 bench/issue19_table.py "$OUT" | tee "$OUT/table.csv"
 echo "bench: $(( $(date +%s) - start )) s"
 fail=0
 fig() { awk -F, -v c="$1" -v s="$2" '$1 == c && $2 == s {print $3}' "$OUT/table.csv"; }
-g0=$(fig glossy default) g1=$(fig glossy def+mov) m0=$(fig moving default) m1=$(fig moving def+mov)
+g0=$(fig glossy def-nomov) g1=$(fig glossy default) m0=$(fig moving def-nomov) m1=$(fig moving default)
 if [ -n "$g0" ] && [ "$g0" = "$g1" ]; then
-    echo "glossy: PASS def+mov relMSE $g1 = default $g0"
+    echo "glossy: PASS default relMSE $g1 = def-nomov $g0"
 else
-    echo "glossy: FAIL def+mov relMSE '$g1' vs default '$g0' (must be equal)"; fail=1
+    echo "glossy: FAIL default relMSE '$g1' vs def-nomov '$g0' (must be equal)"; fail=1
 fi
 if [ -n "$m0" ] && [ -n "$m1" ] && python3 -c "import sys; sys.exit(0 if $m1 < $m0 else 1)"; then
-    echo "moving: PASS def+mov relMSE $m1 < default $m0"
+    echo "moving: PASS default relMSE $m1 < def-nomov $m0"
 else
-    echo "moving: FAIL def+mov relMSE '$m1' vs default '$m0' (must be lower)"; fail=1
+    echo "moving: FAIL default relMSE '$m1' vs def-nomov '$m0' (must be lower)"; fail=1
 fi
 if [ "${VALIDATE:-0}" = 1 ]; then
     "$XRSC" replay --direct --validation --frames 3 --resolution 64x64 --write none \
