@@ -404,7 +404,7 @@ void sc_count_importance(uint eye, float w)
  *  (xs_sc_pixel_variance) from those of them that have been shaded (c_s > 0), in one walk
  *  (each pool address, first hit and radiance record loaded once: on lavapipe every per-lane
  *  load is a gather). */
-uint sc_shade_candidates_variance(uint c, uint pix, out float out_v)
+uint sc_shade_candidates_variance(uint c, uint pix, out float out_v, out bool observed)
 {
     uint m = sc_mask[sc_mask_at(c, pix)];
     uint cand = 0u;
@@ -425,6 +425,7 @@ uint sc_shade_candidates_variance(uint c, uint pix, out float out_v)
         scl2 += r.w * l * l;
     }
     out_v = xs_sc_pixel_variance(k, sc, scl, scl2);
+    observed = k > 0.0;
     return cand;
 }
 

@@ -75,10 +75,13 @@ void count_pixel(uvec3 g)
     uint pix = sc_pix(eye, g.xy);
     uint cur = scp.cur;
     float v;
-    uint cand = sc_shade_candidates_variance(cur, pix, v);
+    bool observed;
+    uint cand = sc_shade_candidates_variance(cur, pix, v, observed);
     uint range = 0u; /* the candidates' buckets, lowest and highest (XS_SC_PLAN_RANGE_*) */
     if (cand != 0u)
         range = count_candidates(eye, pix, cand, v);
+    if (scp.cover != 0u && cand != 0u && !observed) /* the cover rule's (XS_SC_PLAN_UNOBSERVED) */
+        range |= XS_SC_PLAN_UNOBSERVED;
     /* for sc_shade_select.comp: the candidates above the new-sample bits, the variance, the
      * bucket range (plan.w's visible count was the density pass's, which has run) */
     sc_plan[pix].yzw = uvec3(sc_plan[pix].y | (cand << XS_SC_MAX_SLOTS), floatBitsToUint(v), range);

@@ -185,6 +185,13 @@ void main()
             if (bucket > k || (bucket == k && u < p))
                 bits |= sc_obit(s);
         }
+        /* the cover rule: a pixel with surface samples but none shaded yet shades one of its
+         * own (round robin) outside the budget, else it shows black (XS_SC_PLAN_UNOBSERVED) */
+        if (scp.cover != 0u && by_variance && (sc_plan[pix].w & XS_SC_PLAN_UNOBSERVED) != 0u &&
+            (bits & ~foreign) == 0u) {
+            int ro = sc_round_robin(cand & ~foreign, start);
+            bits |= ro >= 0 ? sc_obit(uint(ro)) : 0u;
+        }
     }
     if (scp.moving != 0u) { /* one more shading for a pixel with moving samples */
         int rm = moving_rank(moving_candidates(cur, pix, cand) & ~bits & ~foreign,

@@ -197,6 +197,14 @@
 #define XS_SC_PLAN_RANGE_SET 0x10000u
 #define XS_SC_PLAN_RANGE_HI_SHIFT 8u
 #define XS_SC_PLAN_RANGE_MASK 0xFFu
+/* Cover rule (xrsc_samplecache_options.cover, issue 19): plan.w's flag, from
+ * sc_shade_importance.comp, of a pixel that has surface samples but none shaded yet. Such a
+ * pixel's colour is black (sc_reconstruct.comp averages observed samples only): with
+ * variance-guided shading at 40 %, 63 % of the pixels of a first frame, 5 % of the fifth,
+ * which TAA (alpha 0.1) then held for tens of frames. With the rule, sc_shade_select.comp
+ * shades one sample of such a pixel outside the budget, so no pixel with a surface stays
+ * black after its first frame. */
+#define XS_SC_PLAN_UNOBSERVED 0x20000u
 
 /* Firefly rule (issue 19 item 3, sc_shade.rgen): observations a sample needs before a new
  * one is capped relative to its running mean. */
@@ -280,6 +288,11 @@ XS_STRUCT(xs_sc_params)
                          XS_SC_STRATA_MAX_G; issue 19) */
     xs_uint moving;   /* 1: the moving-sample rule (XS_SC_MOVING_ALPHA_MIN) on this run: the
                          option xrsc_samplecache_options.moving and a scene with animation */
+    xs_uint cover;    /* 1: the cover rule (XS_SC_PLAN_UNOBSERVED) on this run: the option
+                         xrsc_samplecache_options.cover with variance-guided shading */
+    xs_uint pad_c0;   /* eye_prev's 16-byte alignment */
+    xs_uint pad_c1;
+    xs_uint pad_c2;
     xs_vec4 eye_prev[2]; /* per eye: xyz its position in the previous frame, w = 1 when there
                             was one (sc_shade.rgen: App. C's clamp follows the view's motion) */
 }
@@ -321,8 +334,8 @@ XS_STRUCT(xs_sc_selftest_io)
 XS_END(xs_sc_selftest_io);
 
 #ifndef XRSC_GLSL
-_Static_assert(sizeof(xs_sc_params) == 128, "xs_sc_params layout (std140)");
-_Static_assert(offsetof(xs_sc_params, eye_prev) == 96, "xs_sc_params layout (std140)");
+_Static_assert(sizeof(xs_sc_params) == 144, "xs_sc_params layout (std140)");
+_Static_assert(offsetof(xs_sc_params, eye_prev) == 112, "xs_sc_params layout (std140)");
 _Static_assert(offsetof(xs_sc_params, phi_left) == 56, "xs_sc_params layout (std140)");
 _Static_assert(sizeof(xs_sc_stats) == 80, "xs_sc_stats layout (std430)");
 _Static_assert(sizeof(xs_sc_selftest_io) == 96, "xs_sc_selftest_io layout (std430)");

@@ -140,6 +140,13 @@ static int parse_sc_moving(const hs_opt_arg *a)
     return hs_opt_on_off(a);
 }
 
+/* --sc-cover on|off */
+static int parse_sc_cover(const hs_opt_arg *a)
+{
+    M(a)->rules_given.cover = true;
+    return hs_opt_on_off(a);
+}
+
 /* --blend-instances on|off */
 static int parse_blend_instances(const hs_opt_arg *a)
 {
@@ -455,6 +462,11 @@ static const hs_opt k_replay_opts[] = {
      "more often, with a short history on turning faces (issue 19)\n"
      "[on after samplecache, else off]",
      parse_sc_moving, SC(moving), NULL},
+    {"--sc-cover", "on|off",
+     "cover rule (variance-guided shading): a pixel with surface samples\n"
+     "but none shaded yet shades one, so it never shows black (issue 19)\n"
+     "[on after samplecache, else off]",
+     parse_sc_cover, SC(cover), NULL},
     {"--sc-stratify", "on|off",
      "new samples through the emptiest strata of their pixel\n"
      "(issue 19, beyond seed 000; bench/results/issue19-edges/) [off]",
@@ -690,6 +702,8 @@ static void print_summary(const hs_replay_options *opt, const hs_replay_stats *s
             printf(" %g %%", (double)(sc->shade_rate > 0.0f ? sc->shade_rate : 1.0f) * 100.0);
         if (sc->moving)
             printf(", moving-sample rule");
+        if (sc->cover && sc->shade == XRSC_SC_SHADE_ADAPTIVE_VARIANCE)
+            printf(", cover rule");
     }
     printf("\n");
     printf("frames: %u  load %.2f s  total %.2f s\n", st->frames, st->load_s, st->total_s);
@@ -842,6 +856,7 @@ static int run_with_record(main_args *m, const hs_args *args, const char *const 
         {"--taa-motion", xrsc_taa_motion_name(opt->renderer.taa.motion)},
         {"--blend-instances", opt->renderer.blend_instance_test ? "on" : "off"},
         {"--sc-moving", opt->renderer.samplecache.moving ? "on" : "off"},
+        {"--sc-cover", opt->renderer.samplecache.cover ? "on" : "off"},
         {"--spp", spp_s},
         {"--resolution", res_s},        {"--seed", "0"},
         {"--ipd", ipd_s},               {"--refresh", refresh_s},
@@ -888,7 +903,7 @@ int hs_replay_main(int argc, char **argv)
      * library's own temporal filter and uniform shading (the defaults before issue 19) */
     static const char *const record_defaults[] = {"--taa", "default", "--sc-shade", "uniform",
                                                   "--taa-motion", "off", "--blend-instances", "off",
-                                                  "--sc-moving", "off"};
+                                                  "--sc-moving", "off", "--sc-cover", "off"};
     const hs_args_spec spec = {.cmd = "xrsc", .value_options = value_options,
                                .value_count = value_count, .config = true,
                                .record_defaults = record_defaults,

@@ -168,6 +168,11 @@ static const char *set_moving(xrsc_renderer_options *o, const char *v)
     return hs_parse_on_off(v, &o->samplecache.moving) ? NULL : "on, off";
 }
 
+static const char *set_cover(xrsc_renderer_options *o, const char *v)
+{
+    return hs_parse_on_off(v, &o->samplecache.cover) ? NULL : "on, off";
+}
+
 static const char *set_firefly(xrsc_renderer_options *o, const char *v)
 {
     if (!strcmp(v, "off")) {
@@ -376,6 +381,9 @@ static const bench_key keys[] = {
     {"moving", M_SC, set_moving, "mov",
      "moving-sample rule: a pixel with samples on a turning instance shades one more, "
      "turning faces keep a short history, on | off [off; default: on]"},
+    {"cover", M_SC, set_cover, "cov",
+     "cover rule (variance-guided shading): a pixel with samples but none shaded shades one, "
+     "on | off [off; default: on]"},
     {"vis_cache", M_SC | M_ISRT, set_vis_cache, "vc",
      "shading pass's shadow visibility cache (seed 002) on | off [off]"},
     {"vis_tolerance", M_SC | M_ISRT, set_vis_tolerance, "ce",
@@ -499,6 +507,7 @@ static xrsc_result parse_one(char *text, hs_bench_setting *s, xrsc_diag *diag)
         rules.taa_motion |= !strcmp(key, "taa_motion");
         rules.blend_instances |= !strcmp(key, "blend_inst");
         rules.moving |= !strcmp(key, "moving");
+        rules.cover |= !strcmp(key, "cover");
         const char *why = bk->set(&s->renderer, val);
         if (why)
             return u_diag_set(diag, XRSC_ERROR_INVALID_ARGUMENT, "", 0, "--settings",

@@ -617,6 +617,8 @@ void hs_replay_default_rules(xrsc_renderer_options *o, hs_replay_given given)
         o->blend_instance_test = product;
     if (!given.moving)
         o->samplecache.moving = product;
+    if (!given.cover)
+        o->samplecache.cover = product;
 }
 
 void hs_replay_default_renderer(xrsc_renderer_options *out)

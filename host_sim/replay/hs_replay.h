@@ -227,6 +227,7 @@ typedef struct hs_replay_given {
     bool taa_motion;      /**< --taa-motion (bench key taa_motion) */
     bool blend_instances; /**< --blend-instances (blend_inst) */
     bool moving;          /**< --sc-moving (moving) */
+    bool cover;           /**< --sc-cover (cover) */
 } hs_replay_given;
 
 /**
@@ -238,7 +239,9 @@ typedef struct hs_replay_given {
  *   2 x 96^2, the temporal and stereo figures up to 1.8x and 5.3x but still below `taa`'s on
  *   all 10);
  * - the moving-sample rule (xrsc_samplecache_options.moving; bench/results/issue19-moving2/:
- *   `moving` 0.68x relMSE at 96^2, the other 9 cases byte-identical).
+ *   `moving` 0.68x relMSE at 96^2, the other 9 cases byte-identical);
+ * - the cover rule (xrsc_samplecache_options.cover: no pixel with a surface stays black for
+ *   want of a shaded sample; bench/results/issue19-headset/).
  * Other methods keep the library's (all off).
  */
 void hs_replay_default_rules(xrsc_renderer_options *o, hs_replay_given given);

@@ -419,6 +419,16 @@ typedef struct xrsc_samplecache_options {
      * 3 % (bench/results/issue19-edges/). No effect with `isrt` (fixed cells).
      */
     bool stratify;
+    /**
+     * Cover rule (issue 19, beyond seed 000; XS_SC_PLAN_UNOBSERVED in shaders/xs_samplecache.h),
+     * with variance-guided shading only: a pixel that has surface samples but none shaded yet
+     * shades one of them that frame, outside the shading budget. Without it such a pixel shows
+     * black (the colour averages shaded samples only): at 40 % on a first frame most pixels,
+     * later the newly uncovered ones, and a temporal filter keeps that darkness for tens of
+     * frames. Costs one shading per such pixel (a first frame: one per pixel); the shade list
+     * holds one entry more per pixel. false: off (default; bench/results/issue19-headset/).
+     */
+    bool cover;
 } xrsc_samplecache_options;
 
 /**

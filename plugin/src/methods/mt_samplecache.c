@@ -108,9 +108,10 @@ _Static_assert(offsetof(mt_samplecache, base) == 0, "base first");
 
 /** Entries of the shade list for both eyes: uniform shading needs one per pixel, and so does
  *  the trace list that uses the same buffer before it (at least one entry per pixel); the
- *  moving-sample rule (moving) one more per pixel (sc_shade_select.comp), at most slots. */
-static uint32_t shade_capacity(const xrsc_samplecache_options *o, bool moving, uint32_t w,
-                               uint32_t h)
+ *  moving-sample rule (moving) and the cover rule (cover) one more per pixel each
+ *  (sc_shade_select.comp), at most slots. */
+static uint32_t shade_capacity(const xrsc_samplecache_options *o, bool moving, bool cover,
+                               uint32_t w, uint32_t h)
 {
     double px = 2.0 * w * h;
     double per_pixel = 1.0;
@@ -121,6 +122,8 @@ static uint32_t shade_capacity(const xrsc_samplecache_options *o, bool moving, u
     if (per_pixel < 1.0)
         per_pixel = 1.0;
     if (moving && per_pixel + 1.0 <= o->slots)
+        per_pixel += 1.0;
+    if (cover && per_pixel + 1.0 <= o->slots) /* a first frame covers every pixel */
         per_pixel += 1.0;
     return (uint32_t)ceil(px * per_pixel);
 }
@@ -743,7 +746,10 @@ xrsc_result mt_samplecache_create_variant(const mt_env *env,
     };
     /* the moving-sample rule only where instances move: a still scene's work is unchanged */
     s->p.moving = o.moving && gpu_scene_animated(env->scene) ? 1u : 0u;
-    s->p.shade_capacity = shade_capacity(&o, s->p.moving != 0u, env->width, env->height);
+    /* the cover rule only with variance-guided shading, which leaves pixels unshaded */
+    s->p.cover = o.cover && o.shade == XRSC_SC_SHADE_ADAPTIVE_VARIANCE ? 1u : 0u;
+    s->p.shade_capacity = shade_capacity(&o, s->p.moving != 0u, s->p.cover != 0u, env->width,
+                                         env->height);
     s->p.isrt_m = var.isrt_m;
     s->p.pool_k = pool_entries_per_pixel(&o, var.isrt_m);
     s->hybrid = var.hybrid; /* hybrid: no per-sample radiance; its own shade and reconstruct */
