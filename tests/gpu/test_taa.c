@@ -1152,6 +1152,58 @@ static bool pan_eyes(const tf_settings *set, t_eye out[2])
 }
 
 /**
+ * Cornell in motion (render_moving, T_EMIT_FRAMES) rendered with `base` and a rule `set` off
+ * (err[0]) and on (err[1]): relMSE of each against a T_REF_SPP reference of the last frame's
+ * views. Fails on a validation error of its context.
+ */
+static bool cornell_rule_errors(xrsc_renderer_options base,
+                                void (*set)(xrsc_renderer_options *, bool), double err[2])
+{
+    xrsc_context *ctx = t_context_open();
+    CHECK(ctx != NULL);
+    xrsc_scene *scene = ctx ? t_scene_load(ctx, t_source_path("scenes/cornell.gltf")) : NULL;
+    if (!scene) {
+        xrsc_context_destroy(&ctx);
+        return false;
+    }
+    xrsc_frame f0 = tsc_viewpoint_frame(scene), last = f0;
+    size_t pixels = 2u * T_W * T_H;
+    float *ref = calloc(pixels * 4, sizeof(float)), *img = calloc(pixels * 4, sizeof(float));
+    bool ok = ref && img;
+    for (int k = 0; k < 2 && ok; k++) {
+        xrsc_renderer_options ro = base;
+        ro.width = T_W;
+        ro.height = T_H;
+        set(&ro, k == 1);
+        ok = render_moving(ctx, scene, &ro, f0, T_EMIT_FRAMES, img, &last);
+        if (ok && k == 0) {
+            xrsc_renderer_options rf = {.width = T_W, .height = T_H, .method = XRSC_METHOD_SPP};
+            rf.spp.samples_per_pixel = T_REF_SPP;
+            rf.spp.accumulate = true;
+            ok = t_render(ctx, scene, &rf, &last, &(t_render_job){.frames = T_EMIT_REF_FRAMES},
+                          ref);
+        }
+        err[k] = ok ? relmse(img, ref, pixels) : -1.0;
+    }
+    free(ref);
+    free(img);
+    xrsc_scene_destroy(&scene);
+    CHECK_EQ_INT(xrsc_context_validation_errors(ctx), 0);
+    xrsc_context_destroy(&ctx);
+    return ok;
+}
+
+static void set_motion_edges(xrsc_renderer_options *ro, bool on)
+{
+    ro->taa.motion = on ? XRSC_TAA_MOTION_EDGES : XRSC_TAA_MOTION_DEFAULT;
+}
+
+static void set_blend_instances(xrsc_renderer_options *ro, bool on)
+{
+    ro->blend_instance_test = on;
+}
+
+/**
  * Motion rule "edges" (XRSC_TAA_MOTION_EDGES): under a pan over Cornell (`primary`: exact
  * input, alpha depends on geometry alone) every blended pixel's alpha equals the rule's
  * (XRSC_TAA_MOTION_ON) on the dark side of an edge between instances and the rule-free
@@ -1198,43 +1250,15 @@ static void test_motion_edges(void)
     CHECK(inside_raised > 0);
     free(e);
 
-    xrsc_context *ctx = t_context_open();
-    CHECK(ctx != NULL);
-    xrsc_scene *scene = ctx ? t_scene_load(ctx, t_source_path("scenes/cornell.gltf")) : NULL;
-    if (!scene) {
-        xrsc_context_destroy(&ctx);
-        return;
-    }
-    xrsc_frame f0 = tsc_viewpoint_frame(scene), last = f0;
-    size_t pixels = 2u * T_W * T_H;
-    float *ref = calloc(pixels * 4, sizeof(float)), *img = calloc(pixels * 4, sizeof(float));
+    xrsc_renderer_options base = {.method = XRSC_METHOD_SAMPLECACHE};
+    base.taa.mode = XRSC_TAA_ON;
     double err[2] = {0};
-    ok = ref && img;
-    for (int k = 0; k < 2 && ok; k++) {
-        xrsc_renderer_options ro = {.width = T_W, .height = T_H,
-                                    .method = XRSC_METHOD_SAMPLECACHE};
-        ro.taa.mode = XRSC_TAA_ON;
-        ro.taa.motion = k ? XRSC_TAA_MOTION_EDGES : XRSC_TAA_MOTION_DEFAULT;
-        ok = render_moving(ctx, scene, &ro, f0, T_EMIT_FRAMES, img, &last);
-        if (ok && k == 0) {
-            xrsc_renderer_options rf = {.width = T_W, .height = T_H, .method = XRSC_METHOD_SPP};
-            rf.spp.samples_per_pixel = T_REF_SPP;
-            rf.spp.accumulate = true;
-            ok = t_render(ctx, scene, &rf, &last, &(t_render_job){.frames = T_EMIT_REF_FRAMES},
-                          ref);
-        }
-        err[k] = ok ? relmse(img, ref, pixels) : -1.0;
-    }
+    ok = cornell_rule_errors(base, set_motion_edges, err);
     printf("  samplecache + TAA, Cornell in motion: relMSE rule off %.5f, edges %.5f (%.2f x, "
            "bound %.2f)\n",
            err[0], err[1], err[0] > 0.0 ? err[1] / err[0] : 0.0, T_EDGE_RATIO);
     CHECK(ok && err[0] > 0.0 && err[1] >= 0.0);
     CHECK(err[1] <= T_EDGE_RATIO * err[0]);
-    free(ref);
-    free(img);
-    xrsc_scene_destroy(&scene);
-    CHECK_EQ_INT(xrsc_context_validation_errors(ctx), 0);
-    xrsc_context_destroy(&ctx);
 }
 
 /**
@@ -1246,44 +1270,16 @@ static void test_motion_edges(void)
  */
 static void test_blend_instances(void)
 {
-    xrsc_context *ctx = t_context_open();
-    CHECK(ctx != NULL);
-    xrsc_scene *scene = ctx ? t_scene_load(ctx, t_source_path("scenes/cornell.gltf")) : NULL;
-    if (!scene) {
-        xrsc_context_destroy(&ctx);
-        return;
-    }
-    xrsc_frame f0 = tsc_viewpoint_frame(scene), last = f0;
-    size_t pixels = 2u * T_W * T_H;
-    float *ref = calloc(pixels * 4, sizeof(float)), *img = calloc(pixels * 4, sizeof(float));
+    xrsc_renderer_options base = {.method = XRSC_METHOD_SAMPLECACHE,
+                                  .blend = XRSC_BLEND_MOMENTS};
+    base.taa.mode = XRSC_TAA_ON;
     double err[2] = {0};
-    bool ok = ref && img;
-    for (int k = 0; k < 2 && ok; k++) {
-        xrsc_renderer_options ro = {.width = T_W, .height = T_H,
-                                    .method = XRSC_METHOD_SAMPLECACHE,
-                                    .blend = XRSC_BLEND_MOMENTS,
-                                    .blend_instance_test = k == 1};
-        ro.taa.mode = XRSC_TAA_ON;
-        ok = render_moving(ctx, scene, &ro, f0, T_EMIT_FRAMES, img, &last);
-        if (ok && k == 0) {
-            xrsc_renderer_options rf = {.width = T_W, .height = T_H, .method = XRSC_METHOD_SPP};
-            rf.spp.samples_per_pixel = T_REF_SPP;
-            rf.spp.accumulate = true;
-            ok = t_render(ctx, scene, &rf, &last, &(t_render_job){.frames = T_EMIT_REF_FRAMES},
-                          ref);
-        }
-        err[k] = ok ? relmse(img, ref, pixels) : -1.0;
-    }
+    bool ok = cornell_rule_errors(base, set_blend_instances, err);
     printf("  samplecache + moments blend + TAA, Cornell in motion: relMSE instance test off "
            "%.5f, on %.5f (%.2f x, bound %.2f)\n",
            err[0], err[1], err[0] > 0.0 ? err[1] / err[0] : 0.0, T_BLEND_INST_RATIO);
     CHECK(ok && err[0] > 0.0 && err[1] >= 0.0);
     CHECK(err[1] <= T_BLEND_INST_RATIO * err[0]);
-    free(ref);
-    free(img);
-    xrsc_scene_destroy(&scene);
-    CHECK_EQ_INT(xrsc_context_validation_errors(ctx), 0);
-    xrsc_context_destroy(&ctx);
 }
 
 int main(void)
